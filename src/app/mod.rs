@@ -1,0 +1,1 @@
+//! The live window (winit + egui): watch clouds form, edit the profile.

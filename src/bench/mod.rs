@@ -1,0 +1,1 @@
+//! Headless benchmark: performance tables and error against run time.

@@ -1,0 +1,22 @@
+//! cumulus grows cumulus clouds from atmospheric parcel physics (Goswami &
+//! Neyret 2016) and renders them on the GPU.
+//!
+//! Layers, bottom up (each only reads the ones below it):
+//! - [`atmosphere`]: thermodynamics, environment profiles, sounding reader;
+//! - [`physics`]: parcels, SPH, mixing, condensation, emission, integrator;
+//! - [`scene`]: a scene profile (TOML) → validated configuration;
+//! - [`render`]: wgpu renderer (headless or to a window surface);
+//! - front ends: [`app`] (window), [`bench`], [`stability`], and `cli` in the binary.
+
+pub mod app;
+pub mod atmosphere;
+pub mod bench;
+pub mod error;
+pub mod output;
+pub mod physics;
+pub mod plots;
+pub mod render;
+pub mod scene;
+pub mod stability;
+
+pub use error::{Error, Result};

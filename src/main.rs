@@ -1,0 +1,51 @@
+//! The `cumulus` command: dispatches to one module per subcommand.
+
+mod cli;
+
+use clap::{Parser, Subcommand};
+
+/// Grow cumulus clouds from atmospheric parcel physics and render them on the GPU.
+///
+/// With no command, opens the live window on the embedded default scene.
+#[derive(Debug, Parser)]
+#[command(name = "cumulus", version, about, long_about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Open the live window: watch clouds form and edit the profile.
+    Watch(cli::watch::Args),
+    /// Simulate a scene and render PNG frame(s) headless.
+    Render(cli::render::Args),
+    /// Run a scene headless and write per-step diagnostics as CSV.
+    Simulate(cli::simulate::Args),
+    /// Lift a surface parcel through a sounding: LCL, LFC, EL, diagram.
+    Parcel(cli::parcel::Args),
+    /// Record performance tables and error against run time.
+    Bench(cli::bench::Args),
+    /// Run the matrix of stiff and extreme cases.
+    Stability(cli::stability::Args),
+}
+
+fn main() -> std::process::ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        None => cli::watch::run(cli::watch::Args::default()),
+        Some(Command::Watch(a)) => cli::watch::run(a),
+        Some(Command::Render(a)) => cli::render::run(a),
+        Some(Command::Simulate(a)) => cli::simulate::run(a),
+        Some(Command::Parcel(a)) => cli::parcel::run(a),
+        Some(Command::Bench(a)) => cli::bench::run(a),
+        Some(Command::Stability(a)) => cli::stability::run(a),
+    };
+    match result {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}

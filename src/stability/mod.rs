@@ -1,0 +1,1 @@
+//! Stability matrix: stiff and extreme cases for the physics.
