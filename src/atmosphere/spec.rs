@@ -72,7 +72,7 @@ impl Default for AtmosphereSpec {
         AtmosphereSpec {
             sounding: None,
             points: vec![
-                p(0.0, 26.0, 16.0),
+                p(0.0, 26.0, 16.5),
                 p(1200.0, 14.6, 12.0),
                 p(1900.0, 9.7, 6.0),
                 p(2200.0, 12.5, -2.0),
