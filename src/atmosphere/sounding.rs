@@ -31,6 +31,12 @@ pub const DEWPOINT_ABOVE_TEMPERATURE_TOLERANCE_K: f64 = 0.05;
 /// Plausible temperature range of a sounding (the coldest tropopause is
 /// about −95 °C, the hottest surface about 57 °C). units: °C
 const T_RANGE_C: (f64, f64) = (-120.0, 70.0);
+/// Highest accepted pressure (the highest sea-level pressure on record is
+/// 1084 hPa; 1100 leaves room for stations below sea level). units: hPa
+const P_MAX_HPA: f64 = 1100.0;
+/// Accepted heights: the Dead Sea shore is at −430 m, balloons burst below
+/// 40 km; the bound also keeps tabulated pressure small. units: m
+const Z_RANGE_M: (f64, f64) = (-500.0, 60_000.0);
 /// Knots to metres per second. units: m s⁻¹ kn⁻¹
 const KNOT_M_S: f64 = 0.514_444;
 
@@ -165,12 +171,25 @@ impl Sounding {
                     ));
                 }
             };
-            if !(p_hpa > 0.0) {
+            if !(p_hpa > 0.0 && p_hpa <= P_MAX_HPA) {
                 return Err(Error::parse(
                     path,
                     lineno,
                     col_of(0),
-                    format!("pressure {p_hpa} hPa: allowed are positive pressures"),
+                    format!(
+                        "pressure {p_hpa} hPa: allowed are positive pressures up to {P_MAX_HPA} hPa"
+                    ),
+                ));
+            }
+            if !(Z_RANGE_M.0..=Z_RANGE_M.1).contains(&z) {
+                return Err(Error::parse(
+                    path,
+                    lineno,
+                    col_of(1),
+                    format!(
+                        "height {z} m: allowed are {} to {} m above sea level",
+                        Z_RANGE_M.0, Z_RANGE_M.1
+                    ),
                 ));
             }
             if let Some((pl, pp, pz)) = prev {
