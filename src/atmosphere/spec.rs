@@ -47,7 +47,9 @@ pub struct AtmosphereSpec {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sounding: Option<PathBuf>,
     /// Inline points from the ground (z = 0) up, heights strictly increasing.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    /// A table that is present but has no points has none (it does not get
+    /// the default's points, which would clash with a `sounding`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub points: Vec<AtmospherePoint>,
     /// Pressure at the ground for inline points (default 1000). units: hPa
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -59,7 +61,8 @@ pub struct AtmosphereSpec {
 }
 
 impl Default for AtmosphereSpec {
-    /// The fair-weather profile of `profiles/fair_weather.toml`: a warm, moist
+    /// The fair-weather profile, used when a scene has no `[atmosphere]`
+    /// table at all of `profiles/fair_weather.toml`: a warm, moist
     /// well-mixed layer to 1.2 km, a conditionally unstable cloud layer to
     /// 1.9 km and a capping inversion to 2.2 km.
     fn default() -> Self {
