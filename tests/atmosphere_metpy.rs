@@ -172,3 +172,44 @@ fn parcel_matches_metpy_on_oun_2011_05_22() {
 fn parcel_matches_metpy_on_oun_1999_05_04() {
     check("oun-1999-05-04-00z.txt", LCL_1999_HPA, PROFILE_1999);
 }
+
+/// MetPy `lfc(which="bottom")` and `el` (temperature-based, pseudo-adiabatic)
+/// from parcel_reference.txt. units: hPa
+const METPY_LFC_EL_2011_HPA: (f64, f64) = (735.838, 194.832);
+/// The 1999 parcel is still buoyant at the sounding's top: no EL. units: hPa
+const METPY_LFC_1999_HPA: f64 = 727.055;
+
+#[test]
+fn lfc_and_el_differ_from_metpy_only_by_virtual_temperature_and_loading() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles/soundings");
+    let lift = |f: &str| {
+        let env = Sounding::load(&dir.join(f))
+            .unwrap()
+            .to_environment()
+            .unwrap();
+        lift_surface_parcel(&env, &LiftOptions::default()).unwrap()
+    };
+    let a = lift("oun-2011-05-22-12z.txt");
+    let (lfc, el) = (a.lfc.unwrap().p_pa / 100.0, a.el.unwrap().p_pa / 100.0);
+    // At the LFC the parcel carries ~2 g/kg of liquid (−0.6 K of T_v) and
+    // ~3 g/kg more vapour than the dry air above the inversion (+0.5 K): the
+    // two nearly cancel, and the crossing moves a few hPa. 10 hPa allows for
+    // the shallow crossing angle under the cap.
+    assert!(
+        (lfc - METPY_LFC_EL_2011_HPA.0).abs() < 10.0,
+        "LFC {lfc:.1} hPa"
+    );
+    // Near the EL the loaded parcel carries ~14 g/kg of liquid, ~4 K of T_v
+    // below a pseudo-adiabatic one, so it stops lower (higher pressure), by
+    // ~4 K over the upper troposphere's ~6 K/km separation rate ≈ 0.7 km ≈
+    // 10–20 hPa there; 40 hPa bounds it.
+    assert!(
+        el > METPY_LFC_EL_2011_HPA.1 && el < METPY_LFC_EL_2011_HPA.1 + 40.0,
+        "EL {el:.1} hPa vs MetPy {:.1} hPa",
+        METPY_LFC_EL_2011_HPA.1
+    );
+    let b = lift("oun-1999-05-04-00z.txt");
+    let lfc = b.lfc.unwrap().p_pa / 100.0;
+    assert!((lfc - METPY_LFC_1999_HPA).abs() < 10.0, "LFC {lfc:.1} hPa");
+    assert!(b.el.is_none(), "MetPy finds no EL below 268 hPa either");
+}

@@ -91,7 +91,10 @@ pub struct ParcelLevel {
     pub theta_k: f64,
 }
 
-/// Result of lifting the surface parcel.
+/// Result of lifting the surface parcel. The LFC is the lowest level at or
+/// above the LCL where the parcel becomes buoyant; the EL is the highest
+/// level above it where it stops being buoyant (MetPy's defaults are
+/// `which="top"` for both).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParcelAscent {
     /// Lifting condensation level, None if the parcel never saturates.
@@ -125,8 +128,17 @@ pub fn surface_parcel_curve(
 }
 
 /// Lifts the surface parcel to the environment's top, recording it at
-/// `heights` (sorted, within [0, top]).
+/// `heights` (non-decreasing, ≥ 0); heights above the top are not reported.
 pub fn lift_at(env: &Environment, opts: &LiftOptions, heights: &[f64]) -> Result<ParcelAscent> {
+    if let Some(i) = (0..heights.len()).find(|&i| {
+        !(heights[i] >= 0.0 && heights[i].is_finite() && (i == 0 || heights[i] >= heights[i - 1]))
+    }) {
+        return Err(Error::invalid(
+            format!("parcel output height [{i}] (m)"),
+            heights[i],
+            "finite heights ≥ 0 in non-decreasing order",
+        ));
+    }
     if !(opts.alpha.is_finite() && (0.0..=2.0).contains(&opts.alpha)) {
         return Err(Error::invalid(
             "latent-heat factor alpha",
