@@ -191,18 +191,19 @@ fn lfc_and_el_differ_from_metpy_only_by_virtual_temperature_and_loading() {
     };
     let a = lift("oun-2011-05-22-12z.txt");
     let (lfc, el) = (a.lfc.unwrap().p_pa / 100.0, a.el.unwrap().p_pa / 100.0);
-    // At the LFC the parcel carries ~2 g/kg of liquid (−0.6 K of T_v) and
-    // ~3 g/kg more vapour than the dry air above the inversion (+0.5 K): the
-    // two nearly cancel, and the crossing moves a few hPa. 10 hPa allows for
-    // the shallow crossing angle under the cap.
+    // At the LFC (~740 hPa) the parcel carries ~4.5 g/kg of liquid (−1.3 K
+    // of T_v) and ~9 g/kg more vapour than the dry air above the inversion
+    // (+1.5 K): the two nearly cancel and the crossing moves a few hPa;
+    // 10 hPa allows for the shallow crossing angle under the cap.
     assert!(
         (lfc - METPY_LFC_EL_2011_HPA.0).abs() < 10.0,
         "LFC {lfc:.1} hPa"
     );
-    // Near the EL the loaded parcel carries ~14 g/kg of liquid, ~4 K of T_v
-    // below a pseudo-adiabatic one, so it stops lower (higher pressure), by
-    // ~4 K over the upper troposphere's ~6 K/km separation rate ≈ 0.7 km ≈
-    // 10–20 hPa there; 40 hPa bounds it.
+    // Near the EL the parcel carries ~16 g/kg of liquid, 3.5 K of T_v below
+    // a parcel without condensate; there the parcel cools ~9 K/km faster
+    // than the nearly isothermal tropopause, so it stops ~0.4 km lower, about
+    // 10 hPa (206 vs 195 hPa). 40 hPa bounds it with room for a softer
+    // tropopause; the sign is the physics: loading can only lower the EL.
     assert!(
         el > METPY_LFC_EL_2011_HPA.1 && el < METPY_LFC_EL_2011_HPA.1 + 40.0,
         "EL {el:.1} hPa vs MetPy {:.1} hPa",
