@@ -241,6 +241,52 @@ fn draw(
         }
     }
 
+    // Buoyant (CAPE, warm colour) and inhibited (CIN, cool colour) layers
+    // between the parcel and environment curves, signed by virtual
+    // temperature: positive above the LFC, negative below it.
+    let lfc_z = chart_data.ascent.lfc.map(|m| m.z_m);
+    let el_z = chart_data.ascent.el.map(|m| m.z_m).unwrap_or(f64::INFINITY);
+    // One polygon per run of same-signed segments (adjacent thin polygons
+    // would leave hairline seams): parcel points up, environment points back.
+    let kind_of = |a: &ParcelLevel, b: &ParcelLevel| {
+        let buoyancy = 0.5 * (a.tv_k - a.env_tv_k + b.tv_k - b.env_tv_k);
+        match lfc_z {
+            Some(lfc) if a.z_m >= lfc && b.z_m <= el_z && buoyancy > 0.0 => 1,
+            Some(lfc) if b.z_m <= lfc && buoyancy < 0.0 => -1,
+            _ => 0,
+        }
+    };
+    let curve = chart_data.parcel_curve;
+    let mut i = 0;
+    while i + 1 < curve.len() {
+        let kind = kind_of(&curve[i], &curve[i + 1]);
+        let mut j = i + 1;
+        while j + 1 < curve.len() && kind_of(&curve[j], &curve[j + 1]) == kind {
+            j += 1;
+        }
+        let run = &curve[i..=j];
+        i = j;
+        let color = match kind {
+            1 => RGBColor(255, 120, 60).mix(0.25),
+            -1 => RGBColor(60, 120, 255).mix(0.18),
+            _ => continue,
+        };
+        let poly: Vec<(f64, f64)> = run
+            .iter()
+            .map(|l| to_xy(l.t_k - 273.15, l.p_pa / 100.0))
+            .chain(
+                run.iter()
+                    .rev()
+                    .map(|l| to_xy(l.env_t_k - 273.15, l.p_pa / 100.0)),
+            )
+            .collect();
+        if poly.iter().all(|&q| in_box(q)) {
+            chart
+                .draw_series(std::iter::once(Polygon::new(poly, color.filled())))
+                .map_err(|x| e(&x))?;
+        }
+    }
+
     // Environment temperature and dewpoint, parcel temperature.
     let env = chart_data.env;
     let env_pts = |f: &dyn Fn(f64) -> f64| {
@@ -286,6 +332,25 @@ fn draw(
                 });
                 first = false;
             }
+        }
+    }
+
+    // The parcel's virtual (density) temperature, which decides buoyancy.
+    let tv: Vec<(f64, f64)> = chart_data
+        .parcel_curve
+        .iter()
+        .map(|l| to_xy(l.tv_k - 273.15, l.p_pa / 100.0))
+        .collect();
+    let mut first = true;
+    for run in clipped(tv) {
+        let style = RGBColor(90, 90, 90).stroke_width(1);
+        let s = chart
+            .draw_series(DashedLineSeries::new(run, 5, 4, style))
+            .map_err(|x| e(&x))?;
+        if first {
+            s.label("parcel virtual temperature (with condensate)")
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], style));
+            first = false;
         }
     }
 
@@ -341,6 +406,7 @@ fn draw(
         ("dry adiabats (10 K)", RGBColor(200, 100, 0)),
         ("moist adiabats (dashed)", RGBColor(0, 130, 60)),
         ("mixing ratio g/kg (dotted)", RGBColor(120, 0, 120)),
+        ("shaded: CAPE (orange), CIN (blue)", RGBColor(200, 90, 40)),
     ];
     for (i, (text, color)) in key.iter().enumerate() {
         root.draw_text(
@@ -348,7 +414,7 @@ fn draw(
             &TextStyle::from(("sans-serif", 14).into_font())
                 .pos(Pos::new(HPos::Right, VPos::Top))
                 .color(color),
-            (kx - 8, ky + 90 + 18 * i as i32),
+            (kx - 8, ky + 110 + 18 * i as i32),
         )
         .map_err(|x| e(&x))?;
     }
