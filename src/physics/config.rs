@@ -91,6 +91,10 @@ pub struct PhysicsConfig {
     pub max_radius_m: f64,
     /// Parcels older than this are removed (counted). units: s
     pub max_age_s: f64,
+    /// A parcel that was cloudy dies once it has no liquid water left, is
+    /// sinking and lies this far below its condensation plane: its cloud is
+    /// gone and it has sunk back into the sub-cloud layer. units: m
+    pub death_depth_m: f64,
     /// Top of the simulated domain; parcels above it (or above the top of
     /// the environment profile) are removed and counted. units: m
     pub domain_top_m: f64,
@@ -113,7 +117,7 @@ impl Default for PhysicsConfig {
             viscosity_mu: 0.01,
             atm_pressure_weight: 1.0,
             entrainment_rate_per_m: 1.0e-4,
-            detrainment_rate_per_m: 1.0e-4,
+            detrainment_rate_per_m: 2.0e-4,
             entrainment_surface_factor: 1.0,
             detrainment_surface_factor: 1.0,
             turbulence_m_s: 0.3,
@@ -129,6 +133,7 @@ impl Default for PhysicsConfig {
             min_radius_m: 5.0,
             max_radius_m: 3000.0,
             max_age_s: 7200.0,
+            death_depth_m: 200.0,
             domain_top_m: 10_000.0,
         }
     }
@@ -214,6 +219,7 @@ impl PhysicsConfig {
             1.0e5,
         )?;
         check("physics.max_age_s", self.max_age_s, 1.0, 1.0e7)?;
+        check("physics.death_depth_m", self.death_depth_m, 0.0, 100_000.0)?;
         check("physics.domain_top_m", self.domain_top_m, 100.0, 100_000.0)?;
         Ok(())
     }

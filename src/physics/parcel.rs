@@ -22,6 +22,11 @@ pub struct Parcel {
     pub ql_kg_per_kg: f64,
     /// Potential temperature. units: K
     pub theta_k: f64,
+    /// Liquid-water potential temperature θ_l = θ − α L q_l/(c_p Π): the θ
+    /// the air would have with all its liquid evaporated. Phase changes and
+    /// motion leave it alone; entrainment mixes it like θ (eq 14). Together
+    /// with the total water it fixes the condensation plane. units: K
+    pub theta_l_k: f64,
     /// Volume (eq 6). units: m³
     pub volume_m3: f64,
     /// Radius of the sphere of that volume. units: m

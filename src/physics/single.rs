@@ -109,6 +109,7 @@ pub fn release(env: Environment, physics: &PhysicsConfig, r: SingleRelease) -> R
     cfg.ground.size_m = [1.0e6, 1.0e6];
     let p0 = env.pressure_pa(0.0);
     let mut world = ParcelWorld::new(env, cfg, 0)?;
+    world.set_deaths(false);
     world.spawn_parcel(ParcelSpec {
         position_m: DVec3::ZERO,
         velocity_m_s: DVec3::ZERO,

@@ -107,7 +107,7 @@ pub struct Fates {
     /// Left through the top of the domain or of the environment profile.
     pub escaped_top: u64,
     /// Died after losing their cloud: once cloudy, now without liquid water,
-    /// below their condensation plane and sinking.
+    /// sinking, and more than `death_depth_m` below their condensation plane.
     pub evaporated: u64,
     /// Sank with their centre below the ground.
     pub grounded: u64,
@@ -211,6 +211,9 @@ pub struct ParcelWorld {
     nbrs: Vec<Neighbour>,
     any_neighbours: bool,
     forces_stale: bool,
+    deaths: bool,
+    /// Where surface environment air saturates: the scene's condensation level. units: m
+    env_condensation_level_m: f64,
     last_substeps: u32,
     clamps: ClampCounts,
     fates: Fates,
@@ -221,7 +224,7 @@ impl ParcelWorld {
     /// A world with no parcels; emission draws come from `seed`.
     pub fn new(env: Environment, cfg: WorldConfig, seed: u64) -> Result<Self> {
         cfg.validate()?;
-        Ok(ParcelWorld {
+        let mut world = ParcelWorld {
             ground: GroundMap::new(&cfg.ground),
             env,
             cfg,
@@ -233,11 +236,31 @@ impl ParcelWorld {
             nbrs: Vec::new(),
             any_neighbours: false,
             forces_stale: true,
+            deaths: true,
+            env_condensation_level_m: 0.0,
             last_substeps: 0,
             clamps: ClampCounts::default(),
             fates: Fates::default(),
             counters: Counters::default(),
-        })
+        };
+        world.env_condensation_level_m = world.environment_condensation_level();
+        Ok(world)
+    }
+
+    /// Height where the environment's surface air saturates when lifted. units: m
+    fn environment_condensation_level(&self) -> f64 {
+        condensation_level_m(
+            &self.env,
+            self.env.theta_k(0.0),
+            self.env.qv(0.0),
+            self.env.top_m().max(self.cfg.physics.domain_top_m),
+        )
+    }
+
+    /// The scene's condensation level: where the environment's surface air
+    /// saturates when lifted; detrainment acts above it. units: m
+    pub fn environment_condensation_level_m(&self) -> f64 {
+        self.env_condensation_level_m
     }
 
     /// Replaces the environment (the live panel's edits); takes effect at
@@ -245,7 +268,15 @@ impl ParcelWorld {
     /// and volumes follow the new pressure through eq 6.
     pub fn set_environment(&mut self, env: Environment) {
         self.env = env;
+        self.env_condensation_level_m = self.environment_condensation_level();
         self.forces_stale = true;
+    }
+
+    /// Turns deaths (evaporated, grounded, aged) on or off; escapes from the
+    /// domain always apply. Single releases turn them off to follow a parcel
+    /// through its whole oscillation.
+    pub fn set_deaths(&mut self, on: bool) {
+        self.deaths = on;
     }
 
     /// The environment in use.
@@ -263,6 +294,7 @@ impl ParcelWorld {
         cfg.validate()?;
         self.ground = GroundMap::new(&cfg.ground);
         self.cfg = cfg;
+        self.env_condensation_level_m = self.environment_condensation_level();
         self.forces_stale = true;
         Ok(())
     }
@@ -329,6 +361,11 @@ impl ParcelWorld {
             qv_kg_per_kg: spec.qv_kg_per_kg,
             ql_kg_per_kg: spec.ql_kg_per_kg,
             theta_k: spec.theta_k,
+            theta_l_k: spec.theta_k
+                - self.cfg.physics.latent_heat_alpha * thermo::LATENT_HEAT_VAPORISATION
+                    / thermo::CP_DRY
+                    * spec.ql_kg_per_kg
+                    / thermo::exner(p_pa),
             volume_m3: volume,
             radius_m: spec.radius_m,
             cond_plane_z_m: 0.0,
@@ -520,6 +557,7 @@ impl ParcelWorld {
                 && p.velocity_m_s.is_finite()
                 && p.accel_m_s2.is_finite()
                 && p.theta_k.is_finite()
+                && p.theta_l_k.is_finite()
                 && p.qv_kg_per_kg.is_finite()
                 && p.ql_kg_per_kg.is_finite()
                 && p.dry_mass_kg.is_finite()
@@ -756,15 +794,24 @@ impl ParcelWorld {
             let vap_in = env_qv * dry_in;
             let dme = dry_in + vap_in; // eq 13
             // eq 14: mass-weighted θ of the mixture.
-            p.theta_k = (m * p.theta_k + dme * self.env.theta_k(z)) / (m + dme);
+            let env_theta = self.env.theta_k(z);
+            p.theta_k = (m * p.theta_k + dme * env_theta) / (m + dme);
+            // Environment air holds no liquid, so θ_l mixes exactly like θ.
+            p.theta_l_k = (m * p.theta_l_k + dme * env_theta) / (m + dme);
             let mut vap = p.dry_mass_kg * p.qv_kg_per_kg + vap_in;
             let mut liq = p.dry_mass_kg * p.ql_kg_per_kg;
             let mut dry = p.dry_mass_kg + dry_in;
             p.entrain_rate_kg_s = dme / dt;
 
-            // eq 15: detrainment from the condensation level up, at the
-            // parcel's own density, removing air and water in proportion.
-            if z >= p.cond_plane_z_m && c.detrainment_rate_per_m > 0.0 {
+            // eq 15: detrainment from the condensation level up (paper §7.1:
+            // "detrainment begins at condensation level while entrainment
+            // occurs throughout"), at the parcel's own density, removing air
+            // and water in proportion. The level is the lower of the parcel's
+            // own plane and the scene's (surface environment air), so a
+            // parcel that has dried out above the cloud base keeps leaking.
+            if z >= p.cond_plane_z_m.min(self.env_condensation_level_m)
+                && c.detrainment_rate_per_m > 0.0
+            {
                 let rho_p = m / p.volume_m3;
                 let dm_d = c.detrainment_surface_factor
                     * (c.detrainment_rate_per_m * r)
@@ -969,21 +1016,15 @@ impl ParcelWorld {
         (lwc / self.cfg.physics.opaque_lwc_kg_m3).clamp(0.0, 1.0)
     }
 
-    /// Height where this parcel's own air saturates when lifted dry-adiabatically.
-    /// Its liquid-water potential temperature θ_l (θ with all liquid
-    /// re-evaporated, α L q_l/c_p colder) and total water q_t are conserved by
-    /// condensation, so the plane is the base of its cloud and a cluster of
-    /// the same air gets one flat base.
+    /// Height where this parcel's own air saturates when lifted
+    /// dry-adiabatically: the level where ω_s(θ_l Π, P) equals its total
+    /// water. θ_l and q_t are conserved by motion and condensation, so the
+    /// plane is the base of its cloud and a cluster of the same air gets one
+    /// flat base; mixing and vapour exchange move it.
     fn condensation_plane_m(&self, p: &Parcel) -> f64 {
-        let pr = self.env.pressure_pa(p.position_m.z);
-        let t_dry = p.theta_k * thermo::exner(pr)
-            - self.cfg.physics.latent_heat_alpha * thermo::LATENT_HEAT_VAPORISATION
-                / thermo::CP_DRY
-                * p.ql_kg_per_kg;
-        let theta_l = t_dry / thermo::exner(pr);
         condensation_level_m(
             &self.env,
-            theta_l,
+            p.theta_l_k,
             p.qv_kg_per_kg + p.ql_kg_per_kg,
             self.env.top_m().max(self.cfg.physics.domain_top_m),
         )
@@ -997,6 +1038,7 @@ impl ParcelWorld {
         ];
         let top = self.cfg.physics.domain_top_m.min(self.env.top_m());
         let max_age = self.cfg.physics.max_age_s;
+        let death_depth = self.cfg.physics.death_depth_m;
         for i in 0..self.parcels.len() {
             let plane = self.condensation_plane_m(&self.parcels[i]);
             let fill = self.fill(&self.parcels[i]);
@@ -1012,10 +1054,12 @@ impl ParcelWorld {
             } else if x.z > top {
                 fates.escaped_top += 1;
                 p.alive = false;
+            } else if !self.deaths {
             } else if x.z < 0.0 && sinking {
                 fates.grounded += 1;
                 p.alive = false;
-            } else if p.was_cloudy && p.ql_kg_per_kg <= 0.0 && x.z < plane && sinking {
+            } else if p.was_cloudy && p.ql_kg_per_kg <= 0.0 && sinking && x.z < plane - death_depth
+            {
                 fates.evaporated += 1;
                 p.alive = false;
             } else if p.age_s > max_age {
