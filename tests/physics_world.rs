@@ -205,6 +205,10 @@ fn overlap_removes_the_buoyancy_of_the_hidden_caps() {
     let expect = w.environment().density_kg_m3(2000.0) * thermo::GRAVITY * v_cap;
     for p in w.parcels() {
         let f = p.atm_force_n;
+        eprintln!(
+            "cap force {} N, rho g V_cap = {} N, x {} y {}",
+            -f.z, expect, f.x, f.y
+        );
         // 15 %: the 18 × 9 quads resolve a cap of half-angle 37° with only a
         // few bands, and the pressure uses the actual (not linearised) profile.
         assert!(
