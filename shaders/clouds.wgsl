@@ -102,13 +102,13 @@ fn fs_main(in: FullscreenOut) -> @location(0) vec4<f32> {
             }
             let sigma = rho * sigma_max;
             let od = light_density_sum(p) * sigma_max;
-            var sun_light = phase * exp(-od) + 0.3 * exp(-0.25 * od);
+            var sun_light = phase * exp(-od) + 0.2 * exp(-0.25 * od);
             if USE_NORMALS {
                 let n = density_normal(p);
                 sun_light *= 0.55 + 0.45 * max(dot(n, sun), 0.0);
             }
             let height = clamp((p.z - base_z) / max(top_z - base_z, 1.0), 0.0, 1.0);
-            let ambient = sky_ambient() * mix(0.25, 1.0, height);
+            let ambient = sky_ambient() * mix(0.12, 1.0, height);
             let source = frame.sun_color.rgb * sun_light + ambient;
             let step_t = exp(-sigma * dt);
             radiance += trans * source * (1.0 - step_t);
@@ -123,7 +123,7 @@ fn fs_main(in: FullscreenOut) -> @location(0) vec4<f32> {
         return vec4<f32>(0.0);
     }
     // Aerial perspective, as on the terrain.
-    let haze = 1.0 - exp(-first_hit / 25000.0);
+    let haze = 1.0 - exp(-first_hit / 35000.0);
     radiance = mix(radiance, haze_color(rd) * (1.0 - trans), haze);
     let alpha = 1.0 - trans;
     // Tone-map the un-premultiplied colour, then premultiply.

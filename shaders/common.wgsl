@@ -92,8 +92,10 @@ fn ray_box(ro: vec3<f32>, rd: vec3<f32>, bmin: vec3<f32>, bmax: vec3<f32>) -> ve
     return vec2<f32>(max(max(lo.x, lo.y), lo.z), min(min(hi.x, hi.y), hi.z));
 }
 
-// Tiling fBm noise in about [-0.5, 0.5] at a world point: `octaves` fetches
-// of the periodic 3D texture at doubling frequencies, drifting slowly in time.
+// Tiling fBm noise in [-0.5, 0.5] at a world point: `octaves` fetches of the
+// periodic 3D texture at doubling frequencies, drifting slowly in time. The
+// weighted mean of fBm octaves clusters near 0, so it is doubled (then
+// clamped) to use the whole range.
 fn noise3(p: vec3<f32>) -> f32 {
     let drift = vec3<f32>(1.5, 0.8, 0.3) * frame.camera_pos.w;
     var q = (p + drift) * frame.noise.x;
@@ -108,7 +110,7 @@ fn noise3(p: vec3<f32>) -> f32 {
         // Not exactly 2, so octaves do not line up on the tile grid.
         q = q * 2.03 + vec3<f32>(0.17, 0.31, 0.53);
     }
-    return sum / max(norm, 1e-6);
+    return clamp(2.0 * sum / max(norm, 1e-6), -0.5, 0.5);
 }
 
 // Cheap per-pixel hash in [0, 1) (ray start jitter against banding).

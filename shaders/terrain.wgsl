@@ -47,18 +47,19 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let sun = frame.sun_dir.xyz;
     // Albedo: meadows and fields on gentle slopes, rock on steep ones,
     // patchy by a large-scale noise lookup.
-    let patchiness = textureSampleLevel(noise_tex, repeat_sampler, vec3<f32>(in.world.xy * 2.5e-4, 0.37), 0.0).r;
-    let meadow = mix(vec3<f32>(0.07, 0.13, 0.04), vec3<f32>(0.16, 0.18, 0.07), patchiness);
+    let patchiness = textureSampleLevel(noise_tex, repeat_sampler, vec3<f32>(in.world.xy * 1.1e-3, 0.37), 0.0).r;
+    let fields = smoothstep(0.35, 0.65, patchiness);
+    let meadow = mix(vec3<f32>(0.06, 0.10, 0.035), vec3<f32>(0.13, 0.15, 0.06), fields);
     let rock = vec3<f32>(0.22, 0.2, 0.18);
     let steep = smoothstep(0.75, 0.55, n.z);
     let albedo = mix(meadow, rock, steep);
     let direct = frame.sun_color.rgb * max(dot(n, sun), 0.0) * cloud_shadow(in.world);
     let ambient = sky_ambient() * (0.6 + 0.4 * n.z);
     var c = albedo * (direct + ambient);
-    // Aerial perspective: fade into haze over ~25 km.
+    // Aerial perspective: fade into haze over ~35 km.
     let to_eye = in.world - frame.camera_pos.xyz;
     let dist = length(to_eye);
-    let haze = 1.0 - exp(-dist / 25000.0);
+    let haze = 1.0 - exp(-dist / 35000.0);
     c = mix(c, haze_color(to_eye / dist), haze);
     return vec4<f32>(output_color(c), 1.0);
 }

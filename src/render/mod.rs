@@ -51,7 +51,7 @@ impl Default for TerrainConfig {
         Self {
             enabled: true,
             heightmap: None,
-            height_scale_m: 350.0,
+            height_scale_m: 600.0,
             extent_m: 40_000.0,
             resolution: 160,
             seed: 7,
@@ -122,10 +122,10 @@ impl Default for RenderConfig {
             max_steps: 160,
             light_steps: 4,
             light_step_m: 90.0,
-            noise_octaves: 3,
-            noise_amplitude: 0.9,
-            noise_scale_m: 1400.0,
-            shell_m: 180.0,
+            noise_octaves: 4,
+            noise_amplitude: 1.2,
+            noise_scale_m: 900.0,
+            shell_m: 260.0,
             extinction_per_m: 0.03,
             early_exit_transmittance: 0.02,
             phase_g: 0.35,
@@ -313,8 +313,8 @@ impl Default for CameraConfig {
     /// from the east the bases are in shade and the shadows fall sideways.
     fn default() -> Self {
         Self {
-            position_m: [-1500.0, -9500.0, 500.0],
-            target_m: [0.0, 0.0, 1300.0],
+            position_m: [-1500.0, -9000.0, 900.0],
+            target_m: [0.0, 0.0, 700.0],
             vfov_deg: 50.0,
             near_m: 10.0,
             far_m: 60_000.0,

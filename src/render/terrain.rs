@@ -66,7 +66,7 @@ pub fn procedural_height(x: f32, y: f32, cfg: &TerrainConfig) -> f32 {
     }
     let h = sum / norm;
     let r = (x * x + y * y).sqrt() / 9000.0;
-    let valley = 0.35 + 0.65 * (r * r).min(1.0);
+    let valley = 0.5 + 0.5 * (r * r).min(1.0);
     (h * valley).clamp(0.0, 1.0) * cfg.height_scale_m
 }
 
