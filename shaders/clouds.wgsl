@@ -123,7 +123,7 @@ fn fs_main(in: FullscreenOut) -> @location(0) vec4<f32> {
         return vec4<f32>(0.0);
     }
     // Aerial perspective, as on the terrain.
-    let haze = 1.0 - exp(-first_hit / 35000.0);
+    let haze = 1.0 - exp(-first_hit / 60000.0);
     radiance = mix(radiance, haze_color(rd) * (1.0 - trans), haze);
     let alpha = 1.0 - trans;
     // Tone-map the un-premultiplied colour, then premultiply.

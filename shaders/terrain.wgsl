@@ -56,10 +56,10 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let direct = frame.sun_color.rgb * max(dot(n, sun), 0.0) * cloud_shadow(in.world);
     let ambient = sky_ambient() * (0.6 + 0.4 * n.z);
     var c = albedo * (direct + ambient);
-    // Aerial perspective: fade into haze over ~35 km.
+    // Aerial perspective: fade into haze over ~60 km.
     let to_eye = in.world - frame.camera_pos.xyz;
     let dist = length(to_eye);
-    let haze = 1.0 - exp(-dist / 35000.0);
+    let haze = 1.0 - exp(-dist / 60000.0);
     c = mix(c, haze_color(to_eye / dist), haze);
     return vec4<f32>(output_color(c), 1.0);
 }
