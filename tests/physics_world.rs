@@ -189,8 +189,12 @@ fn exposed_area_pressure_vanishes_for_an_isolated_parcel() {
 #[test]
 fn overlap_removes_the_buoyancy_of_the_hidden_caps() {
     // Two equal spheres side by side overlapping: each loses the buoyancy
-    // of its hidden cap, ρ g V_cap, downward, and nothing sideways.
-    let physics = PhysicsConfig::default();
+    // of its hidden cap, ρ g V_cap, downward, and nothing sideways (weight 1
+    // is the unscaled physical value; scenes use a calibrated smaller one).
+    let physics = PhysicsConfig {
+        atm_pressure_weight: 1.0,
+        ..PhysicsConfig::default()
+    };
     let mut w = world(neutral(), physics, false, 1);
     let r = 150.0;
     let d = 240.0;

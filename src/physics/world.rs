@@ -64,6 +64,8 @@ pub struct ClampCounts {
     pub non_finite: u64,
     /// Frames with a non-finite or non-positive frame dt (ignored).
     pub bad_frame_dt: u64,
+    /// Atmospheric-pressure force capped at the sphere's weighted Archimedes force.
+    pub atm_force: u64,
 }
 
 impl ClampCounts {
@@ -78,6 +80,7 @@ impl ClampCounts {
         self.substep_budget += o.substep_budget;
         self.non_finite += o.non_finite;
         self.bad_frame_dt += o.bad_frame_dt;
+        self.atm_force += o.atm_force;
     }
 
     /// Sum of all counters.
@@ -92,6 +95,7 @@ impl ClampCounts {
             + self.substep_budget
             + self.non_finite
             + self.bad_frame_dt
+            + self.atm_force
     }
 }
 
@@ -580,7 +584,7 @@ impl ParcelWorld {
         self.counters.sph += t2 - t1;
 
         if self.cfg.physics.needs_exposed_area() {
-            self.exposed_area();
+            self.exposed_area(clamps);
         }
         let t3 = Instant::now();
         self.counters.exposed_area += t3 - t2;
@@ -702,16 +706,21 @@ impl ParcelWorld {
     ///
     /// Archimedes' force is the pressure integrated over the whole sphere and
     /// is already in the θ_v buoyancy (eq 5). What the exposed-area term adds
-    /// is the difference: the hidden part of the sphere feels no environment
-    /// pressure; the neighbour presses instead on the contact disk with the
-    /// pressure at the disk's centre P_ref. So each hidden quad contributes
-    /// (P(z_q) − P_ref) n dA, summed over the cap a neighbour hides. By the
-    /// divergence theorem this is minus the buoyancy of the hidden cap: a
-    /// cluster is not buoyed twice for the volume where its spheres overlap.
-    /// An isolated sphere gets exactly zero (no quad is evaluated at all).
-    /// `atm_pressure_weight` is the paper's calibrated weight (1 = this
-    /// physical value).
-    fn exposed_area(&mut self) {
+    /// is the difference: the part of the sphere inside a neighbour feels no
+    /// environment pressure; the neighbour presses instead on the contact
+    /// disk with the pressure at the disk's centre P_ref. So each hidden quad
+    /// contributes (P(z_q) − P_ref) n dA, summed over each neighbour's cap.
+    /// By the divergence theorem a cap's sum is minus its own buoyancy,
+    /// −ρ g V_cap ẑ: overlapping spheres are not buoyed twice for the shared
+    /// volume. An isolated sphere gets exactly zero (no quad is evaluated).
+    ///
+    /// The weight is the paper's calibration. At 1 the whole Archimedes
+    /// force of the overlap is removed, but the parcels' masses are not
+    /// shared, so overlapping parcels would become heavier than their
+    /// surroundings by g V_cap/V, far above thermal buoyancy (g Δθ/θ ≈
+    /// 0.01 g): a small weight (default 0.01) keeps the term a gentle
+    /// downward and inward pull on overlapping parcels.
+    fn exposed_area(&mut self, clamps: &mut ClampCounts) {
         let weight = if self.cfg.physics.atmospheric_pressure {
             self.cfg.physics.atm_pressure_weight
         } else {
@@ -741,29 +750,43 @@ impl ParcelWorld {
             let mut exposed = 0.0;
             let mut force = DVec3::ZERO;
             let r2 = ri * ri;
+            let pressure_at = |z: f64| self.env.pressure_pa(z);
             for (q, nq) in self.sphere.normal.iter().enumerate() {
                 let point = ci + *nq * ri;
                 let da = self.sphere.area[q] * r2;
-                let mut hidden_by = None;
+                let mut hidden = false;
+                let mut pq = None;
+                // Every neighbour's cap is closed on its own contact disk, so a
+                // quad inside two neighbours counts in both caps.
                 for (cj, rj2, z_ref) in &overl {
                     self.counters.quads_tested += 1;
                     if (point - *cj).length_squared() < *rj2 {
-                        hidden_by = Some(*z_ref);
-                        break;
+                        hidden = true;
+                        if weight == 0.0 {
+                            break;
+                        }
+                        let p_q = *pq.get_or_insert_with(|| pressure_at(point.z));
+                        force += *nq * ((p_q - pressure_at(*z_ref)) * da);
                     }
                 }
-                match hidden_by {
-                    None => exposed += da,
-                    Some(z_ref) if weight != 0.0 => {
-                        let dp = self.env.pressure_pa(point.z) - self.env.pressure_pa(z_ref);
-                        force += *nq * (dp * da);
-                    }
-                    Some(_) => {}
+                if !hidden {
+                    exposed += da;
                 }
             }
+            // Bound: the caps cannot lose more than the sphere's whole
+            // Archimedes force ρ g V.
+            let force = force * weight;
+            let bound =
+                weight * self.env.density_kg_m3(ci.z) * thermo::GRAVITY * self.parcels[i].volume_m3;
+            let force = if force.length() > bound {
+                clamps.atm_force += 1;
+                force * (bound / force.length())
+            } else {
+                force
+            };
             let p = &mut self.parcels[i];
             p.exposed_area_m2 = exposed;
-            p.atm_force_n = force * weight;
+            p.atm_force_n = force;
         }
     }
 
