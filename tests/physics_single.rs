@@ -287,6 +287,12 @@ fn mixing_dries_and_decays_the_parcel() {
     );
     // It still oscillates while it decays (paper §7.1).
     assert!(dry.period_s.is_some());
+    // The filling ratio follows the liquid water: opaque fraction only while
+    // there is liquid, none once it has evaporated.
+    for p in t {
+        assert_eq!(p.fill > 0.0, p.ql_kg_per_kg > 0.0, "t = {}", p.time_s);
+        assert!((0.0..=1.0).contains(&p.fill));
+    }
     // Without mixing the water mass is conserved (1e-12: rounding).
     let wl = wet.trajectory.last().unwrap();
     assert!((wl.water_kg - first.water_kg).abs() < 1e-12 * first.water_kg);

@@ -579,7 +579,9 @@ impl ParcelWorld {
         let t1 = Instant::now();
         self.counters.neighbours += t1 - t0;
 
-        self.sph_density();
+        if self.cfg.physics.sph || self.cfg.physics.viscosity {
+            self.sph_density();
+        }
         let t2 = Instant::now();
         self.counters.sph += t2 - t1;
 
@@ -1045,12 +1047,19 @@ impl ParcelWorld {
     /// plane is the base of its cloud and a cluster of the same air gets one
     /// flat base; mixing and vapour exchange move it.
     fn condensation_plane_m(&self, p: &Parcel) -> f64 {
-        condensation_level_m(
-            &self.env,
-            p.theta_l_k,
-            p.qv_kg_per_kg + p.ql_kg_per_kg,
-            self.env.top_m().max(self.cfg.physics.domain_top_m),
-        )
+        let qt = p.qv_kg_per_kg + p.ql_kg_per_kg;
+        let z_max = self.env.top_m().max(self.cfg.physics.domain_top_m);
+        // Warm start: the plane moves little between frames, so bisect in a
+        // 64 m bracket around the last one when it holds the crossing (same
+        // 1e-4 m resolution in 19 halvings instead of 40).
+        let (lo, hi) = (p.cond_plane_z_m - 32.0, p.cond_plane_z_m + 32.0);
+        if lo > 0.0 && hi < z_max {
+            let excess = |z: f64| saturation_excess(&self.env, p.theta_l_k, qt, z);
+            if excess(lo) > 0.0 && !(excess(hi) > 0.0) {
+                return bisect_plane(&self.env, p.theta_l_k, qt, lo, hi, 19);
+            }
+        }
+        condensation_level_m(&self.env, p.theta_l_k, qt, z_max)
     }
 
     /// End of frame: condensation planes, fill, deaths and escapes.
@@ -1103,21 +1112,28 @@ impl ParcelWorld {
 /// ω_s(θ_l Π(P(z)), P(z)) = q_t, which decreases with height). 0 if it is
 /// saturated at the ground, `z_max_m` if it never saturates below it. units: m
 pub fn condensation_level_m(env: &Environment, theta_l_k: f64, qt: f64, z_max_m: f64) -> f64 {
-    let excess = |z: f64| {
-        let p = env.pressure_pa(z);
-        thermo::saturation_mixing_ratio(theta_l_k * thermo::exner(p), p) - qt
-    };
-    if !(excess(0.0) > 0.0) {
+    if !(saturation_excess(env, theta_l_k, qt, 0.0) > 0.0) {
         return 0.0;
     }
-    if excess(z_max_m) > 0.0 {
+    if saturation_excess(env, theta_l_k, qt, z_max_m) > 0.0 {
         return z_max_m;
     }
-    let (mut lo, mut hi) = (0.0, z_max_m);
     // 40 halvings of ≤ 100 km: below a millimetre.
-    for _ in 0..40 {
+    bisect_plane(env, theta_l_k, qt, 0.0, z_max_m, 40)
+}
+
+/// ω_s − q_t of air with liquid-water potential temperature θ_l lifted to z.
+fn saturation_excess(env: &Environment, theta_l_k: f64, qt: f64, z_m: f64) -> f64 {
+    let p = env.pressure_pa(z_m);
+    thermo::saturation_mixing_ratio(theta_l_k * thermo::exner(p), p) - qt
+}
+
+/// Bisection for the saturation level inside [lo, hi] (excess > 0 at lo).
+fn bisect_plane(env: &Environment, theta_l_k: f64, qt: f64, lo: f64, hi: f64, n: u32) -> f64 {
+    let (mut lo, mut hi) = (lo, hi);
+    for _ in 0..n {
         let mid = 0.5 * (lo + hi);
-        if excess(mid) > 0.0 {
+        if saturation_excess(env, theta_l_k, qt, mid) > 0.0 {
             lo = mid;
         } else {
             hi = mid;
