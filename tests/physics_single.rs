@@ -297,3 +297,47 @@ fn mixing_dries_and_decays_the_parcel() {
     let wl = wet.trajectory.last().unwrap();
     assert!((wl.water_kg - first.water_kg).abs() < 1e-12 * first.water_kg);
 }
+
+#[test]
+fn sub_steps_apply_mixing_and_condensation_with_the_sub_step_dt() {
+    // 80 frames of 4 s cut into 4 sub-steps of 1 s must match 320 frames of
+    // 1 s: mixing and condensation act per sub-step with the sub-step dt, so
+    // the frame length only changes when planes and deaths are checked.
+    let env = fair_weather();
+    let run = |frame: f64, frames: usize| {
+        let physics = PhysicsConfig {
+            max_dt_s: 1.0,
+            ..PhysicsConfig::default()
+        };
+        let mut w = quiet_world(env.clone(), physics);
+        w.set_deaths(false);
+        let spec = ParcelSpec::from_environment(&env, DVec3::ZERO, 2.0, 0.002, 150.0);
+        w.spawn_parcel(spec).unwrap();
+        let mut subs = 0;
+        for _ in 0..frames {
+            subs += w.step(frame).substeps;
+        }
+        assert_eq!(subs, 320);
+        w.parcels()[0].clone()
+    };
+    let a = run(4.0, 80);
+    let b = run(1.0, 320);
+    assert!(a.ql_kg_per_kg > 0.0, "the run must reach condensation");
+    // 1e-6: the condensation plane (detrainment's threshold) is refreshed
+    // once per frame, the only place the frame length enters.
+    let rel = |x: f64, y: f64| (x - y).abs() / y.abs().max(1e-30);
+    assert!(
+        rel(a.position_m.z, b.position_m.z) < 1e-6,
+        "{} vs {}",
+        a.position_m.z,
+        b.position_m.z
+    );
+    assert!(rel(a.water_kg(), b.water_kg()) < 1e-6);
+    assert!(
+        rel(a.ql_kg_per_kg, b.ql_kg_per_kg) < 1e-4,
+        "{} vs {}",
+        a.ql_kg_per_kg,
+        b.ql_kg_per_kg
+    );
+    assert!(rel(a.theta_k, b.theta_k) < 1e-9);
+}
