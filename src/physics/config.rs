@@ -316,7 +316,7 @@ impl Default for EmissionConfig {
     fn default() -> Self {
         EmissionConfig {
             enabled: true,
-            rate_per_km2_per_h: 30.0,
+            rate_per_km2_per_h: 50.0,
             radius_m: 150.0,
             start_hour: 12.0,
             diurnal: true,
