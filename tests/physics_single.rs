@@ -341,3 +341,48 @@ fn sub_steps_apply_mixing_and_condensation_with_the_sub_step_dt() {
     );
     assert!(rel(a.theta_k, b.theta_k) < 1e-9);
 }
+
+#[test]
+fn release_summary_finds_equilibrium_level_and_period() {
+    // A dry parcel released from the ground with θ = θ_env(1000 m) in a
+    // uniformly stable layer: it rises, overshoots and, damped by drag,
+    // settles at 1000 m, oscillating with the Brunt–Väisälä period there.
+    let gradient = 0.005;
+    let env = dry_stable(gradient);
+    let z_eq = 1000.0;
+    let theta = env.theta_k(z_eq);
+    let t0 = thermo::temperature_from_theta_k(theta, env.pressure_pa(0.0));
+    let run = single::release(
+        env.clone(),
+        &PhysicsConfig::default(),
+        SingleRelease {
+            surface_t_k: t0,
+            surface_qv: 0.0,
+            radius_m: 150.0,
+            mixing: false,
+            duration_s: 7200.0,
+            dt_s: 2.0,
+        },
+    )
+    .unwrap();
+    assert!(!run.ended_early);
+    // Drag damps the overshoot, so the maximum lies between z_eq and 2 z_eq.
+    assert!(run.max_altitude_m > z_eq && run.max_altitude_m < 2.0 * z_eq);
+    // 2 %: the late oscillation has decayed to a few metres around 1000 m
+    // (mean over the last third, not over whole periods).
+    assert!(
+        (run.equilibrium_altitude_m - z_eq).abs() < 0.02 * z_eq,
+        "{}",
+        run.equilibrium_altitude_m
+    );
+    let n = (thermo::GRAVITY / env.theta_v_k(z_eq) * gradient).sqrt();
+    let expect = 2.0 * std::f64::consts::PI / n;
+    let period = run.period_s.expect("an oscillation");
+    // 5 %: the period is averaged from the first crossing, where the
+    // amplitude (up to 1 km) makes θ_env in eq 5's denominator vary by 1.6 %,
+    // and quadratic drag adds a small phase lag.
+    assert!(
+        (period - expect).abs() < 0.05 * expect,
+        "{period} vs {expect}"
+    );
+}
