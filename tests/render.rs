@@ -397,8 +397,26 @@ fn pruned_scenes_create_fewer_passes() {
     };
     r.prepare(&ctx, &input).unwrap();
     assert_eq!(r.pass_names(), ["sky", "terrain", "clouds"]);
+    // Shadows on: the shadow pass is built, and the terrain pipeline (its
+    // HAS_SHADOWS constant changed); sky and clouds are kept.
+    let built = r.pipelines_built();
     r.set_config(&ctx, &RenderConfig::default()).unwrap();
     assert_eq!(r.pass_names(), ["shadow", "sky", "terrain", "clouds"]);
+    assert_eq!(r.pipelines_built(), built + 2);
+    // Normals: only the cloud pipeline changes.
+    let normals = RenderConfig {
+        normals: true,
+        ..RenderConfig::default()
+    };
+    r.set_config(&ctx, &normals).unwrap();
+    assert_eq!(r.pipelines_built(), built + 3);
+    // A march parameter is a uniform: nothing is rebuilt.
+    let steps = RenderConfig {
+        step_m: 80.0,
+        ..normals
+    };
+    r.set_config(&ctx, &steps).unwrap();
+    assert_eq!(r.pipelines_built(), built + 3);
 }
 
 #[test]

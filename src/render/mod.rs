@@ -308,14 +308,15 @@ pub struct CameraConfig {
 }
 
 impl Default for CameraConfig {
-    /// Stands south of a 10 km domain, a few hundred metres up, looking north
-    /// across the landscape at the cloud layer (1–3 km); with the default sun
-    /// from the east the bases are in shade and the shadows fall sideways.
+    /// Stands 8 km south of a 10 km domain, 1 km up, looking north across
+    /// the landscape at the cloud layer (1–3 km), all of the domain in view;
+    /// with the default sun from the east the bases are in shade and the
+    /// shadows fall sideways onto the ground in front of the clouds.
     fn default() -> Self {
         Self {
-            position_m: [-1500.0, -9000.0, 900.0],
-            target_m: [0.0, 0.0, 700.0],
-            vfov_deg: 50.0,
+            position_m: [-2500.0, -13000.0, 1000.0],
+            target_m: [0.0, -500.0, 1200.0],
+            vfov_deg: 40.0,
             near_m: 10.0,
             far_m: 60_000.0,
         }

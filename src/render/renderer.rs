@@ -104,6 +104,9 @@ pub struct Renderer {
     bind_terrain: Option<wgpu::BindGroup>,
     bind_clouds: Option<wgpu::BindGroup>,
     timestamps: Option<Timestamps>,
+    /// Pipelines created so far (tests check that a setting rebuilds only
+    /// what depends on it).
+    pipelines_built: u32,
 }
 
 fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
@@ -398,6 +401,7 @@ impl Renderer {
             bind_terrain: None,
             bind_clouds: None,
             timestamps,
+            pipelines_built: 0,
         };
         r.ensure(ctx)?;
         Ok(r)
@@ -465,6 +469,11 @@ impl Renderer {
             .filter(|p| self.pipelines.contains_key(p))
             .map(|p| p.name())
             .collect()
+    }
+
+    /// How many pipelines this renderer has created so far.
+    pub fn pipelines_built(&self) -> u32 {
+        self.pipelines_built
     }
 
     /// Frame size in pixels.
@@ -638,6 +647,7 @@ impl Renderer {
                 continue;
             }
             let pipeline = self.create_pipeline(ctx, pass, &constants);
+            self.pipelines_built += 1;
             self.pipelines.insert(
                 pass,
                 PassPipeline {
