@@ -121,8 +121,10 @@ fn compare_with_reference(name: &str, rgba: &[u8], w: u32, h: u32) {
 
 /// One full parcel with its plane 300 m under the centre.
 fn one_parcel(shell_m: f32) -> (RenderConfig, CloudParcel) {
+    // radius_scale 1: the drawn sphere is the parcel's, for the geometry checks.
     let cfg = RenderConfig {
         shell_m,
+        radius_scale: 1.0,
         ..no_terrain()
     };
     let p = CloudParcel {
@@ -260,6 +262,7 @@ fn shadow_pass_darkens_terrain_under_the_cloud() {
     };
     let on = RenderConfig {
         terrain: flat.clone(),
+        radius_scale: 1.0,
         ..RenderConfig::default()
     };
     let off = RenderConfig {

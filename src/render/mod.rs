@@ -73,8 +73,6 @@ pub struct RenderConfig {
     /// Evaluate only the parcels listed in a sample's grid cell (paper §6.2);
     /// off = every parcel at every sample (brute force, for the bench).
     pub grid_culling: bool,
-    /// Side of the square simulation domain (for the shadow map). units: m
-    pub domain_m: f32,
     /// Ray-march step along view rays. units: m
     pub step_m: f32,
     /// Most steps per view ray.
@@ -89,6 +87,9 @@ pub struct RenderConfig {
     pub noise_amplitude: f32,
     /// Size of the largest noise feature (one texture tile). units: m
     pub noise_scale_m: f32,
+    /// Rendered sphere radius over the physical parcel radius (paper §6.1
+    /// draws spheres larger than the SPH kernels so neighbours merge).
+    pub radius_scale: f32,
     /// Thickness of the soft shell of the sphere and of the condensation
     /// plane, over which the pseudo-distance d goes from 0 to 1. units: m
     pub shell_m: f32,
@@ -117,15 +118,15 @@ impl Default for RenderConfig {
             shadows: true,
             normals: false,
             grid_culling: true,
-            domain_m: 10_000.0,
             step_m: 40.0,
             max_steps: 160,
             light_steps: 4,
             light_step_m: 90.0,
             noise_octaves: 4,
             noise_amplitude: 1.2,
-            noise_scale_m: 900.0,
-            shell_m: 260.0,
+            noise_scale_m: 800.0,
+            radius_scale: 2.5,
+            shell_m: 150.0,
             extinction_per_m: 0.03,
             early_exit_transmittance: 0.02,
             phase_g: 0.35,
@@ -150,12 +151,6 @@ impl RenderConfig {
     /// Checks every field; the error names the field and its allowed range.
     pub fn validate(&self) -> Result<()> {
         let r = self;
-        check(
-            "render.domain_m",
-            r.domain_m,
-            r.domain_m >= 100.0,
-            "≥ 100 m",
-        )?;
         check(
             "render.step_m",
             r.step_m,
@@ -198,6 +193,12 @@ impl RenderConfig {
             "≥ 10 m",
         )?;
         check("render.shell_m", r.shell_m, r.shell_m >= 1.0, "≥ 1 m")?;
+        check(
+            "render.radius_scale",
+            r.radius_scale,
+            (0.1..=10.0).contains(&r.radius_scale),
+            "0.1 to 10",
+        )?;
         check(
             "render.extinction_per_m",
             r.extinction_per_m,

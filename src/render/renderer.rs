@@ -378,7 +378,7 @@ impl Renderer {
             height,
             features: Features::new(cfg, true),
             any_clouds: true,
-            grid_info: pack::pack(&[], cfg.shell_m)?.info,
+            grid_info: pack::pack(&[], cfg.shell_m, cfg.radius_scale)?.info,
             upload_ms: 0.0,
             frame_buf,
             parcels_buf,
@@ -749,7 +749,7 @@ impl Renderer {
     /// wrong) when the parcels exceed the uniform limits (see [`pack`]).
     pub fn prepare(&mut self, ctx: &GpuContext, input: &FrameInput<'_>) -> Result<()> {
         let start = Instant::now();
-        let packed = pack::pack(input.parcels, self.cfg.shell_m)?;
+        let packed = pack::pack(input.parcels, self.cfg.shell_m, self.cfg.radius_scale)?;
         self.grid_info = packed.info;
         self.any_clouds = packed.info.parcel_count > 0;
         let features = Features::new(&self.cfg, packed.info.parcel_count > 0);
@@ -805,12 +805,7 @@ impl Renderer {
             grid_min: g.min.extend(0.0).to_array(),
             grid_cell: g.cell.extend(0.0).to_array(),
             grid_dims: [g.dims[0], g.dims[1], g.dims[2], g.parcel_count],
-            domain: [
-                c.domain_m * 0.5,
-                c.terrain.height_scale_m,
-                self.width as f32,
-                self.height as f32,
-            ],
+            shadow_rect: shadow_rect(g, input.sun.direction),
         }
     }
 
@@ -927,6 +922,22 @@ impl Renderer {
             _ => rp.draw(0..3, 0..1),
         }
     }
+}
+
+/// Ground rectangle (min x, min y, max x, max y) whose sun rays can cross
+/// the grid box: the box's footprint and its shadow cast from its top.
+pub fn shadow_rect(g: &GridInfo, sun: glam::Vec3) -> [f32; 4] {
+    let sun = sun.normalize();
+    let (lo, hi) = (g.min, g.max());
+    // Along the sun ray from ground (x, y, 0), height z is reached at x + z·s.
+    let s = glam::Vec2::new(sun.x, sun.y) / sun.z.max(0.03);
+    let a = lo.truncate() - s * hi.z;
+    let b = hi.truncate() - s * hi.z;
+    let c = lo.truncate() - s * lo.z.max(0.0);
+    let d = hi.truncate() - s * lo.z.max(0.0);
+    let min = a.min(c).min(b).min(d);
+    let max = a.max(c).max(b).max(d);
+    [min.x, min.y, max.x, max.y]
 }
 
 fn check_size(ctx: &GpuContext, width: u32, height: u32) -> Result<()> {
