@@ -4,10 +4,12 @@
 // Each condensed parcel i is a sphere (centre c_i, radius r_i) cut flat below
 // by its condensation plane z = z_i, with filling ratio f_i. Its normalised
 // pseudo-distance is
-//     d_i(P) = clamp(min(r_i - |P - c_i|, P.z - z_i) / shell, -1, 1)
-// i.e. 0 on the sphere and on the plane, +1 at `shell` metres inside, -1 at
-// `shell` metres outside (sphere ∩ half-space above the plane, as the min of
-// the two signed distances). The union over parcels takes the max of
+//     d_i(P) = clamp(min((r_i - |P - c_i|) / shell, (P.z - z_i) / (PLANE_SHELL · shell)), -1, 1)
+// i.e. 0 on the sphere and on the plane, +1 at `shell` metres inside the
+// sphere (PLANE_SHELL·shell above the plane), −1 as far outside (sphere ∩
+// half-space above the plane, as the min of the two signed distances). The
+// plane's shell is thinner than the sphere's so the noise erodes the domes
+// deeply while the base stays flat, as cumulus bases are. The union over parcels takes the max of
 //     v_i(P) = f_i·(d_i(P) + 1) − 1,
 // which we may stop as soon as it saturates at 1 (paper). The density is
 //     ρ(P) = smoothstep(0, 1, v(P) + k·noise(P)),
@@ -16,18 +18,21 @@
 // surface, its edge is noise-eroded over about k/2 shells, and a parcel with
 // f < 1 never reaches full density and turns sponge-like as f drops. Below
 // the plane d rises at most to −k/2 before ρ vanishes: the base is flat to
-// within half a shell times k.
+// within k/2 · PLANE_SHELL · shell.
 
 // Evaluate only the parcels listed in the sample's grid cell (paper §6.2).
 // false: every parcel at every sample (brute force, for the bench).
 override GRID_CULLING: bool = true;
 
+// Plane shell thickness relative to the sphere's shell.
+const PLANE_SHELL: f32 = 0.3;
+
 fn parcel_value(i: u32, p: vec3<f32>) -> f32 {
     let q = parcels.p[i];
     let shell = frame.cloud.y;
-    let d_sphere = q.center_radius.w - distance(p, q.center_radius.xyz);
-    let d_plane = p.z - q.fill_plane.y;
-    let d = clamp(min(d_sphere, d_plane) / shell, -1.0, 1.0);
+    let d_sphere = (q.center_radius.w - distance(p, q.center_radius.xyz)) / shell;
+    let d_plane = (p.z - q.fill_plane.y) / (PLANE_SHELL * shell);
+    let d = clamp(min(d_sphere, d_plane), -1.0, 1.0);
     return q.fill_plane.x * (d + 1.0) - 1.0;
 }
 

@@ -90,8 +90,9 @@ pub struct RenderConfig {
     /// Rendered sphere radius over the physical parcel radius (paper §6.1
     /// draws spheres larger than the SPH kernels so neighbours merge).
     pub radius_scale: f32,
-    /// Thickness of the soft shell of the sphere and of the condensation
-    /// plane, over which the pseudo-distance d goes from 0 to 1. units: m
+    /// Thickness of the soft shell of the sphere, over which the
+    /// pseudo-distance d goes from 0 to 1 (the condensation plane's shell is
+    /// 0.3× this; see shaders/density.wgsl). units: m
     pub shell_m: f32,
     /// Extinction coefficient of fully dense cloud. units: m^-1
     pub extinction_per_m: f32,
@@ -123,10 +124,10 @@ impl Default for RenderConfig {
             light_steps: 4,
             light_step_m: 90.0,
             noise_octaves: 4,
-            noise_amplitude: 1.2,
-            noise_scale_m: 800.0,
+            noise_amplitude: 1.4,
+            noise_scale_m: 900.0,
             radius_scale: 2.5,
-            shell_m: 150.0,
+            shell_m: 280.0,
             extinction_per_m: 0.03,
             early_exit_transmittance: 0.02,
             phase_g: 0.35,
