@@ -150,14 +150,14 @@ fn reference_towers_over_terrain() {
     let Some(ctx) = context() else { return };
     let cfg = RenderConfig::default();
     let (w, h) = (224, 126);
-    let img = render(
-        &ctx,
-        &cfg,
-        Camera::from(&CameraConfig::default()),
-        &standin::default_field(900.0),
-        w,
-        h,
-    );
+    // Close to two towers, with their shadows on the ground in front.
+    let camera = Camera::from(&CameraConfig {
+        position_m: [-3000.0, -6000.0, 1000.0],
+        target_m: [-1500.0, -1000.0, 1800.0],
+        vfov_deg: 45.0,
+        ..CameraConfig::default()
+    });
+    let img = render(&ctx, &cfg, camera, &standin::default_field(900.0), w, h);
     compare_with_reference("towers_over_terrain", &img, w, h);
 }
 
