@@ -443,3 +443,36 @@ fn timings_name_every_pass() {
     }
     assert!(t.upload_ms >= 0.0);
 }
+
+#[test]
+fn grid_culling_matches_brute_force() {
+    let Some(ctx) = context() else { return };
+    // Every parcel whose padded sphere touches a cell is in its list, so
+    // evaluating only the cell's parcels must give the same image as
+    // evaluating all of them (up to float ordering in the max()).
+    let culled = RenderConfig::default();
+    let brute = RenderConfig {
+        grid_culling: false,
+        ..culled.clone()
+    };
+    let camera = Camera::from(&CameraConfig {
+        position_m: [-3000.0, -6000.0, 1000.0],
+        target_m: [-1500.0, -1000.0, 1800.0],
+        vfov_deg: 45.0,
+        ..CameraConfig::default()
+    });
+    let parcels = standin::default_field(900.0);
+    let (w, h) = (128, 72);
+    let a = render(&ctx, &culled, camera, &parcels, w, h);
+    let b = render(&ctx, &brute, camera, &parcels, w, h);
+    let differing = a
+        .chunks_exact(4)
+        .zip(b.chunks_exact(4))
+        .filter(|(x, y)| (0..3).any(|c| (x[c] as i32 - y[c] as i32).abs() > 2))
+        .count();
+    // 2/255: rounding of identical maths; allow a handful of edge pixels.
+    assert!(
+        differing <= 5,
+        "{differing} pixels differ between culled and brute-force marching"
+    );
+}
