@@ -476,3 +476,40 @@ fn grid_culling_matches_brute_force() {
         "{differing} pixels differ between culled and brute-force marching"
     );
 }
+
+#[test]
+fn window_like_formats_render_alike() {
+    let Some(ctx) = context() else { return };
+    // A window surface may be BGRA and not sRGB: the shaders then encode
+    // gamma themselves (ENCODE_SRGB), so the image must match the sRGB
+    // target's. Tolerance 6/255 mean: pow(1/2.2) differs from the exact sRGB
+    // curve by up to ~4/255 in mid-tones, and blending happens in a
+    // different space for the cloud edges.
+    let cfg = RenderConfig::default();
+    let parcels = standin::default_field(900.0);
+    let camera = Camera::from(&CameraConfig::default());
+    let input = FrameInput {
+        camera,
+        parcels: &parcels,
+        sun: cfg.sun(),
+        time_s: 0.0,
+    };
+    let (w, h) = (96, 64);
+    let mut srgb = Headless::new(&ctx, &cfg, w, h).unwrap();
+    let reference = srgb.render(&ctx, &input).unwrap().0;
+    for format in [
+        wgpu::TextureFormat::Bgra8Unorm,
+        wgpu::TextureFormat::Bgra8UnormSrgb,
+    ] {
+        let mut hl = Headless::with_format(&ctx, &cfg, w, h, format).unwrap();
+        let img = hl.render(&ctx, &input).unwrap().0;
+        let mean = img
+            .iter()
+            .zip(&reference)
+            .map(|(a, b)| (*a as i32 - *b as i32).abs() as f64)
+            .sum::<f64>()
+            / img.len() as f64;
+        assert!(mean < 6.0, "{format:?}: mean difference {mean:.2}/255");
+    }
+    assert!(Headless::with_format(&ctx, &cfg, w, h, wgpu::TextureFormat::R8Unorm).is_err());
+}

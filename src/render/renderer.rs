@@ -646,7 +646,16 @@ impl Renderer {
             if self.pipelines.get(&pass).map(|p| &p.constants) == Some(&constants) {
                 continue;
             }
+            // Shader or pipeline errors become an Error, not wgpu's panic.
+            let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
             let pipeline = self.create_pipeline(ctx, pass, &constants);
+            if let Some(e) = pollster::block_on(scope.pop()) {
+                self.modules.remove(&pass);
+                return Err(Error::Gpu(format!(
+                    "creating the {} pass: {e}",
+                    pass.name()
+                )));
+            }
             self.pipelines_built += 1;
             self.pipelines.insert(
                 pass,
