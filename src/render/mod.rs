@@ -310,15 +310,15 @@ pub struct CameraConfig {
 }
 
 impl Default for CameraConfig {
-    /// Stands 8 km south of a 10 km domain, 1 km up, looking north across
-    /// the landscape at the cloud layer (1–3 km), all of the domain in view;
-    /// with the default sun from the east the bases are in shade and the
-    /// shadows fall sideways onto the ground in front of the clouds.
+    /// Stands 6.5 km south of a 10 km domain, 1 km up (just under the usual
+    /// cloud base), looking north across the landscape at the cloud layer
+    /// (1–3 km); with the default sun from the east the bases are in shade
+    /// and the shadows fall sideways onto the ground in front of the clouds.
     fn default() -> Self {
         Self {
-            position_m: [-2500.0, -13000.0, 1000.0],
-            target_m: [0.0, -500.0, 1200.0],
-            vfov_deg: 40.0,
+            position_m: [-2000.0, -11500.0, 1000.0],
+            target_m: [0.0, -1000.0, 900.0],
+            vfov_deg: 45.0,
             near_m: 10.0,
             far_m: 60_000.0,
         }
