@@ -513,3 +513,41 @@ fn window_like_formats_render_alike() {
     }
     assert!(Headless::with_format(&ctx, &cfg, w, h, wgpu::TextureFormat::R8Unorm).is_err());
 }
+
+#[test]
+fn the_most_parcels_the_uniforms_hold_render() {
+    let Some(ctx) = context() else { return };
+    use cumulus::render::pack::MAX_PARCELS;
+    let side = (MAX_PARCELS as f32).sqrt() as usize;
+    let parcels: Vec<CloudParcel> = (0..MAX_PARCELS)
+        .map(|i| CloudParcel {
+            center_m: Vec3::new(
+                (i % side) as f32 * 300.0 - 4800.0,
+                (i / side) as f32 * 300.0 - 4800.0,
+                1600.0 + (i % 7) as f32 * 60.0,
+            ),
+            radius_m: 150.0,
+            fill: 0.9,
+            cond_plane_z_m: 1500.0,
+        })
+        .collect();
+    let cfg = RenderConfig::default();
+    let mut hl = Headless::new(&ctx, &cfg, 64, 48).unwrap();
+    let input = FrameInput {
+        camera: Camera::from(&CameraConfig::default()),
+        parcels: &parcels,
+        sun: cfg.sun(),
+        time_s: 0.0,
+    };
+    hl.render(&ctx, &input).unwrap();
+    assert_eq!(hl.renderer.grid_info().parcel_count as usize, MAX_PARCELS);
+    // One more is refused with an error, not drawn truncated.
+    let mut more = parcels.clone();
+    more.push(parcels[0]);
+    let input = FrameInput {
+        parcels: &more,
+        ..input
+    };
+    let e = hl.render(&ctx, &input).unwrap_err().to_string();
+    assert!(e.contains("condensed parcel count"), "{e}");
+}

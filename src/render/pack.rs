@@ -22,8 +22,9 @@ use glam::Vec3;
 use crate::error::{Error, Result};
 use crate::physics::CloudParcel;
 
-/// Most condensed parcels one frame can draw (uniform array length).
-pub const MAX_PARCELS: usize = 512;
+/// Most condensed parcels one frame can draw (uniform array length; the
+/// physics emits at most `emission.max_parcels`, 1024 by default).
+pub const MAX_PARCELS: usize = 1024;
 /// Most cells per grid axis (x, y, z).
 pub const MAX_GRID_DIMS: [u32; 3] = [16, 16, 8];
 /// Most grid cells in all (product of [`MAX_GRID_DIMS`]).
@@ -423,7 +424,7 @@ mod tests {
             .map(|i| parcel(i as f32 * 10.0, 0.0, 1500.0, 50.0))
             .collect();
         let e = pack(&parcels, 10.0, 1.0).unwrap_err().to_string();
-        assert!(e.contains("at most 512"), "{e}");
+        assert!(e.contains(&format!("at most {MAX_PARCELS}")), "{e}");
     }
 
     #[test]
