@@ -36,24 +36,37 @@ fn parcel_value(i: u32, p: vec3<f32>) -> f32 {
     return q.fill_plane.x * (d + 1.0) - 1.0;
 }
 
+// (start, count) of the parcel list of the grid cell holding p; count 0
+// outside the grid. No parcel's density reaches a cell with an empty list.
+fn cell_list(p: vec3<f32>) -> vec2<u32> {
+    let dims = frame.grid_dims.xyz;
+    let rel = (p - frame.grid_min.xyz) / frame.grid_cell.xyz;
+    if any(rel < vec3<f32>(0.0)) || any(rel >= vec3<f32>(dims)) {
+        return vec2<u32>(0u);
+    }
+    let ci = vec3<u32>(rel);
+    let cell = ci.x + dims.x * (ci.y + dims.y * ci.z);
+    let pair = grid.cells[cell / 2u];
+    if (cell & 1u) == 1u {
+        return pair.zw;
+    }
+    return pair.xy;
+}
+
+// Distance along rd from p (inside the grid) to where the ray leaves p's cell.
+fn cell_exit(p: vec3<f32>, rd: vec3<f32>) -> f32 {
+    let ci = floor((p - frame.grid_min.xyz) / frame.grid_cell.xyz);
+    let lo = frame.grid_min.xyz + ci * frame.grid_cell.xyz;
+    return max(ray_box(p, rd, lo, lo + frame.grid_cell.xyz).y, 0.0);
+}
+
 // Union over parcels of f·(d + 1) − 1, in [−1, 1]; −1 far from every parcel.
 fn macro_value(p: vec3<f32>) -> f32 {
     var v = -1.0;
     if GRID_CULLING {
-        let dims = frame.grid_dims.xyz;
-        let rel = (p - frame.grid_min.xyz) / frame.grid_cell.xyz;
-        if any(rel < vec3<f32>(0.0)) || any(rel >= vec3<f32>(dims)) {
-            return -1.0;
-        }
-        let ci = vec3<u32>(rel);
-        let cell = ci.x + dims.x * (ci.y + dims.y * ci.z);
-        let pair = grid.cells[cell / 2u];
-        var start = pair.x;
-        var count = pair.y;
-        if (cell & 1u) == 1u {
-            start = pair.z;
-            count = pair.w;
-        }
+        let list = cell_list(p);
+        let start = list.x;
+        let count = list.y;
         for (var j = start; j < start + count; j++) {
             v = max(v, parcel_value(grid.entries[j / 4u][j % 4u], p));
             if v >= 1.0 {
