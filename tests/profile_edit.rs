@@ -1,0 +1,169 @@
+//! Editing the profile through the same functions the window's panel calls
+//! (`app::profile_edit`) changes the lifted parcel's curve the way parcel
+//! theory says, and reaches the running simulation at once.
+
+use cumulus::app::profile_edit::{
+    self as pe, ProfileCurve, ProfileEditor, ProfilePoint, build_environment,
+};
+use cumulus::atmosphere::thermo;
+
+fn pt(z_m: f64, t_c: f64, td_c: f64) -> ProfilePoint {
+    ProfilePoint { z_m, t_c, td_c }
+}
+
+/// Fair-weather cumulus: a dry-adiabatic mixed layer, a conditionally
+/// unstable cloud layer (6.5 K/km, steeper than the moist adiabat) and an
+/// inversion at 2.6–2.8 km that caps the clouds.
+fn capped() -> ProfileEditor {
+    ProfileEditor::new(
+        vec![
+            pt(0.0, 28.0, 18.0),
+            pt(1200.0, 16.2, 13.0),
+            pt(2600.0, 7.1, 0.0),
+            pt(2800.0, 12.0, -12.0),
+            pt(8000.0, -21.8, -45.0),
+        ],
+        100_000.0,
+    )
+    .expect("valid profile")
+}
+
+#[test]
+fn capped_profile_has_cloud_layer_between_lcl_and_inversion() {
+    let ed = capped();
+    let c = ed.curve();
+    let lcl = c.lcl_m.expect("moist surface air saturates");
+    let el = c.el_m.expect("the inversion stops the parcel");
+    // Espy's rule of thumb, 125 m per K of dewpoint depression (10 K here),
+    // holds to ~10% for a well-mixed layer.
+    assert!((lcl - 1250.0).abs() < 150.0, "LCL {lcl}");
+    // The parcel is buoyant in the 8 K/km layer and stops within the inversion.
+    assert!(c.lfc_m.is_some_and(|lfc| lfc < 2600.0), "{c:?}");
+    assert!((2600.0..2900.0).contains(&el), "EL {el}");
+}
+
+#[test]
+fn wetter_surface_lowers_the_lcl_and_drier_raises_it() {
+    let mut ed = capped();
+    let lcl0 = ed.curve().lcl_m.unwrap();
+    let q0 = ed.surface_mixing_ratio();
+    pe::set_surface_mixing_ratio(&mut ed, q0 + 0.002).unwrap();
+    let wetter = ed.curve().lcl_m.unwrap();
+    pe::set_surface_mixing_ratio(&mut ed, q0 - 0.002).unwrap();
+    let drier = ed.curve().lcl_m.unwrap();
+    // ±2 g/kg moves the dewpoint by ~2.5 K: ~300 m of LCL by Espy's rule.
+    assert!(wetter < lcl0 - 150.0, "{wetter} vs {lcl0}");
+    assert!(drier > lcl0 + 150.0, "{drier} vs {lcl0}");
+
+    // Dragging the surface dewpoint point does the same.
+    let mut ed = capped();
+    pe::move_point(&mut ed, ProfileCurve::Dewpoint, 0, 0.0, 20.0).unwrap();
+    assert!(ed.curve().lcl_m.unwrap() < lcl0 - 150.0);
+}
+
+#[test]
+fn condensation_level_handle_puts_the_lcl_where_asked() {
+    let mut ed = capped();
+    for target in [600.0, 1000.0, 1800.0] {
+        pe::set_condensation_level(&mut ed, target).unwrap();
+        let lcl = ed.curve().lcl_m.unwrap();
+        // The handle inverts the same saturation condition the curve
+        // bisects; what is left is the pressure's dependence on humidity,
+        // iterated three times: well under a metre.
+        assert!((lcl - target).abs() < 1.0, "asked {target}, got {lcl}");
+        // The surface temperature is untouched: only the humidity moved.
+        assert_eq!(ed.points()[0].t_c, 28.0);
+    }
+    // Above saturation at the surface is refused, not clamped silently.
+    let qs = thermo::saturation_mixing_ratio(28.0 + 273.15, 100_000.0);
+    assert!(pe::set_surface_mixing_ratio(&mut ed, qs * 1.1).is_err());
+}
+
+#[test]
+fn raising_the_inversion_raises_the_equilibrium_level() {
+    let mut ed = capped();
+    let el0 = ed.curve().el_m.unwrap();
+    // Drag the inversion base and top 600 m up, keeping the cloud layer's
+    // 6.5 K/km lapse rate below it (top first so the order is kept).
+    pe::move_point(&mut ed, ProfileCurve::Temperature, 3, 3400.0, 8.1).unwrap();
+    pe::move_point(&mut ed, ProfileCurve::Temperature, 2, 3200.0, 3.2).unwrap();
+    let el1 = ed.curve().el_m.unwrap();
+    // The parcel now rises through 600 m more of the unstable layer.
+    assert!(el1 > el0 + 400.0, "{el1} vs {el0}");
+
+    // Lowering the inversion by 600 m lowers it.
+    let mut ed = capped();
+    pe::move_point(&mut ed, ProfileCurve::Temperature, 2, 2000.0, 11.0).unwrap();
+    pe::move_point(&mut ed, ProfileCurve::Temperature, 3, 2200.0, 15.9).unwrap();
+    let el2 = ed.curve().el_m.unwrap();
+    assert!(el2 < el0 - 400.0, "{el2} vs {el0}");
+}
+
+#[test]
+fn added_point_does_not_change_the_environment_until_dragged() {
+    let mut ed = capped();
+    let env0 = ed.environment().clone();
+    let i = pe::add_point(&mut ed, 2000.0).unwrap();
+    assert_eq!(i, 2);
+    for z in [500.0, 2000.0, 2300.0, 5000.0] {
+        // Interpolating T and Td at the new height leaves θ within rounding
+        // of the piecewise-linear-in-T vs -in-θ difference (< 0.05 K).
+        assert!(
+            (ed.environment().theta_k(z) - env0.theta_k(z)).abs() < 0.05,
+            "z {z}"
+        );
+    }
+    pe::move_point(&mut ed, ProfileCurve::Temperature, i, 2000.0, 20.0).unwrap();
+    assert!(ed.environment().theta_k(2000.0) > env0.theta_k(2000.0) + 5.0);
+    pe::remove_point(&mut ed, i).unwrap();
+    assert_eq!(ed.points().len(), 5);
+    // The surface level cannot go and neither can the last two levels.
+    assert!(pe::remove_point(&mut ed, 0).is_err());
+}
+
+#[test]
+fn points_round_trip_through_the_environment() {
+    // T and Td rebuilt from the environment the points made match the points:
+    // the editor and the simulation see the same atmosphere.
+    let pts = capped().points().to_vec();
+    let env = build_environment(&pts, 100_000.0).unwrap();
+    for p in &pts {
+        // The editor converts T → θ with a layer-mean hypsometric step; the
+        // environment integrates pressure with θ linear between levels. Over
+        // the 5 km top layer the two pressures differ by ~0.1 hPa, i.e.
+        // ~0.06 K of temperature; lower layers agree to a few mK.
+        assert!(
+            (env.temperature_k(p.z_m) - 273.15 - p.t_c).abs() < 0.1,
+            "{p:?}"
+        );
+        assert!(
+            (env.dewpoint_k(p.z_m) - 273.15 - p.td_c).abs() < 0.1,
+            "{p:?}"
+        );
+    }
+}
+
+#[test]
+fn edits_reach_the_running_simulation_at_once() {
+    let (profile, source) = cumulus::scene::load_scene(None).unwrap();
+    let mut m = cumulus::app::state::Model::new(profile, source).unwrap();
+    m.advance(0.1);
+    let i = 1;
+    let z = m.editor.points()[i].z_m;
+    let t = m.editor.points()[i].t_c;
+    let theta0 = m.world.environment().theta_k(z);
+    pe::move_point(&mut m.editor, ProfileCurve::Temperature, i, z, t + 3.0).unwrap();
+    // The next frame hands the edited environment to the world before stepping.
+    m.advance(0.1);
+    let theta1 = m.world.environment().theta_k(z);
+    // 3 K warmer at the same pressure is 3·(P0/P)^κ K more θ (> 3 K aloft);
+    // the tolerance covers the small pressure change from the warmer layer.
+    assert!(
+        (theta1 - theta0 - 3.0).abs() < 0.5 && theta1 > theta0 + 2.9,
+        "{theta0} → {theta1}"
+    );
+    assert_eq!(
+        m.world.environment().theta_k(z),
+        m.editor.environment().theta_k(z)
+    );
+}
