@@ -23,10 +23,11 @@ use crate::error::{Error, Result};
 pub struct WatchOptions {
     /// Scene profile; None = the embedded default.
     pub scene: Option<PathBuf>,
-    /// Capture the whole window after `frames` frames, write this PNG and exit.
+    /// Capture the whole window at the last frame, write this PNG and exit.
     pub screenshot: Option<PathBuf>,
-    /// Frames to run before the capture.
-    pub frames: u32,
+    /// Frames to run before exiting; None = until closed (10 with a
+    /// screenshot). Counted frames use a fixed time step.
+    pub frames: Option<u32>,
     /// Simulated time before the first frame. units: s
     pub warmup_s: f64,
     /// Inner window size. units: logical pixels
@@ -38,7 +39,7 @@ impl Default for WatchOptions {
         Self {
             scene: None,
             screenshot: None,
-            frames: 10,
+            frames: None,
             warmup_s: 0.0,
             size: (1280, 760),
         }
@@ -46,7 +47,10 @@ impl Default for WatchOptions {
 }
 
 /// Opens the window and runs until it is closed (or the screenshot is written).
-pub fn run(opts: WatchOptions) -> Result<()> {
+pub fn run(mut opts: WatchOptions) -> Result<()> {
+    if opts.screenshot.is_some() && opts.frames.is_none() {
+        opts.frames = Some(10);
+    }
     let (profile, source) = crate::scene::load_scene(opts.scene.as_deref())?;
     let mut model = Model::new(profile, source)?;
     if opts.warmup_s > 0.0 {
@@ -250,9 +254,8 @@ impl App {
         let now = Instant::now();
         let real_dt = now - self.last_frame;
         self.last_frame = now;
-        let capture = self.opts.screenshot.is_some();
         // Counted frames advance by a fixed step, so a capture is reproducible.
-        let dt_s = if capture {
+        let dt_s = if self.opts.frames.is_some() {
             FIXED_FRAME_DT_S
         } else {
             real_dt.as_secs_f64()
@@ -289,7 +292,8 @@ impl App {
         }
 
         self.frame += 1;
-        let capture_now = capture && self.frame >= self.opts.frames;
+        let last = self.opts.frames.is_some_and(|n| self.frame >= n);
+        let capture_now = last && self.opts.screenshot.is_some();
         let mut encoder = g
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -350,7 +354,7 @@ impl App {
                 .submit(user_cmds.into_iter().chain([encoder.finish()]));
             g.window.pre_present_notify();
             g.queue.present(frame);
-            Ok(false)
+            Ok(last)
         };
         for id in &out.textures_delta.free {
             g.egui_renderer.free_texture(id);

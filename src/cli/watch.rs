@@ -14,10 +14,12 @@ pub struct Args {
     /// to this PNG, and exit.
     #[arg(long, value_name = "FILE.png")]
     pub screenshot: Option<PathBuf>,
-    /// Frames to run before the screenshot (each advances the simulation by
-    /// 1/30 s times the time speed).
-    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..))]
-    pub frames: u32,
+    /// Frames to run, then exit (after writing the screenshot if asked; 10
+    /// by default with --screenshot, else run until the window is closed).
+    /// Counted frames advance the simulation by a fixed 1/30 s times the
+    /// time speed, so a capture does not depend on the machine's speed.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub frames: Option<u32>,
     /// Seconds of simulated time to run before the first frame, so clouds
     /// have formed when the window opens.
     #[arg(long, value_name = "S", default_value_t = 0.0)]
