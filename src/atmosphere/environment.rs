@@ -87,13 +87,13 @@ impl Environment {
             let ok = l.z_m.is_finite()
                 && l.theta_k.is_finite()
                 && l.qv_kg_per_kg.is_finite()
-                && (150.0..=700.0).contains(&l.theta_k)
+                && (150.0..=2000.0).contains(&l.theta_k)
                 && (0.0..=0.1).contains(&l.qv_kg_per_kg);
             if !ok {
                 return Err(Error::invalid(
                     format!("atmosphere level {} (z = {} m)", i + 1, l.z_m),
                     format!("θ = {} K, q_v = {} kg/kg", l.theta_k, l.qv_kg_per_kg),
-                    "finite values with 150 K ≤ θ ≤ 700 K and 0 ≤ q_v ≤ 0.1 kg/kg",
+                    "finite values with 150 K ≤ θ ≤ 2000 K (a sounding to 3 hPa reaches ~1100 K) and 0 ≤ q_v ≤ 0.1 kg/kg",
                 ));
             }
             if i > 0 && l.z_m <= levels[i - 1].z_m {

@@ -1,10 +1,167 @@
-//! `cumulus render`.
+//! `cumulus render`: simulate a scene, then render PNG frame(s) headless with
+//! the same renderer the window uses.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Context as _;
+use cumulus::physics::CloudParcel;
+use cumulus::render::headless::Headless;
+use cumulus::render::{Camera, FrameInput, GpuContext};
+
+/// On or off.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Switch {
+    On,
+    Off,
+}
 
 /// Arguments of `cumulus render`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+#[command(
+    after_help = "With --frames N > 1 the frames are written as FILE-0000.png, FILE-0001.png, … \
+(the number before the extension of --out), one every --every seconds of simulated time \
+starting at --time. Every file is written atomically."
+)]
+pub struct Args {
+    /// Scene profile (TOML); the embedded fair-weather scene when omitted.
+    pub scene: Option<PathBuf>,
+    /// Output PNG.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 960)]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 540)]
+    pub height: u32,
+    /// Simulated time before the (first) frame. units: s
+    #[arg(long, default_value_t = 900.0)]
+    pub time: f64,
+    /// Finite-difference normals (overrides the scene's [render] normals).
+    #[arg(long, value_enum)]
+    pub normals: Option<Switch>,
+    /// Number of frames.
+    #[arg(long, default_value_t = 1)]
+    pub frames: u32,
+    /// Simulated time between frames. units: s
+    #[arg(long, default_value_t = 60.0)]
+    pub every: f64,
+    /// Part of the GPU adapter's name to use (e.g. llvmpipe).
+    #[arg(long)]
+    pub adapter: Option<String>,
+}
+
+/// `FILE.png` → `FILE-0007.png`.
+pub fn numbered(out: &Path, i: u32) -> PathBuf {
+    let stem = out
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let ext = out
+        .extension()
+        .map(|e| e.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "png".into());
+    out.with_file_name(format!("{stem}-{i:04}.{ext}"))
+}
+
+/// The cloud field at `time_s`: a deterministic stand-in until the parcel
+/// physics (`ParcelWorld`) is on main.
+fn clouds_at(time_s: f64) -> Vec<CloudParcel> {
+    cumulus::render::standin::default_field(time_s as f32)
+}
 
 /// Runs `cumulus render`.
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("`cumulus render` is not built yet")
+pub fn run(args: Args) -> anyhow::Result<()> {
+    anyhow::ensure!(args.frames >= 1, "--frames must be at least 1");
+    anyhow::ensure!(
+        args.time.is_finite() && args.time >= 0.0,
+        "--time must be a finite number of seconds ≥ 0"
+    );
+    anyhow::ensure!(
+        args.every.is_finite() && args.every > 0.0,
+        "--every must be a positive number of seconds"
+    );
+    let (scene, source) = cumulus::scene::load_scene(args.scene.as_deref())?;
+    let mut cfg = scene.render.clone();
+    cfg.resolve_paths(&source.base_dir());
+    if let Some(n) = args.normals {
+        cfg.normals = n == Switch::On;
+    }
+    cfg.validate()?;
+    scene.camera.validate()?;
+    let camera = Camera::from(&scene.camera);
+
+    let ctx = GpuContext::new_headless(args.adapter.as_deref())?;
+    eprintln!("adapter: {}", ctx.describe());
+    let mut headless = Headless::new(&ctx, &cfg, args.width, args.height)?;
+
+    let bar = (args.frames > 1).then(|| {
+        let b = indicatif::ProgressBar::new(args.frames as u64);
+        b.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{bar:40} {pos}/{len} frames, {elapsed} elapsed, ETA {eta}",
+            )
+            .expect("valid template"),
+        );
+        b
+    });
+    for i in 0..args.frames {
+        let t = args.time + args.every * i as f64;
+        let parcels = clouds_at(t);
+        let input = FrameInput {
+            camera,
+            parcels: &parcels,
+            sun: cfg.sun(),
+            time_s: t as f32,
+        };
+        let (rgba, timings) = headless.render(&ctx, &input)?;
+        let path = if args.frames > 1 {
+            numbered(&args.out, i)
+        } else {
+            args.out.clone()
+        };
+        cumulus::output::write_png_atomic(&path, args.width, args.height, &rgba)
+            .with_context(|| format!("writing frame {i}"))?;
+        let passes: Vec<String> = timings
+            .passes
+            .iter()
+            .map(|(n, ms)| format!("{n} {ms:.1} ms"))
+            .collect();
+        let line = format!(
+            "{}: t = {t:.0} s, {} parcels; {} ({}), upload {:.2} ms",
+            path.display(),
+            parcels.len(),
+            passes.join(", "),
+            if timings.gpu_timestamps {
+                "GPU timestamps"
+            } else {
+                "CPU clock"
+            },
+            timings.upload_ms
+        );
+        match &bar {
+            Some(b) => {
+                b.println(line);
+                b.inc(1);
+            }
+            None => eprintln!("{line}"),
+        }
+    }
+    if let Some(b) = bar {
+        b.finish();
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbered_names() {
+        assert_eq!(
+            numbered(Path::new("a/b.png"), 7),
+            PathBuf::from("a/b-0007.png")
+        );
+    }
 }

@@ -5,7 +5,20 @@
 //! Coordinates: metres, x and y horizontal, z up, z = 0 at the ground; the
 //! domain is centred on x = y = 0.
 
-use serde::{Deserialize, Serialize};
+pub mod config;
+pub mod ground;
+pub mod parcel;
+pub mod rng;
+pub mod single;
+pub mod sph;
+pub mod tessellation;
+pub mod world;
+
+pub use config::{EmissionConfig, GroundConfig, PhysicsConfig, WindConfig, WorldConfig};
+pub use parcel::{Parcel, ParcelSpec};
+pub use world::{
+    ClampCounts, Counters, Diagnostics, Fates, ParcelWorld, StepReport, condensation_level_m,
+};
 
 /// What the renderer needs of one condensed parcel: the contract between the
 /// physics and the renderer. The renderer reads these and nothing else.
@@ -20,24 +33,3 @@ pub struct CloudParcel {
     /// Altitude of the condensation plane that cuts the sphere flat. units: m
     pub cond_plane_z_m: f32,
 }
-
-/// Physics switches and constants (the `[physics]` table). Placeholder.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct PhysicsConfig {}
-
-/// Ground: size of the domain and the heat/humidity map that drives emission
-/// (the `[ground]` table). Placeholder.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct GroundConfig {}
-
-/// Parcel emission from the ground (the `[emission]` table). Placeholder.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct EmissionConfig {}
-
-/// Wind profile (the `[wind]` table). Placeholder.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct WindConfig {}

@@ -1,15 +1,547 @@
 //! GPU renderer (paper §6): packs condensed parcels and a culling grid into
 //! uniform buffers and ray-marches hypertextured spheres over a terrain with
 //! cloud shadows. One `render` path serves the window, headless commands and tests.
+//!
+//! Layers: [`pack`], [`noise`] and [`terrain`] are pure CPU (unit-tested
+//! without a GPU); [`gpu`] opens the device; [`renderer`] owns the passes;
+//! [`headless`] renders to an offscreen texture and reads it back.
 
+pub mod gpu;
+pub mod headless;
+pub mod noise;
+pub mod pack;
+pub mod renderer;
+pub mod shaders;
+pub mod standin;
+pub mod terrain;
+
+use std::path::PathBuf;
+
+use glam::{Mat4, Vec3};
 use serde::{Deserialize, Serialize};
 
-/// Render settings and feature switches (the `[render]` table). Placeholder.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct RenderConfig {}
+use crate::error::{Error, Result};
+use crate::physics::CloudParcel;
 
-/// Camera placement (the `[camera]` table). Placeholder.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub use gpu::GpuContext;
+pub use renderer::{FrameTimings, Renderer};
+
+/// Terrain settings (the `[render.terrain]` table).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
-pub struct CameraConfig {}
+pub struct TerrainConfig {
+    /// Draw a terrain (and, with `shadows`, cloud shadows on it).
+    pub enabled: bool,
+    /// Optional 8/16-bit greyscale heightmap PNG (relative to the scene file);
+    /// black = 0 m, white = `height_scale_m`. None = procedural fBm hills.
+    pub heightmap: Option<PathBuf>,
+    /// Height of the highest terrain point. units: m
+    pub height_scale_m: f32,
+    /// Side of the square terrain mesh, centred on the domain (larger than the
+    /// domain so the landscape reaches the horizon). units: m
+    pub extent_m: f32,
+    /// Vertices per side of the terrain mesh.
+    pub resolution: u32,
+    /// Seed of the procedural terrain.
+    pub seed: u32,
+}
+
+impl Default for TerrainConfig {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            heightmap: None,
+            height_scale_m: 600.0,
+            extent_m: 40_000.0,
+            resolution: 160,
+            seed: 7,
+        }
+    }
+}
+
+/// Render settings and feature switches (the `[render]` table).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RenderConfig {
+    /// Ray-march the clouds at all (off = landscape only).
+    pub clouds: bool,
+    /// Cloud shadows on the terrain (needs terrain and clouds).
+    pub shadows: bool,
+    /// Finite-difference normals of the density for extra shading (paper
+    /// "with FDM normals"; slower).
+    pub normals: bool,
+    /// Evaluate only the parcels listed in a sample's grid cell (paper §6.2);
+    /// off = every parcel at every sample (brute force, for the bench).
+    pub grid_culling: bool,
+    /// Side of the square simulation domain (for the shadow map). units: m
+    pub domain_m: f32,
+    /// Ray-march step along view rays. units: m
+    pub step_m: f32,
+    /// Most steps per view ray.
+    pub max_steps: u32,
+    /// Samples of the short light march toward the sun (0 = no self-shadowing).
+    pub light_steps: u32,
+    /// Step of the light march. units: m
+    pub light_step_m: f32,
+    /// Octaves of the 3D noise summed per sample (each one texture fetch).
+    pub noise_octaves: u32,
+    /// Noise amplitude k of paper eq. 18 (dimensionless).
+    pub noise_amplitude: f32,
+    /// Size of the largest noise feature (one texture tile). units: m
+    pub noise_scale_m: f32,
+    /// Thickness of the soft shell of the sphere and of the condensation
+    /// plane, over which the pseudo-distance d goes from 0 to 1. units: m
+    pub shell_m: f32,
+    /// Extinction coefficient of fully dense cloud. units: m^-1
+    pub extinction_per_m: f32,
+    /// Stop a view ray when its transmittance falls below this (0 = never).
+    pub early_exit_transmittance: f32,
+    /// Henyey–Greenstein asymmetry g of the phase function.
+    pub phase_g: f32,
+    /// Sun azimuth, clockwise from +y (north) toward +x (east). units: degrees
+    pub sun_azimuth_deg: f32,
+    /// Sun elevation above the horizon. units: degrees
+    pub sun_elevation_deg: f32,
+    /// Side of the 3D noise texture in texels (power of two).
+    pub noise_texels: u32,
+    /// Side of the 2D cloud-shadow texture in texels.
+    pub shadow_texels: u32,
+    /// Terrain settings.
+    pub terrain: TerrainConfig,
+}
+
+impl Default for RenderConfig {
+    fn default() -> Self {
+        Self {
+            clouds: true,
+            shadows: true,
+            normals: false,
+            grid_culling: true,
+            domain_m: 10_000.0,
+            step_m: 40.0,
+            max_steps: 160,
+            light_steps: 4,
+            light_step_m: 90.0,
+            noise_octaves: 4,
+            noise_amplitude: 1.2,
+            noise_scale_m: 900.0,
+            shell_m: 260.0,
+            extinction_per_m: 0.03,
+            early_exit_transmittance: 0.02,
+            phase_g: 0.35,
+            sun_azimuth_deg: 100.0,
+            sun_elevation_deg: 30.0,
+            noise_texels: 64,
+            shadow_texels: 256,
+            terrain: TerrainConfig::default(),
+        }
+    }
+}
+
+fn check(name: &str, value: f32, ok: bool, allowed: &str) -> Result<()> {
+    if ok && value.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::invalid(name, value, allowed))
+    }
+}
+
+impl RenderConfig {
+    /// Checks every field; the error names the field and its allowed range.
+    pub fn validate(&self) -> Result<()> {
+        let r = self;
+        check(
+            "render.domain_m",
+            r.domain_m,
+            r.domain_m >= 100.0,
+            "≥ 100 m",
+        )?;
+        check(
+            "render.step_m",
+            r.step_m,
+            r.step_m >= 1.0 && r.step_m <= 1000.0,
+            "1 to 1000 m",
+        )?;
+        if !(1..=4096).contains(&r.max_steps) {
+            return Err(Error::invalid("render.max_steps", r.max_steps, "1 to 4096"));
+        }
+        if r.light_steps > 64 {
+            return Err(Error::invalid(
+                "render.light_steps",
+                r.light_steps,
+                "0 to 64",
+            ));
+        }
+        check(
+            "render.light_step_m",
+            r.light_step_m,
+            r.light_step_m >= 1.0 && r.light_step_m <= 2000.0,
+            "1 to 2000 m",
+        )?;
+        if !(1..=6).contains(&r.noise_octaves) {
+            return Err(Error::invalid(
+                "render.noise_octaves",
+                r.noise_octaves,
+                "1 to 6",
+            ));
+        }
+        check(
+            "render.noise_amplitude",
+            r.noise_amplitude,
+            (0.0..=2.0).contains(&r.noise_amplitude),
+            "0 to 2",
+        )?;
+        check(
+            "render.noise_scale_m",
+            r.noise_scale_m,
+            r.noise_scale_m >= 10.0,
+            "≥ 10 m",
+        )?;
+        check("render.shell_m", r.shell_m, r.shell_m >= 1.0, "≥ 1 m")?;
+        check(
+            "render.extinction_per_m",
+            r.extinction_per_m,
+            r.extinction_per_m > 0.0 && r.extinction_per_m <= 10.0,
+            "more than 0 and at most 10 m^-1",
+        )?;
+        check(
+            "render.early_exit_transmittance",
+            r.early_exit_transmittance,
+            (0.0..1.0).contains(&r.early_exit_transmittance),
+            "0 (off) to below 1",
+        )?;
+        check(
+            "render.phase_g",
+            r.phase_g,
+            r.phase_g > -0.99 && r.phase_g < 0.99,
+            "between -0.99 and 0.99",
+        )?;
+        check(
+            "render.sun_azimuth_deg",
+            r.sun_azimuth_deg,
+            (-360.0..=360.0).contains(&r.sun_azimuth_deg),
+            "-360 to 360 degrees",
+        )?;
+        check(
+            "render.sun_elevation_deg",
+            r.sun_elevation_deg,
+            r.sun_elevation_deg >= 2.0 && r.sun_elevation_deg <= 90.0,
+            "2 to 90 degrees (the shadow pass needs the sun above the horizon)",
+        )?;
+        if !r.noise_texels.is_power_of_two() || !(8..=256).contains(&r.noise_texels) {
+            return Err(Error::invalid(
+                "render.noise_texels",
+                r.noise_texels,
+                "a power of two from 8 to 256",
+            ));
+        }
+        if !(16..=4096).contains(&r.shadow_texels) {
+            return Err(Error::invalid(
+                "render.shadow_texels",
+                r.shadow_texels,
+                "16 to 4096",
+            ));
+        }
+        let t = &r.terrain;
+        check(
+            "render.terrain.height_scale_m",
+            t.height_scale_m,
+            (0.0..=5000.0).contains(&t.height_scale_m),
+            "0 to 5000 m",
+        )?;
+        check(
+            "render.terrain.extent_m",
+            t.extent_m,
+            t.extent_m >= 100.0 && t.extent_m <= 1.0e6,
+            "100 m to 1000 km",
+        )?;
+        if !(2..=1024).contains(&t.resolution) {
+            return Err(Error::invalid(
+                "render.terrain.resolution",
+                t.resolution,
+                "2 to 1024",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Unit vector toward the sun (z up, azimuth clockwise from +y).
+    pub fn sun_direction(&self) -> Vec3 {
+        let az = self.sun_azimuth_deg.to_radians();
+        let el = self.sun_elevation_deg.to_radians();
+        Vec3::new(az.sin() * el.cos(), az.cos() * el.cos(), el.sin())
+    }
+
+    /// Makes a relative heightmap path relative to `base_dir` (the scene
+    /// file's directory).
+    pub fn resolve_paths(&mut self, base_dir: &std::path::Path) {
+        if let Some(h) = &self.terrain.heightmap
+            && h.is_relative()
+        {
+            self.terrain.heightmap = Some(base_dir.join(h));
+        }
+    }
+
+    /// The sun described by this configuration.
+    pub fn sun(&self) -> Sun {
+        Sun {
+            direction: self.sun_direction(),
+            ..Sun::default()
+        }
+    }
+}
+
+/// Camera placement (the `[camera]` table).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CameraConfig {
+    /// Eye position. units: m
+    pub position_m: [f32; 3],
+    /// Point looked at. units: m
+    pub target_m: [f32; 3],
+    /// Vertical field of view. units: degrees
+    pub vfov_deg: f32,
+    /// Near clip distance. units: m
+    pub near_m: f32,
+    /// Far clip distance. units: m
+    pub far_m: f32,
+}
+
+impl Default for CameraConfig {
+    /// Stands south of a 10 km domain, a few hundred metres up, looking north
+    /// across the landscape at the cloud layer (1–3 km); with the default sun
+    /// from the east the bases are in shade and the shadows fall sideways.
+    fn default() -> Self {
+        Self {
+            position_m: [-1500.0, -9000.0, 900.0],
+            target_m: [0.0, 0.0, 700.0],
+            vfov_deg: 50.0,
+            near_m: 10.0,
+            far_m: 60_000.0,
+        }
+    }
+}
+
+impl CameraConfig {
+    /// Checks every field; the error names the field and its allowed range.
+    pub fn validate(&self) -> Result<()> {
+        for (i, v) in self.position_m.iter().chain(&self.target_m).enumerate() {
+            if !v.is_finite() {
+                let name = if i < 3 {
+                    "camera.position_m"
+                } else {
+                    "camera.target_m"
+                };
+                return Err(Error::invalid(name, v, "finite numbers (metres)"));
+            }
+        }
+        let d = Vec3::from(self.target_m) - Vec3::from(self.position_m);
+        if d.length() < 1.0 {
+            return Err(Error::invalid(
+                "camera.target_m",
+                format!("{:?}", self.target_m),
+                "at least 1 m from camera.position_m",
+            ));
+        }
+        if d.normalize().z.abs() > 0.999 {
+            return Err(Error::invalid(
+                "camera.target_m",
+                format!("{:?}", self.target_m),
+                "not straight above or below the camera (z is up)",
+            ));
+        }
+        check(
+            "camera.vfov_deg",
+            self.vfov_deg,
+            self.vfov_deg >= 5.0 && self.vfov_deg <= 150.0,
+            "5 to 150 degrees",
+        )?;
+        check(
+            "camera.near_m",
+            self.near_m,
+            self.near_m > 0.0,
+            "more than 0 m",
+        )?;
+        check(
+            "camera.far_m",
+            self.far_m,
+            self.far_m > self.near_m * 2.0,
+            "more than twice camera.near_m",
+        )?;
+        Ok(())
+    }
+}
+
+/// A perspective camera, z up.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    /// units: m
+    pub position: Vec3,
+    /// units: m
+    pub target: Vec3,
+    /// units: radians
+    pub vfov_rad: f32,
+    /// units: m
+    pub near_m: f32,
+    /// units: m
+    pub far_m: f32,
+}
+
+impl From<&CameraConfig> for Camera {
+    fn from(c: &CameraConfig) -> Self {
+        Self {
+            position: Vec3::from(c.position_m),
+            target: Vec3::from(c.target_m),
+            vfov_rad: c.vfov_deg.to_radians(),
+            near_m: c.near_m,
+            far_m: c.far_m,
+        }
+    }
+}
+
+impl Camera {
+    /// World → view transform (right-handed, z up in the world).
+    pub fn view_from_world(&self) -> Mat4 {
+        Mat4::look_at_rh(self.position, self.target, Vec3::Z)
+    }
+
+    /// View → clip (wgpu depth range 0..1).
+    pub fn clip_from_view(&self, aspect: f32) -> Mat4 {
+        Mat4::perspective_rh(self.vfov_rad, aspect, self.near_m, self.far_m)
+    }
+
+    /// World → clip.
+    pub fn clip_from_world(&self, aspect: f32) -> Mat4 {
+        self.clip_from_view(aspect) * self.view_from_world()
+    }
+
+    /// Pixel (column, row from the top) where a world point lands, or None
+    /// behind the camera.
+    pub fn project_to_pixel(&self, p: Vec3, width: u32, height: u32) -> Option<(f32, f32)> {
+        let c = self.clip_from_world(width as f32 / height as f32) * p.extend(1.0);
+        if c.w <= 0.0 {
+            return None;
+        }
+        let ndc = c.truncate() / c.w;
+        Some((
+            (ndc.x * 0.5 + 0.5) * width as f32,
+            (0.5 - ndc.y * 0.5) * height as f32,
+        ))
+    }
+}
+
+/// The sun as a directional light.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sun {
+    /// Unit vector toward the sun.
+    pub direction: Vec3,
+    /// Linear RGB irradiance scale (1 = nominal daylight exposure).
+    pub color: Vec3,
+}
+
+impl Default for Sun {
+    fn default() -> Self {
+        Self {
+            direction: RenderConfig::default().sun_direction(),
+            color: Vec3::new(1.0, 0.96, 0.9) * 2.2,
+        }
+    }
+}
+
+/// Everything a frame needs from the outside world.
+#[derive(Debug, Clone, Copy)]
+pub struct FrameInput<'a> {
+    pub camera: Camera,
+    /// The condensed parcels to draw (from `ParcelWorld::cloud_parcels`).
+    pub parcels: &'a [CloudParcel],
+    pub sun: Sun,
+    /// Simulation time, for slow noise drift. units: s
+    pub time_s: f32,
+}
+
+/// Which passes and shader code a frame needs ("leave out what a scene does
+/// not need"): derived from the configuration and whether there are clouds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Features {
+    /// Ray-march clouds (configured on and at least one parcel).
+    pub clouds: bool,
+    /// Terrain mesh pass.
+    pub terrain: bool,
+    /// Cloud-shadow pass (needs clouds and terrain).
+    pub shadows: bool,
+    /// Finite-difference normals compiled into the cloud shader.
+    pub normals: bool,
+}
+
+impl Features {
+    /// Features for `cfg` with or without any condensed parcel.
+    pub fn new(cfg: &RenderConfig, any_clouds: bool) -> Self {
+        let clouds = cfg.clouds && any_clouds;
+        let terrain = cfg.terrain.enabled;
+        Self {
+            clouds,
+            terrain,
+            shadows: cfg.shadows && clouds && terrain,
+            normals: cfg.normals && clouds,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_validate() {
+        RenderConfig::default().validate().unwrap();
+        CameraConfig::default().validate().unwrap();
+    }
+
+    #[test]
+    fn bad_fields_are_named() {
+        let cfg = RenderConfig {
+            step_m: 0.0,
+            ..RenderConfig::default()
+        };
+        let msg = cfg.validate().unwrap_err().to_string();
+        assert!(msg.contains("render.step_m"), "{msg}");
+        let cam = CameraConfig {
+            vfov_deg: 200.0,
+            ..CameraConfig::default()
+        };
+        assert!(cam.validate().unwrap_err().to_string().contains("vfov"));
+    }
+
+    #[test]
+    fn render_table_parses_with_terrain_subtable() {
+        let cfg: RenderConfig =
+            toml::from_str("normals = true\n[terrain]\nheightmap = \"h.png\"\n").unwrap();
+        assert!(cfg.normals);
+        assert_eq!(cfg.terrain.heightmap, Some(PathBuf::from("h.png")));
+        assert!(toml::from_str::<RenderConfig>("bogus = 1\n").is_err());
+    }
+
+    #[test]
+    fn features_prune() {
+        let cfg = RenderConfig::default();
+        let all = Features::new(&cfg, true);
+        assert!(all.clouds && all.terrain && all.shadows && !all.normals);
+        let none = Features::new(&cfg, false);
+        assert!(!none.clouds && !none.shadows && none.terrain);
+        let no_terrain = RenderConfig {
+            terrain: TerrainConfig {
+                enabled: false,
+                ..TerrainConfig::default()
+            },
+            ..cfg
+        };
+        assert!(!Features::new(&no_terrain, true).shadows);
+    }
+
+    #[test]
+    fn sun_from_the_east_is_up() {
+        let d = RenderConfig::default().sun_direction();
+        assert!((d.length() - 1.0).abs() < 1e-5);
+        assert!(d.x > 0.5 && d.z > 0.3);
+    }
+}

@@ -1,0 +1,155 @@
+// Shared by every pass: uniforms, camera rays, noise, sun and sky.
+//
+// Keep in sync with src/render/pack.rs (FrameUniform, GpuParcel,
+// ParcelsUniform, GridUniform). The array sizes MAX_PARCELS,
+// GRID_CELL_PAIRS and GRID_ENTRY_QUADS are prepended by
+// src/render/shaders.rs from the Rust constants, so they cannot drift.
+// naga has no #include: src/render/shaders.rs concatenates
+// prelude + common.wgsl (+ density.wgsl) + the pass file.
+//
+// Colours are linear RGB; sun irradiance ~2 gives daylight exposure.
+
+// Write gamma-encoded colour (for a non-sRGB target format).
+override ENCODE_SRGB: bool = false;
+
+// 288 bytes; keep in sync with FrameUniform in src/render/pack.rs.
+struct Frame {
+    clip_from_world: mat4x4<f32>,
+    world_from_clip: mat4x4<f32>,
+    camera_pos: vec4<f32>, // xyz: eye (m); w: time (s)
+    sun_dir: vec4<f32>,    // xyz: unit vector toward the sun
+    sun_color: vec4<f32>,  // rgb: sun irradiance scale
+    march: vec4<f32>,      // step (m), max steps, light steps, light step (m)
+    cloud: vec4<f32>,      // noise amplitude k, shell (m), extinction (1/m), early-exit T
+    noise: vec4<f32>,      // 1/noise scale (1/m), octaves, HG g, unused
+    grid_min: vec4<f32>,   // xyz: grid origin (m)
+    grid_cell: vec4<f32>,  // xyz: cell size (m)
+    grid_dims: vec4<u32>,  // nx, ny, nz, parcel count
+    domain: vec4<f32>,     // half domain side (m), terrain height scale (m), viewport w, h (px)
+}
+
+// 32 bytes; keep in sync with GpuParcel in src/render/pack.rs.
+struct Parcel {
+    center_radius: vec4<f32>, // xyz: centre (m); w: radius (m)
+    fill_plane: vec4<f32>,    // x: filling ratio f; y: condensation plane z (m)
+}
+
+// Keep in sync with ParcelsUniform in src/render/pack.rs.
+struct Parcels {
+    p: array<Parcel, MAX_PARCELS>,
+}
+
+// Keep in sync with GridUniform in src/render/pack.rs.
+// cells[i / 2]: (start, count) of cell i in .xy (even i) or .zw (odd i);
+// entries[j / 4][j % 4]: the j-th parcel index of all cell lists.
+struct Grid {
+    cells: array<vec4<u32>, GRID_CELL_PAIRS>,
+    entries: array<vec4<u32>, GRID_ENTRY_QUADS>,
+}
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var<uniform> parcels: Parcels;
+@group(0) @binding(2) var<uniform> grid: Grid;
+@group(0) @binding(3) var noise_tex: texture_3d<f32>;
+@group(0) @binding(4) var repeat_sampler: sampler;
+@group(0) @binding(5) var clamp_sampler: sampler;
+
+const PI: f32 = 3.14159265;
+
+struct FullscreenOut {
+    @builtin(position) pos: vec4<f32>,
+    @location(0) ndc: vec2<f32>,
+}
+
+// One triangle that covers the screen (vertex_index 0, 1, 2).
+fn fullscreen_vertex(i: u32) -> FullscreenOut {
+    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
+    let ndc = uv * 2.0 - 1.0;
+    var o: FullscreenOut;
+    o.pos = vec4<f32>(ndc, 0.0, 1.0);
+    o.ndc = ndc;
+    return o;
+}
+
+fn world_from_ndc(ndc: vec2<f32>, depth: f32) -> vec3<f32> {
+    let h = frame.world_from_clip * vec4<f32>(ndc, depth, 1.0);
+    return h.xyz / h.w;
+}
+
+// Unit view direction through a point of the screen.
+fn view_dir(ndc: vec2<f32>) -> vec3<f32> {
+    return normalize(world_from_ndc(ndc, 0.5) - frame.camera_pos.xyz);
+}
+
+// Slab test: (t_near, t_far) of a ray through an axis-aligned box.
+fn ray_box(ro: vec3<f32>, rd: vec3<f32>, bmin: vec3<f32>, bmax: vec3<f32>) -> vec2<f32> {
+    let safe = select(rd, vec3<f32>(1e-6), abs(rd) < vec3<f32>(1e-6));
+    let inv = 1.0 / safe;
+    let a = (bmin - ro) * inv;
+    let b = (bmax - ro) * inv;
+    let lo = min(a, b);
+    let hi = max(a, b);
+    return vec2<f32>(max(max(lo.x, lo.y), lo.z), min(min(hi.x, hi.y), hi.z));
+}
+
+// Tiling fBm noise in [-0.5, 0.5] at a world point: `octaves` fetches of the
+// periodic 3D texture at doubling frequencies, drifting slowly in time. The
+// weighted mean of fBm octaves clusters near 0, so it is doubled (then
+// clamped) to use the whole range.
+fn noise3(p: vec3<f32>) -> f32 {
+    let drift = vec3<f32>(1.5, 0.8, 0.3) * frame.camera_pos.w;
+    var q = (p + drift) * frame.noise.x;
+    var sum = 0.0;
+    var amp = 1.0;
+    var norm = 0.0;
+    let octaves = u32(frame.noise.y);
+    for (var i = 0u; i < octaves; i++) {
+        sum += amp * (textureSampleLevel(noise_tex, repeat_sampler, q, 0.0).r - 0.5);
+        norm += amp;
+        amp *= 0.5;
+        // Not exactly 2, so octaves do not line up on the tile grid.
+        q = q * 2.03 + vec3<f32>(0.17, 0.31, 0.53);
+    }
+    return clamp(2.0 * sum / max(norm, 1e-6), -0.5, 0.5);
+}
+
+// Cheap per-pixel hash in [0, 1) (ray start jitter against banding).
+fn hash2(p: vec2<f32>) -> f32 {
+    let q = fract(p * vec2<f32>(0.1031, 0.1030));
+    let r = q + dot(q, q.yx + 33.33);
+    return fract((r.x + r.y) * r.x);
+}
+
+// Sky radiance along a direction: zenith-to-horizon gradient, haze below
+// the horizon, and a glow around the sun.
+fn sky_color(dir: vec3<f32>) -> vec3<f32> {
+    let up = clamp(dir.z, -1.0, 1.0);
+    let zenith = vec3<f32>(0.16, 0.34, 0.85);
+    let horizon = vec3<f32>(0.62, 0.74, 0.92);
+    var c = mix(horizon, zenith, pow(max(up, 0.0), 0.45));
+    if up < 0.0 {
+        c = mix(horizon, vec3<f32>(0.42, 0.45, 0.5), clamp(-up * 3.0, 0.0, 1.0));
+    }
+    let mu = max(dot(dir, frame.sun_dir.xyz), 0.0);
+    c += vec3<f32>(1.0, 0.85, 0.6) * (0.35 * pow(mu, 12.0) + 0.08 * pow(mu, 2.0));
+    return c;
+}
+
+// Light arriving from the whole sky on an upward-facing surface.
+fn sky_ambient() -> vec3<f32> {
+    return vec3<f32>(0.30, 0.40, 0.60);
+}
+
+// Colour of the haze that distant objects fade into.
+fn haze_color(dir: vec3<f32>) -> vec3<f32> {
+    return sky_color(normalize(vec3<f32>(dir.xy, 0.02)));
+}
+
+// Filmic-ish exposure curve to [0, 1), optionally gamma-encoded.
+fn output_color(c: vec3<f32>) -> vec3<f32> {
+    let t = vec3<f32>(1.0) - exp(-c * 1.1);
+    if ENCODE_SRGB {
+        return pow(t, vec3<f32>(1.0 / 2.2));
+    }
+    return t;
+}

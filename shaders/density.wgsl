@@ -1,0 +1,78 @@
+// Hypertextured parcels (paper §6.1, eq. 18), shared by clouds.wgsl and
+// shadow.wgsl.
+//
+// Each condensed parcel i is a sphere (centre c_i, radius r_i) cut flat below
+// by its condensation plane z = z_i, with filling ratio f_i. Its normalised
+// pseudo-distance is
+//     d_i(P) = clamp(min(r_i - |P - c_i|, P.z - z_i) / shell, -1, 1)
+// i.e. 0 on the sphere and on the plane, +1 at `shell` metres inside, -1 at
+// `shell` metres outside (sphere ∩ half-space above the plane, as the min of
+// the two signed distances). The union over parcels takes the max of
+//     v_i(P) = f_i·(d_i(P) + 1) − 1,
+// which we may stop as soon as it saturates at 1 (paper). The density is
+//     ρ(P) = smoothstep(0, 1, v(P) + k·noise(P)),
+// with noise(P) ∈ [−0.5, 0.5] tiling fBm and k the noise amplitude: smoothstep
+// has edges 0 and 1, so a full parcel (f = 1) is opaque one shell inside its
+// surface, its edge is noise-eroded over about k/2 shells, and a parcel with
+// f < 1 never reaches full density and turns sponge-like as f drops. Below
+// the plane d rises at most to −k/2 before ρ vanishes: the base is flat to
+// within half a shell times k.
+
+// Evaluate only the parcels listed in the sample's grid cell (paper §6.2).
+// false: every parcel at every sample (brute force, for the bench).
+override GRID_CULLING: bool = true;
+
+fn parcel_value(i: u32, p: vec3<f32>) -> f32 {
+    let q = parcels.p[i];
+    let shell = frame.cloud.y;
+    let d_sphere = q.center_radius.w - distance(p, q.center_radius.xyz);
+    let d_plane = p.z - q.fill_plane.y;
+    let d = clamp(min(d_sphere, d_plane) / shell, -1.0, 1.0);
+    return q.fill_plane.x * (d + 1.0) - 1.0;
+}
+
+// Union over parcels of f·(d + 1) − 1, in [−1, 1]; −1 far from every parcel.
+fn macro_value(p: vec3<f32>) -> f32 {
+    var v = -1.0;
+    if GRID_CULLING {
+        let dims = frame.grid_dims.xyz;
+        let rel = (p - frame.grid_min.xyz) / frame.grid_cell.xyz;
+        if any(rel < vec3<f32>(0.0)) || any(rel >= vec3<f32>(dims)) {
+            return -1.0;
+        }
+        let ci = vec3<u32>(rel);
+        let cell = ci.x + dims.x * (ci.y + dims.y * ci.z);
+        let pair = grid.cells[cell / 2u];
+        var start = pair.x;
+        var count = pair.y;
+        if (cell & 1u) == 1u {
+            start = pair.z;
+            count = pair.w;
+        }
+        for (var j = start; j < start + count; j++) {
+            v = max(v, parcel_value(grid.entries[j / 4u][j % 4u], p));
+            if v >= 1.0 {
+                break;
+            }
+        }
+    } else {
+        for (var i = 0u; i < frame.grid_dims.w; i++) {
+            v = max(v, parcel_value(i, p));
+            if v >= 1.0 {
+                break;
+            }
+        }
+    }
+    return v;
+}
+
+// Cloud density ρ(P) ∈ [0, 1] (eq. 18).
+fn cloud_density(p: vec3<f32>) -> f32 {
+    let v = macro_value(p);
+    let k = frame.cloud.x;
+    // The noise adds at most k/2: skip the texture fetches where it cannot help.
+    if v + 0.5 * k <= 0.0 {
+        return 0.0;
+    }
+    return smoothstep(0.0, 1.0, v + k * noise3(p));
+}

@@ -1,0 +1,32 @@
+// Cloud-shadow pass (paper §7): for each texel of a 2D map covering the
+// domain on the ground plane z = 0, march from the ground toward the sun
+// through the cloud layer's box and store the sun's transmittance
+// exp(−∫σ ds). The terrain looks it up where its own sun ray meets z = 0,
+// so hills (a few hundred metres) under clouds (1–3 km) get the right shadow.
+// Texel row 0 is y = +half domain (north), like an image.
+
+const SHADOW_STEPS: u32 = 48u;
+
+@vertex
+fn vs_main(@builtin(vertex_index) i: u32) -> FullscreenOut {
+    return fullscreen_vertex(i);
+}
+
+@fragment
+fn fs_main(in: FullscreenOut) -> @location(0) vec4<f32> {
+    let half = frame.domain.x;
+    let ground = vec3<f32>(in.ndc * half, 0.0);
+    let sun = frame.sun_dir.xyz;
+    let grid_max = frame.grid_min.xyz + frame.grid_cell.xyz * vec3<f32>(frame.grid_dims.xyz);
+    let span = ray_box(ground, sun, frame.grid_min.xyz, grid_max);
+    let t0 = max(span.x, 0.0);
+    if span.y <= t0 {
+        return vec4<f32>(1.0);
+    }
+    let ds = (span.y - t0) / f32(SHADOW_STEPS);
+    var od = 0.0;
+    for (var i = 0u; i < SHADOW_STEPS; i++) {
+        od += cloud_density(ground + sun * (t0 + ds * (f32(i) + 0.5)));
+    }
+    return vec4<f32>(exp(-od * ds * frame.cloud.z));
+}

@@ -1,0 +1,65 @@
+// Terrain pass: the heightfield mesh (procedural fBm or a heightmap PNG,
+// built on the CPU by src/render/terrain.rs) with depth, lit by the sun
+// (Lambert, darkened by the cloud-shadow map) and the sky, fading into haze.
+
+// Sample the cloud-shadow map (false: no shadow pass this frame).
+override HAS_SHADOWS: bool = true;
+
+@group(1) @binding(0) var shadow_tex: texture_2d<f32>;
+
+struct VertexIn {
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+}
+
+struct VertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+}
+
+@vertex
+fn vs_main(v: VertexIn) -> VertexOut {
+    var o: VertexOut;
+    o.clip = frame.clip_from_world * vec4<f32>(v.position, 1.0);
+    o.world = v.position;
+    o.normal = v.normal;
+    return o;
+}
+
+// Sun transmittance through the clouds above a terrain point.
+fn cloud_shadow(p: vec3<f32>) -> f32 {
+    if !HAS_SHADOWS {
+        return 1.0;
+    }
+    let sun = frame.sun_dir.xyz;
+    let g = p.xy - p.z * sun.xy / max(sun.z, 0.03);
+    let uv = vec2<f32>(0.5 + 0.5 * g.x / frame.domain.x, 0.5 - 0.5 * g.y / frame.domain.x);
+    if any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) {
+        return 1.0;
+    }
+    return textureSampleLevel(shadow_tex, clamp_sampler, uv, 0.0).r;
+}
+
+@fragment
+fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
+    let n = normalize(in.normal);
+    let sun = frame.sun_dir.xyz;
+    // Albedo: meadows and fields on gentle slopes, rock on steep ones,
+    // patchy by a large-scale noise lookup.
+    let patchiness = textureSampleLevel(noise_tex, repeat_sampler, vec3<f32>(in.world.xy * 1.1e-3, 0.37), 0.0).r;
+    let fields = smoothstep(0.35, 0.65, patchiness);
+    let meadow = mix(vec3<f32>(0.06, 0.10, 0.035), vec3<f32>(0.13, 0.15, 0.06), fields);
+    let rock = vec3<f32>(0.22, 0.2, 0.18);
+    let steep = smoothstep(0.75, 0.55, n.z);
+    let albedo = mix(meadow, rock, steep);
+    let direct = frame.sun_color.rgb * max(dot(n, sun), 0.0) * cloud_shadow(in.world);
+    let ambient = sky_ambient() * (0.6 + 0.4 * n.z);
+    var c = albedo * (direct + ambient);
+    // Aerial perspective: fade into haze over ~60 km.
+    let to_eye = in.world - frame.camera_pos.xyz;
+    let dist = length(to_eye);
+    let haze = 1.0 - exp(-dist / 60000.0);
+    c = mix(c, haze_color(to_eye / dist), haze);
+    return vec4<f32>(output_color(c), 1.0);
+}

@@ -1,0 +1,164 @@
+//! The ground's heat and humidity maps and the parcel generator (paper §7.3:
+//! "parcels with a frequency proportional to the heat and humidity content
+//! of the region").
+//!
+//! The maps are procedural: `patches` Gaussian bumps placed by the map seed,
+//! each with its own heat and humidity strength in [0.3, 1], over a weak
+//! background. Emission is a Poisson process per map cell: in a frame of
+//! length dt, a cell emits with probability λ A dt where
+//! λ = rate · heat · (0.5 + 0.5 humidity) · sun(t).
+
+use super::config::{EmissionConfig, GroundConfig};
+use super::rng::SplitMix64;
+
+/// Emission cells per side of the domain.
+const CELLS: usize = 32;
+
+#[derive(Debug, Clone, PartialEq)]
+struct Patch {
+    x_m: f64,
+    y_m: f64,
+    sigma_m: f64,
+    heat: f64,
+    humidity: f64,
+}
+
+/// Heat and humidity maps of the ground, both in [0, 1].
+#[derive(Debug, Clone, PartialEq)]
+pub struct GroundMap {
+    cfg: GroundConfig,
+    patches: Vec<Patch>,
+    /// λ weight heat · (0.5 + 0.5 humidity) at each cell centre, row-major.
+    cell_weight: Vec<f64>,
+}
+
+impl GroundMap {
+    /// Places the patches from `cfg.map_seed`.
+    pub fn new(cfg: &GroundConfig) -> Self {
+        let mut rng = SplitMix64::new(cfg.map_seed);
+        let (hx, hy) = (0.5 * cfg.size_m[0], 0.5 * cfg.size_m[1]);
+        let patches: Vec<Patch> = (0..cfg.patches)
+            .map(|_| Patch {
+                // Keep patch centres off the edges so their parcels stay in the domain.
+                x_m: rng.range(-0.7 * hx, 0.7 * hx),
+                y_m: rng.range(-0.7 * hy, 0.7 * hy),
+                sigma_m: cfg.patch_radius_m * rng.range(0.6, 1.4),
+                heat: rng.range(0.3, 1.0),
+                humidity: rng.range(0.3, 1.0),
+            })
+            .collect();
+        let mut map = GroundMap {
+            cfg: cfg.clone(),
+            patches,
+            cell_weight: Vec::new(),
+        };
+        let mut w = Vec::with_capacity(CELLS * CELLS);
+        for j in 0..CELLS {
+            for i in 0..CELLS {
+                let (x, y) = map.cell_centre(i, j);
+                let (h, q) = map.sample(x, y);
+                w.push(h * (0.5 + 0.5 * q));
+            }
+        }
+        map.cell_weight = w;
+        map
+    }
+
+    fn cell_size(&self) -> (f64, f64) {
+        (
+            self.cfg.size_m[0] / CELLS as f64,
+            self.cfg.size_m[1] / CELLS as f64,
+        )
+    }
+
+    fn cell_centre(&self, i: usize, j: usize) -> (f64, f64) {
+        let (dx, dy) = self.cell_size();
+        (
+            -0.5 * self.cfg.size_m[0] + (i as f64 + 0.5) * dx,
+            -0.5 * self.cfg.size_m[1] + (j as f64 + 0.5) * dy,
+        )
+    }
+
+    /// (heat, humidity) in [0, 1] at (x, y). units: m → 1
+    pub fn sample(&self, x_m: f64, y_m: f64) -> (f64, f64) {
+        let (mut h, mut q) = (self.cfg.background, self.cfg.background);
+        for p in &self.patches {
+            let d2 = (x_m - p.x_m).powi(2) + (y_m - p.y_m).powi(2);
+            let g = (-0.5 * d2 / (p.sigma_m * p.sigma_m)).exp();
+            h = h.max(p.heat * g);
+            q = q.max(p.humidity * g);
+        }
+        (h, q)
+    }
+
+    /// θ and q_v excess of air leaving the ground at (x, y). units: m → (K, kg/kg)
+    pub fn excess(&self, x_m: f64, y_m: f64) -> (f64, f64) {
+        let (h, q) = self.sample(x_m, y_m);
+        (
+            self.cfg.heat_excess_k * h,
+            self.cfg.moisture_excess_kg_per_kg * q,
+        )
+    }
+
+    /// Sun factor at simulation time `t_s`: sin(π (hour − 6)/12), zero at night.
+    pub fn sun(emission: &EmissionConfig, t_s: f64) -> f64 {
+        if !emission.diurnal {
+            return 1.0;
+        }
+        let hour = (emission.start_hour + t_s / 3600.0).rem_euclid(24.0);
+        (std::f64::consts::PI * (hour - 6.0) / 12.0).sin().max(0.0)
+    }
+
+    /// Draws the emissions of one frame of length `dt_s` starting at `t_s`:
+    /// (x, y) positions in cell order, so the result depends only on the RNG state.
+    pub fn draw(
+        &self,
+        emission: &EmissionConfig,
+        t_s: f64,
+        dt_s: f64,
+        rng: &mut SplitMix64,
+    ) -> Vec<(f64, f64)> {
+        let (dx, dy) = self.cell_size();
+        let cell_km2 = dx * dy * 1e-6;
+        let base = emission.rate_per_km2_per_h * Self::sun(emission, t_s) * dt_s / 3600.0;
+        let mut out = Vec::new();
+        for j in 0..CELLS {
+            for i in 0..CELLS {
+                let p = base * self.cell_weight[j * CELLS + i] * cell_km2;
+                // One draw per cell per frame keeps the stream length fixed
+                // whatever the rates, so changing a rate never shifts other draws.
+                let u = rng.next_f64();
+                let ux = rng.next_f64();
+                let uy = rng.next_f64();
+                if u < p {
+                    let (cx, cy) = self.cell_centre(i, j);
+                    out.push((cx + (ux - 0.5) * dx, cy + (uy - 0.5) * dy));
+                }
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn patches_are_hotter_than_background() {
+        let g = GroundMap::new(&GroundConfig::default());
+        let p = &g.patches[0];
+        let (h, _) = g.sample(p.x_m, p.y_m);
+        assert!(h >= 0.3 && h > GroundConfig::default().background);
+    }
+
+    #[test]
+    fn no_sun_no_emission() {
+        let e = EmissionConfig {
+            start_hour: 0.0,
+            ..EmissionConfig::default()
+        };
+        assert_eq!(GroundMap::sun(&e, 0.0), 0.0);
+        assert!((GroundMap::sun(&e, 12.0 * 3600.0) - 1.0).abs() < 1e-12);
+    }
+}

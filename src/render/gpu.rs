@@ -1,0 +1,160 @@
+//! The GPU context: instance, adapter, device and queue, opened headless or
+//! for a window surface. Requests timestamp queries when the adapter has
+//! them (per-pass GPU timings) and says which adapter it got, for reports.
+
+use crate::error::{Error, Result};
+
+/// An open GPU device and what it is.
+pub struct GpuContext {
+    pub instance: wgpu::Instance,
+    pub adapter: wgpu::Adapter,
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    /// Timestamp queries are enabled (per-pass GPU timings).
+    pub timestamps: bool,
+}
+
+fn instance() -> wgpu::Instance {
+    // Honour WGPU_BACKEND etc. so a user can pick a backend.
+    wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env())
+}
+
+impl GpuContext {
+    /// Opens a device without a window. `prefer`: a case-insensitive part of
+    /// the adapter name to pick (e.g. "llvmpipe"); None = the default choice,
+    /// falling back to any adapter (a CPU one included).
+    pub fn new_headless(prefer: Option<&str>) -> Result<Self> {
+        let instance = instance();
+        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+        let names: Vec<String> = adapters
+            .iter()
+            .map(|a| {
+                let i = a.get_info();
+                format!("{} ({:?})", i.name, i.backend)
+            })
+            .collect();
+        let adapter = match prefer {
+            Some(want) => {
+                let want_l = want.to_lowercase();
+                adapters
+                    .into_iter()
+                    .find(|a| a.get_info().name.to_lowercase().contains(&want_l))
+                    .ok_or_else(|| {
+                        Error::NoAdapter(format!(
+                            "no adapter named like {want:?} among [{}]",
+                            names.join(", ")
+                        ))
+                    })?
+            }
+            None => {
+                let opts = wgpu::RequestAdapterOptions {
+                    power_preference: wgpu::PowerPreference::HighPerformance,
+                    force_fallback_adapter: false,
+                    compatible_surface: None,
+                    ..Default::default()
+                };
+                match pollster::block_on(instance.request_adapter(&opts)) {
+                    Ok(a) => a,
+                    Err(e) => adapters
+                        .into_iter()
+                        .next()
+                        .ok_or_else(|| Error::NoAdapter(format!("{e}; adapters found: none")))?,
+                }
+            }
+        };
+        Self::from_adapter(instance, adapter)
+    }
+
+    /// Opens a device that can present to `surface` (made by the window from
+    /// `instance`).
+    pub fn new_for_surface(instance: wgpu::Instance, surface: &wgpu::Surface<'_>) -> Result<Self> {
+        let opts = wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            compatible_surface: Some(surface),
+            ..Default::default()
+        };
+        let adapter = pollster::block_on(instance.request_adapter(&opts))
+            .map_err(|e| Error::NoAdapter(format!("none can present to this window: {e}")))?;
+        Self::from_adapter(instance, adapter)
+    }
+
+    /// A fresh instance like the one `new_headless` uses (for the window to
+    /// create its surface from).
+    pub fn new_instance() -> wgpu::Instance {
+        instance()
+    }
+
+    fn from_adapter(instance: wgpu::Instance, adapter: wgpu::Adapter) -> Result<Self> {
+        let available = adapter.features();
+        let timestamps = available.contains(wgpu::Features::TIMESTAMP_QUERY);
+        let required_features = if timestamps {
+            wgpu::Features::TIMESTAMP_QUERY
+        } else {
+            wgpu::Features::empty()
+        };
+        // Ask for what the adapter has: the grid uniform is 48 KiB, within
+        // the 64 KiB default; Renderer::new checks our sizes against these.
+        let required_limits = wgpu::Limits::default().using_resolution(adapter.limits());
+        let desc = wgpu::DeviceDescriptor {
+            label: Some("cumulus"),
+            required_features,
+            required_limits,
+            ..Default::default()
+        };
+        let (device, queue) = pollster::block_on(adapter.request_device(&desc)).map_err(|e| {
+            Error::NoAdapter(format!(
+                "{} could not open a device: {e}",
+                adapter.get_info().name
+            ))
+        })?;
+        Ok(Self {
+            instance,
+            adapter,
+            device,
+            queue,
+            timestamps,
+        })
+    }
+
+    /// Adapter name, e.g. "llvmpipe (LLVM 19.1.7, 256 bits)".
+    pub fn adapter_name(&self) -> String {
+        self.adapter.get_info().name
+    }
+
+    /// Driver and its version, e.g. "llvmpipe Mesa 25.0".
+    pub fn driver(&self) -> String {
+        let i = self.adapter.get_info();
+        format!("{} {}", i.driver, i.driver_info).trim().to_string()
+    }
+
+    /// Backend, e.g. "Vulkan".
+    pub fn backend(&self) -> String {
+        format!("{:?}", self.adapter.get_info().backend)
+    }
+
+    /// Whether this is a software (CPU) adapter.
+    pub fn is_cpu(&self) -> bool {
+        self.adapter.get_info().device_type == wgpu::DeviceType::Cpu
+    }
+
+    /// One line for reports: name, driver, backend.
+    pub fn describe(&self) -> String {
+        format!(
+            "{} [{}; {}; {}]",
+            self.adapter_name(),
+            self.driver(),
+            self.backend(),
+            if self.timestamps {
+                "GPU timestamps"
+            } else {
+                "no timestamps"
+            }
+        )
+    }
+
+    /// Blocks until the queue is idle.
+    pub fn wait_idle(&self) {
+        let _ = self.device.poll(wgpu::PollType::wait_indefinitely());
+    }
+}

@@ -1,0 +1,105 @@
+//! Headless rendering: an offscreen RGBA8 sRGB target of the renderer's size,
+//! rendered with the same `Renderer::render` path as the window, and read
+//! back row by row (rows padded to wgpu's 256-byte copy alignment).
+
+use crate::error::Result;
+use crate::render::gpu::GpuContext;
+use crate::render::renderer::{FrameTimings, Renderer, read_buffer};
+use crate::render::{FrameInput, RenderConfig};
+
+/// Format of headless images (PNG-ready bytes after readback).
+pub const HEADLESS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+
+/// A renderer with its own offscreen target, for several frames.
+pub struct Headless {
+    pub renderer: Renderer,
+    texture: wgpu::Texture,
+    view: wgpu::TextureView,
+    readback: wgpu::Buffer,
+    padded_row: u32,
+}
+
+impl Headless {
+    /// A `width`×`height` offscreen renderer.
+    pub fn new(ctx: &GpuContext, cfg: &RenderConfig, width: u32, height: u32) -> Result<Self> {
+        let renderer = Renderer::new(ctx, cfg, HEADLESS_FORMAT, width, height)?;
+        let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("headless target"),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: HEADLESS_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&Default::default());
+        let padded_row = (4 * width).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
+        let readback = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("headless readback"),
+            size: padded_row as u64 * height as u64,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Ok(Self {
+            renderer,
+            texture,
+            view,
+            readback,
+            padded_row,
+        })
+    }
+
+    /// Prepares, renders and reads back one frame: tightly packed RGBA8
+    /// (sRGB-encoded) rows, top row first.
+    pub fn render(
+        &mut self,
+        ctx: &GpuContext,
+        input: &FrameInput<'_>,
+    ) -> Result<(Vec<u8>, FrameTimings)> {
+        self.renderer.prepare(ctx, input)?;
+        let timings = self.renderer.render(ctx, &self.view);
+        let (w, h) = self.renderer.size();
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        enc.copy_texture_to_buffer(
+            self.texture.as_image_copy(),
+            wgpu::TexelCopyBufferInfo {
+                buffer: &self.readback,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(self.padded_row),
+                    rows_per_image: Some(h),
+                },
+            },
+            wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+        );
+        ctx.queue.submit([enc.finish()]);
+        let padded = read_buffer(ctx, &self.readback, self.padded_row as u64 * h as u64)?;
+        let mut rgba = Vec::with_capacity((4 * w * h) as usize);
+        for row in padded.chunks_exact(self.padded_row as usize) {
+            rgba.extend_from_slice(&row[..4 * w as usize]);
+        }
+        Ok((rgba, timings))
+    }
+}
+
+/// Renders one frame headless: (RGBA8 sRGB bytes, width, height).
+pub fn render_to_rgba(
+    ctx: &GpuContext,
+    cfg: &RenderConfig,
+    input: &FrameInput<'_>,
+    width: u32,
+    height: u32,
+) -> Result<(Vec<u8>, u32, u32)> {
+    let mut h = Headless::new(ctx, cfg, width, height)?;
+    let (rgba, _) = h.render(ctx, input)?;
+    Ok((rgba, width, height))
+}

@@ -1,0 +1,120 @@
+//! `cumulus parcel` end to end: JSON keys and values, the Skew-T PNG, and a
+//! bad sounding's error message and exit status.
+
+use std::path::Path;
+use std::process::Command;
+
+fn cumulus() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_cumulus"));
+    c.current_dir(env!("CARGO_MANIFEST_DIR"));
+    c
+}
+
+const OUN_2011: &str = "profiles/soundings/oun-2011-05-22-12z.txt";
+
+#[test]
+fn json_has_the_documented_keys_and_values() {
+    let out = cumulus()
+        .args(["parcel", "--sounding", OUN_2011, "--json"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value =
+        serde_json::from_slice(&out.stdout).expect("exactly one JSON object");
+    let obj = v.as_object().unwrap();
+    for key in [
+        "lcl_hpa", "lcl_m", "lfc_hpa", "lfc_m", "el_hpa", "el_m", "levels",
+    ] {
+        assert!(obj.contains_key(key), "missing {key}");
+    }
+    // MetPy's LCL on this sounding is 949.0 hPa (tests/atmosphere_metpy.rs).
+    let lcl = v["lcl_hpa"].as_f64().unwrap();
+    assert!((lcl - 949.0).abs() < 5.0, "{lcl}");
+    // 966 → 949 hPa is about 150 m.
+    let lcl_m = v["lcl_m"].as_f64().unwrap();
+    assert!((100.0..250.0).contains(&lcl_m), "{lcl_m}");
+    // The capping inversion near 890 hPa holds the parcel down to ~740 hPa,
+    // and the tropopause stops it near 200 hPa.
+    let lfc = v["lfc_hpa"].as_f64().unwrap();
+    let el = v["el_hpa"].as_f64().unwrap();
+    assert!(
+        (650.0..850.0).contains(&lfc) && (150.0..300.0).contains(&el),
+        "{lfc} {el}"
+    );
+    let levels = v["levels"].as_array().unwrap();
+    assert_eq!(levels.len(), 70, "one entry per usable sounding level");
+    let first = &levels[0];
+    for key in [
+        "p_hpa", "z_m", "t_k", "tv_k", "env_t_k", "env_tv_k", "qv_gkg", "ql_gkg",
+    ] {
+        assert!(first[key].is_number(), "levels[0].{key}");
+    }
+    assert_eq!(first["p_hpa"].as_f64().unwrap(), 966.0);
+    assert_eq!(first["z_m"].as_f64().unwrap(), 0.0);
+    assert!((first["t_k"].as_f64().unwrap() - 295.35).abs() < 1e-9);
+    let last = levels.last().unwrap();
+    assert!((last["p_hpa"].as_f64().unwrap() - 100.0).abs() < 1e-9);
+    assert_eq!(last["z_m"].as_f64().unwrap(), 16_410.0 - 345.0);
+    assert!(
+        last["ql_gkg"].as_f64().unwrap() > 10.0,
+        "the reversible parcel keeps its water"
+    );
+}
+
+#[test]
+fn plot_writes_a_png() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("skewt.png");
+    let out = cumulus()
+        .args(["parcel", "--sounding", OUN_2011, "--plot"])
+        .arg(&png)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let bytes = std::fs::read(&png).unwrap();
+    assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n"), "not a PNG");
+    let img = image::load_from_memory(&bytes).unwrap();
+    assert_eq!((img.width(), img.height()), (900, 1000));
+    // Something is drawn: many non-white pixels, and the red environment curve.
+    let rgb = img.to_rgb8();
+    let ink = rgb.pixels().filter(|p| p.0 != [255, 255, 255]).count();
+    assert!(ink > 50_000, "{ink} drawn pixels");
+    assert!(
+        rgb.pixels().any(|p| p.0 == [210, 20, 20]),
+        "environment temperature curve"
+    );
+}
+
+#[test]
+fn bad_sounding_fails_with_file_line_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.txt");
+    let good =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(OUN_2011)).unwrap();
+    // Line 10 is the 936.9 hPa row; put text in its TEMP column.
+    let text: String = good
+        .lines()
+        .enumerate()
+        .map(|(i, l)| if i == 9 { l.replacen("  20.8", "  x0.8", 1) } else { l.to_string() } + "\n")
+        .collect();
+    std::fs::write(&bad, text).unwrap();
+    let out = cumulus()
+        .args(["parcel", "--sounding"])
+        .arg(&bad)
+        .arg("--json")
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(out.stdout.is_empty(), "no JSON on failure");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains(&format!("{}:10:18:", bad.display())), "{err}");
+    assert!(err.contains("\"x0.8\"") && err.contains("TEMP"), "{err}");
+}

@@ -1,0 +1,138 @@
+//! Every WGSL file in `shaders/` is parsed and validated by naga as part of
+//! each pass module it belongs to, in every variant of the pass's `override`
+//! constants; all failures are reported at once. Also checks the Rust uniform
+//! structs against the WGSL layout naga computes.
+
+use cumulus::render::pack::{FrameUniform, GpuParcel, GridUniform, ParcelsUniform};
+use cumulus::render::shaders::{FILES, Pass};
+
+fn parse(src: &str) -> Result<(naga::Module, naga::valid::ModuleInfo), String> {
+    let module = naga::front::wgsl::parse_str(src).map_err(|e| e.emit_to_string(src))?;
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::default(),
+    )
+    .validate(&module)
+    .map_err(|e| e.emit_to_string(src))?;
+    Ok((module, info))
+}
+
+/// All 2^n combinations of the pass's boolean overrides.
+fn variants(pass: Pass) -> Vec<naga::back::PipelineConstants> {
+    let names = pass.overrides();
+    (0..1u32 << names.len())
+        .map(|bits| {
+            names
+                .iter()
+                .enumerate()
+                .map(|(i, n)| (n.to_string(), ((bits >> i) & 1) as f64))
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn every_pass_module_validates_in_every_variant() {
+    let mut failures = Vec::new();
+    let mut checked = 0;
+    for pass in Pass::ALL {
+        let src = pass.source();
+        let (module, info) = match parse(&src) {
+            Ok(m) => m,
+            Err(e) => {
+                failures.push(format!("{}: {e}", pass.name()));
+                continue;
+            }
+        };
+        // Every declared override is one the renderer knows how to set.
+        let mut declared: Vec<String> = module
+            .overrides
+            .iter()
+            .filter_map(|(_, o)| o.name.clone())
+            .collect();
+        declared.sort();
+        let mut known: Vec<String> = pass.overrides().iter().map(|s| s.to_string()).collect();
+        known.sort();
+        if declared != known {
+            failures.push(format!(
+                "{}: declares overrides {declared:?}, renderer sets {known:?}",
+                pass.name()
+            ));
+        }
+        for constants in variants(pass) {
+            for ep in &module.entry_points {
+                let r = naga::back::pipeline_constants::process_overrides(
+                    &module,
+                    &info,
+                    Some((ep.stage, ep.name.as_str())),
+                    &constants,
+                );
+                if let Err(e) = r {
+                    failures.push(format!("{} {} {constants:?}: {e}", pass.name(), ep.name));
+                }
+                checked += 1;
+            }
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} failures:\n{}",
+        failures.len(),
+        failures.join("\n\n")
+    );
+    assert!(checked >= 2 * (4 + 2 + 4 + 16), "checked {checked}");
+}
+
+#[test]
+fn every_file_in_shaders_dir_is_assembled() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let mut missing = Vec::new();
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let name = entry.unwrap().file_name().to_string_lossy().into_owned();
+        if name.ends_with(".wgsl") && !FILES.iter().any(|(n, _)| *n == name) {
+            missing.push(name);
+        }
+    }
+    assert!(missing.is_empty(), "not used by any pass: {missing:?}");
+    for (name, text) in FILES {
+        let used = Pass::ALL.iter().any(|p| p.source().contains(*text));
+        assert!(used, "{name} is in no pass module");
+    }
+}
+
+/// Size of a named struct as naga lays it out.
+fn wgsl_struct_size(module: &naga::Module, name: &str) -> u32 {
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).unwrap();
+    let (handle, _) = module
+        .types
+        .iter()
+        .find(|(_, t)| t.name.as_deref() == Some(name))
+        .unwrap_or_else(|| panic!("no struct {name}"));
+    layouter[handle].size
+}
+
+#[test]
+fn rust_uniforms_match_wgsl_layout() {
+    let src = Pass::Clouds.source();
+    let (module, _) = parse(&src).unwrap();
+    assert_eq!(
+        wgsl_struct_size(&module, "Frame") as usize,
+        std::mem::size_of::<FrameUniform>()
+    );
+    assert_eq!(
+        wgsl_struct_size(&module, "Parcel") as usize,
+        std::mem::size_of::<GpuParcel>()
+    );
+    assert_eq!(
+        wgsl_struct_size(&module, "Parcels") as usize,
+        std::mem::size_of::<ParcelsUniform>()
+    );
+    assert_eq!(
+        wgsl_struct_size(&module, "Grid") as usize,
+        std::mem::size_of::<GridUniform>()
+    );
+    // 16-byte fields only: no vec3 padding surprises.
+    assert_eq!(std::mem::size_of::<FrameUniform>() % 16, 0);
+    assert_eq!(std::mem::size_of::<GpuParcel>() % 16, 0);
+}
