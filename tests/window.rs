@@ -7,6 +7,7 @@
 //! installs Xvfb) and otherwise prints a notice and passes.
 
 use std::path::Path;
+
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -102,44 +103,73 @@ fn no_display(why: &str) {
     eprintln!("NOTICE: window test skipped: {why}");
 }
 
+/// Runs `cumulus watch --screenshot` with `args` on `display` and returns the image.
+fn capture(display: &str, args: &[&str], keep_as: &str) -> image::RgbaImage {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("window.png");
+    let output = Command::new(env!("CARGO_BIN_EXE_cumulus"))
+        .args(["watch", "--screenshot"])
+        .arg(&out)
+        .args(args)
+        .env("DISPLAY", display)
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run cumulus");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "cumulus watch failed:\n{stderr}");
+    // Keep the capture for a look when asked (CUMULUS_KEEP_SCREENSHOTS=dir).
+    if let Some(k) = std::env::var_os("CUMULUS_KEEP_SCREENSHOTS") {
+        std::fs::copy(&out, Path::new(&k).join(keep_as)).unwrap();
+    }
+    image::open(&out).expect("a PNG").to_rgba8()
+}
+
+/// Left edge of the 3D view in the capture: the panel is 380 points wide
+/// (scale factor 1 under Xvfb); a margin keeps its border out.
+const VIEW_X0: u32 = 420;
+
+/// Pixels of the 3D view that look like cloud: bright and nearly grey. The
+/// sky is blue (even its pale horizon differs by ≥ 25 between channels) and
+/// the ground green/brown and darker, so this counts only cloud.
+fn cloud_pixels(img: &image::RgbaImage) -> u32 {
+    let (w, h) = img.dimensions();
+    let mut n = 0;
+    for y in 0..h {
+        for x in VIEW_X0..w {
+            let p = img.get_pixel(x, y);
+            let (mx, mn) = (p[0].max(p[1]).max(p[2]), p[0].min(p[1]).min(p[2]));
+            if mn > 150 && mx - mn < 15 {
+                n += 1;
+            }
+        }
+    }
+    n
+}
+
 #[test]
 fn screenshot_shows_panel_and_clouds() {
     let Some((display, _xvfb)) = display() else {
         no_display("DISPLAY is unset and Xvfb is not installed");
         return;
     };
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("window.png");
     // Small window (the CPU adapter is slow), a few frames, and ten minutes
     // of simulated warm-up so that clouds have formed.
-    let output = Command::new(env!("CARGO_BIN_EXE_cumulus"))
-        .args(["watch", "--screenshot"])
-        .arg(&out)
-        .args([
+    let img = capture(
+        &display,
+        &[
             "--frames", "3", "--warmup", "600", "--width", "900", "--height", "560",
-        ])
-        .env("DISPLAY", &display)
-        .env_remove("WAYLAND_DISPLAY")
-        .output()
-        .expect("run cumulus");
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(output.status.success(), "cumulus watch failed:\n{stderr}");
-
-    let img = image::open(&out).expect("a PNG").to_rgba8();
+        ],
+        "window.png",
+    );
     let (w, h) = img.dimensions();
     assert_eq!((w, h), (900, 560), "the capture is the whole window");
 
-    // Not a blank window: text, plot lines and shading give hundreds of
+    // Not a blank window: text, plot lines and shading give thousands of
     // colours; a cleared or single-colour frame has one or two.
     let mut colours = std::collections::HashSet::new();
     for p in img.pixels() {
         colours.insert([p[0], p[1], p[2]]);
     }
-    assert!(
-        colours.len() > 200,
-        "only {} distinct colours",
-        colours.len()
-    );
 
     // The panel (dark egui theme, left 380 points) differs from the 3D view.
     let mean = |x0: u32, x1: u32| {
@@ -157,25 +187,37 @@ fn screenshot_shows_panel_and_clouds() {
         s.map(|v| v / n)
     };
     let panel = mean(0, 360);
-    let view = mean(420, w);
+    let view = mean(VIEW_X0, w);
     let diff: f64 = (0..3).map(|c| (panel[c] - view[c]).abs()).sum();
-    // Mean colours 8-bit: a dark panel against sky and ground differs by far
+    let cloud = cloud_pixels(&img);
+    let area = (w - VIEW_X0) * h;
+    eprintln!(
+        "{} colours, panel {panel:?} vs view {view:?}, {cloud} cloud pixels of {area}",
+        colours.len()
+    );
+    assert!(
+        colours.len() > 200,
+        "only {} distinct colours",
+        colours.len()
+    );
+    // Mean 8-bit colours: a dark panel against sky and ground differs by far
     // more than 60 summed over channels; the same content would differ by ~0.
     assert!(diff > 60.0, "panel {panel:?} vs view {view:?}");
+    // Clouds: at least 0.1% of the view (a few small cumulus several km
+    // away cover ~0.5% here).
+    assert!(cloud * 1000 > area, "{cloud} cloud pixels of {area}");
 
-    // Clouds: bright, nearly grey pixels in the 3D view (sky is blue, ground
-    // green/brown, so low saturation and high brightness mean cloud).
-    let mut cloud = 0u32;
-    for y in 0..h {
-        for x in 420..w {
-            let p = img.get_pixel(x, y);
-            let (mx, mn) = (p[0].max(p[1]).max(p[2]), p[0].min(p[1]).min(p[2]));
-            if mn > 150 && mx - mn < 30 {
-                cloud += 1;
-            }
-        }
-    }
-    let area = (w - 420) * h;
-    // At least 0.2% of the view: a few small cumulus at several km distance.
-    assert!(cloud * 500 > area, "{cloud} cloud pixels of {area}");
+    // And the cloud count means cloud: at t = 0 nothing has condensed yet,
+    // and the same view has (next to) no such pixels.
+    let clear = capture(
+        &display,
+        &["--frames", "1", "--width", "900", "--height", "560"],
+        "window-clear.png",
+    );
+    let clear_cloud = cloud_pixels(&clear);
+    // 0.02% allows a few anti-aliased pixels of the sun or panel edge.
+    assert!(
+        clear_cloud * 5000 < area,
+        "{clear_cloud} cloud pixels in a clear sky"
+    );
 }

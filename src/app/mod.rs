@@ -11,7 +11,6 @@
 pub mod camera;
 pub mod panel;
 pub mod profile_edit;
-mod standin;
 pub mod state;
 pub mod window;
 

@@ -69,9 +69,9 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
         "Drag points: temperature (red), dewpoint (green). Double-click adds a level, \
          right-click removes one. Orange: the lifted surface parcel.",
     );
-    let curve = m.editor.curve().clone();
-    let top_default = curve
-        .el_m
+    let top_default = m
+        .editor
+        .el_m()
         .map(|el| (el * 1.6).max(3000.0))
         .unwrap_or(6000.0)
         .min(m.editor.points().last().map(|p| p.z_m).unwrap_or(6000.0));
@@ -82,7 +82,7 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
         .iter()
         .filter(|p| p.z_m <= plot_top * 1.2)
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
-            (a.min(p.td_c), b.max(p.t_c))
+            (a.min(pe::dewpoint_c(p)), b.max(p.t_c))
         });
     let (xmin, xmax) = ((tmin - 5.0).min(-10.0), (tmax + 5.0).max(30.0));
 
@@ -102,24 +102,25 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
             plot_ui.set_plot_bounds(PlotBounds::from_min_max([xmin, 0.0], [xmax, plot_top]));
             let resp = plot_ui.response().clone();
             let pointer = plot_ui.pointer_coordinate();
-            let nearest = |plot_ui: &egui_plot::PlotUi<'_>, points: &[pe::ProfilePoint]| {
-                let pos = resp.interact_pointer_pos().or(resp.hover_pos())?;
-                let mut best: Option<(f32, ProfileCurve, usize)> = None;
-                for (i, p) in points.iter().enumerate() {
-                    for (c, x) in [
-                        (ProfileCurve::Temperature, p.t_c),
-                        (ProfileCurve::Dewpoint, p.td_c),
-                    ] {
-                        let d = plot_ui
-                            .screen_from_plot(PlotPoint::new(x, p.z_m))
-                            .distance(pos);
-                        if d < GRAB_RADIUS && best.is_none_or(|b| d < b.0) {
-                            best = Some((d, c, i));
+            let nearest =
+                |plot_ui: &egui_plot::PlotUi<'_>, points: &[crate::atmosphere::AtmospherePoint]| {
+                    let pos = resp.interact_pointer_pos().or(resp.hover_pos())?;
+                    let mut best: Option<(f32, ProfileCurve, usize)> = None;
+                    for (i, p) in points.iter().enumerate() {
+                        for (c, x) in [
+                            (ProfileCurve::Temperature, p.t_c),
+                            (ProfileCurve::Dewpoint, pe::dewpoint_c(p)),
+                        ] {
+                            let d = plot_ui
+                                .screen_from_plot(PlotPoint::new(x, p.z_m))
+                                .distance(pos);
+                            if d < GRAB_RADIUS && best.is_none_or(|b| d < b.0) {
+                                best = Some((d, c, i));
+                            }
                         }
                     }
-                }
-                best.map(|(_, c, i)| (c, i))
-            };
+                    best.map(|(_, c, i)| (c, i))
+                };
             if resp.drag_started() {
                 *drag = nearest(plot_ui, editor.points());
             }
@@ -144,10 +145,10 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
 
             let pts = editor.points();
             let t: Vec<[f64; 2]> = pts.iter().map(|p| [p.t_c, p.z_m]).collect();
-            let td: Vec<[f64; 2]> = pts.iter().map(|p| [p.td_c, p.z_m]).collect();
+            let td: Vec<[f64; 2]> = pts.iter().map(|p| [pe::dewpoint_c(p), p.z_m]).collect();
             let curve = editor.curve();
             let parcel: Vec<[f64; 2]> = curve
-                .points
+                .levels
                 .iter()
                 .map(|c| [c.t_k - 273.15, c.z_m])
                 .collect();
@@ -172,11 +173,9 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
                     .shape(MarkerShape::Circle)
                     .filled(true),
             );
-            for (label, z) in [
-                ("LCL", curve.lcl_m),
-                ("LFC", curve.lfc_m),
-                ("EL", curve.el_m),
-            ] {
+            for (label, z) in [("LCL", curve.lcl), ("LFC", curve.lfc), ("EL", curve.el)]
+                .map(|(l, mark)| (l, mark.map(|m| m.z_m)))
+            {
                 if let Some(z) = z {
                     let level = vec![[xmin, z], [xmax, z]];
                     plot_ui.line(
@@ -195,13 +194,12 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
         report(m, r);
         m.sync_handles();
     }
-    let c = m.editor.curve();
     let show_z = |z: Option<f64>| z.map(|z| format!("{z:.0} m")).unwrap_or("none".into());
     ui.label(format!(
         "LCL {}   LFC {}   EL {}",
-        show_z(c.lcl_m),
-        show_z(c.lfc_m),
-        show_z(c.el_m)
+        show_z(m.editor.lcl_m()),
+        show_z(m.editor.lfc_m()),
+        show_z(m.editor.el_m())
     ));
     ui.add(
         egui::Slider::new(
@@ -241,7 +239,7 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
     if q.changed() {
         let r = pe::set_surface_mixing_ratio(&mut m.editor, m.surface_qv_g_per_kg / 1000.0);
         report(m, r);
-        m.cond_level_m = m.editor.curve().lcl_m.unwrap_or(0.0);
+        m.cond_level_m = m.editor.lcl_m().unwrap_or(0.0);
     }
 }
 
@@ -268,24 +266,50 @@ fn simulation_section(ui: &mut egui::Ui, m: &mut Model) {
             .logarithmic(true)
             .text("time speed (×)"),
     );
-    ui.add(egui::Slider::new(&mut m.sim.emission_scale, 0.0..=5.0).text("emission rate (×)"));
-    ui.add(egui::Slider::new(&mut m.sim.wind_speed_m_s, 0.0..=25.0).text("wind speed (m/s)"));
-    ui.add(
-        egui::Slider::new(&mut m.sim.wind_from_deg, 0.0..=360.0).text("wind from (° from north)"),
-    );
-    ui.add(egui::Slider::new(&mut m.sim.time_of_day_h, 5.0..=21.0).text("time of day (h)"));
+    let mut cfg = m.world_cfg.clone();
+    let mut changed = ui
+        .add(
+            egui::Slider::new(&mut cfg.emission.rate_per_km2_per_h, 0.0..=300.0)
+                .text("emission (per km² per h)"),
+        )
+        .changed();
+    changed |= ui
+        .add(egui::Slider::new(&mut m.wind.speed_m_s, 0.0..=25.0).text("wind aloft (m/s)"))
+        .changed();
+    changed |= ui
+        .add(egui::Slider::new(&mut m.wind.from_deg, 0.0..=360.0).text("wind from (° from north)"))
+        .changed();
+    if changed {
+        let r = m.apply_world_config(cfg);
+        report(m, r);
+    }
+    let mut hour = m.time_of_day_h();
+    if ui
+        .add(egui::Slider::new(&mut hour, 0.0..=23.99).text("time of day (h)"))
+        .changed()
+    {
+        let r = m.set_time_of_day_h(hour);
+        report(m, r);
+    }
     let d = m.world.diagnostics();
     ui.label(format!(
         "t = {:.0} s   parcels {}   condensed {}",
         d.time_s, d.parcels, d.condensed_parcels
+    ));
+    let show = |z: Option<f64>| z.map(|z| format!("{z:.0} m")).unwrap_or("-".into());
+    ui.label(format!(
+        "cloud base {}   top {}   escaped {}",
+        show(d.cloud_base_m),
+        show(d.cloud_top_m),
+        d.escaped
     ));
 }
 
 /// Returns whether a render setting changed.
 fn render_section(ui: &mut egui::Ui, m: &mut Model) -> bool {
     ui.label(RichText::new("Rendering").strong());
-    let before = m.render;
-    let r = &mut m.render;
+    let before = m.render_cfg.clone();
+    let r = &mut m.render_cfg;
     ui.add(
         egui::Slider::new(&mut r.step_m, 10.0..=200.0)
             .logarithmic(true)
@@ -295,7 +319,7 @@ fn render_section(ui: &mut egui::Ui, m: &mut Model) -> bool {
     ui.horizontal(|ui| {
         ui.checkbox(&mut r.normals, "normals");
         ui.checkbox(&mut r.shadows, "shadows");
-        ui.checkbox(&mut r.terrain, "terrain");
+        ui.checkbox(&mut r.terrain.enabled, "terrain");
     });
     ui.horizontal(|ui| {
         if ui.button("Reset view").clicked() {
@@ -303,7 +327,16 @@ fn render_section(ui: &mut egui::Ui, m: &mut Model) -> bool {
         }
         ui.label("drag: orbit · right-drag: look · WASD/QE: fly · wheel: zoom");
     });
-    m.render != before
+    if m.render_cfg == before {
+        return false;
+    }
+    // A value the renderer would refuse is reverted here, with the reason.
+    if let Err(e) = m.render_cfg.validate() {
+        m.render_cfg = before;
+        m.status = e.to_string();
+        return false;
+    }
+    true
 }
 
 fn stats_section(ui: &mut egui::Ui, m: &mut Model) {
@@ -315,7 +348,13 @@ fn stats_section(ui: &mut egui::Ui, m: &mut Model) {
         0.0
     };
     ui.monospace(format!("frame    {:7.2} ms  ({fps:.1} fps)", s.frame_ms));
-    ui.monospace(format!("physics  {:7.2} ms", s.physics_ms));
+    ui.monospace(format!(
+        "physics  {:7.2} ms  ({} sub-steps)",
+        s.physics_ms, s.substeps
+    ));
+    for (name, ms) in &s.physics_stages {
+        ui.monospace(format!("  {name:<12} {ms:7.2} ms"));
+    }
     ui.monospace(format!("upload   {:7.2} ms", s.upload_ms));
     for (name, ms) in &s.passes {
         ui.monospace(format!("{name:<8} {ms:7.2} ms"));

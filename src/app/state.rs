@@ -10,9 +10,9 @@ use glam::Vec3;
 
 use super::camera::OrbitCamera;
 use super::profile_edit::ProfileEditor;
-use super::standin as sim;
 use crate::error::{Error, Result};
-use crate::physics::CloudParcel;
+use crate::physics::{CloudParcel, ParcelWorld, WorldConfig};
+use crate::render::{Camera, RenderConfig, Sun};
 use crate::scene::{SceneProfile, SceneSource};
 
 /// Seed of the simulation; fixed so that a reset replays the same run.
@@ -34,51 +34,46 @@ pub struct Playback {
     pub step_once: bool,
 }
 
-/// Controls that go to the simulation (paper §7.2 plus emission and wind).
+/// The wind as the panel shows it: speed and the direction it blows from.
+/// The scene's wind is linear from the surface to `aloft_z_m`; the panel
+/// edits the wind aloft and scales the surface wind with it, keeping the
+/// scene's shear (surface/aloft ratio).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SimControls {
-    /// Multiplies the ground's emission probability. units: 1
-    pub emission_scale: f64,
-    /// Wind speed at all heights. units: m/s
-    pub wind_speed_m_s: f64,
+pub struct WindHandle {
+    /// units: m/s
+    pub speed_m_s: f64,
     /// Direction the wind blows from, clockwise from north (+y). units: deg
-    pub wind_from_deg: f64,
-    /// Local solar time; emission follows the sun's heating. units: h
-    pub time_of_day_h: f64,
+    pub from_deg: f64,
+    /// |surface wind| / |wind aloft| of the scene (0.5 when it has no wind).
+    pub surface_ratio: f64,
 }
 
-impl Default for SimControls {
-    fn default() -> Self {
+impl WindHandle {
+    /// The handle for a wind table.
+    pub fn of(w: &crate::physics::WindConfig) -> Self {
+        let [ax, ay] = w.aloft_m_s;
+        let [sx, sy] = w.surface_m_s;
+        let aloft = ax.hypot(ay);
+        let surface = sx.hypot(sy);
+        // Meteorological convention: the direction the wind comes *from*.
+        let from_deg = if aloft > 0.0 {
+            (-ax).atan2(-ay).to_degrees().rem_euclid(360.0)
+        } else {
+            270.0
+        };
         Self {
-            emission_scale: 1.0,
-            wind_speed_m_s: 0.0,
-            wind_from_deg: 270.0,
-            time_of_day_h: 13.0,
+            speed_m_s: aloft,
+            from_deg,
+            surface_ratio: if aloft > 0.0 { surface / aloft } else { 0.5 },
         }
     }
-}
 
-/// Render settings the panel toggles.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RenderControls {
-    /// Ray-march step. units: m
-    pub step_m: f32,
-    /// Octaves of the noise (detail).
-    pub noise_octaves: u32,
-    pub normals: bool,
-    pub shadows: bool,
-    pub terrain: bool,
-}
-
-impl Default for RenderControls {
-    fn default() -> Self {
-        Self {
-            step_m: 50.0,
-            noise_octaves: 4,
-            normals: false,
-            shadows: true,
-            terrain: true,
-        }
+    /// Writes the handle into a wind table.
+    pub fn apply(&self, w: &mut crate::physics::WindConfig) {
+        let (s, c) = self.from_deg.to_radians().sin_cos();
+        let to = [-s * self.speed_m_s, -c * self.speed_m_s];
+        w.aloft_m_s = to;
+        w.surface_m_s = to.map(|v| v * self.surface_ratio);
     }
 }
 
@@ -87,6 +82,10 @@ impl Default for RenderControls {
 pub struct FrameStats {
     pub frame_ms: f64,
     pub physics_ms: f64,
+    /// Physics stages of the last step (from `physics::Counters`).
+    pub physics_stages: Vec<(&'static str, f64)>,
+    /// Sub-steps the last frame's physics took.
+    pub substeps: u32,
     pub upload_ms: f64,
     /// GPU (or CPU-synchronised) time of each render pass.
     pub passes: Vec<(String, f64)>,
@@ -98,12 +97,15 @@ pub struct Model {
     pub profile: SceneProfile,
     pub source: SceneSource,
     pub editor: ProfileEditor,
-    pub world: sim::World,
+    pub world: ParcelWorld,
     /// Editor revision last handed to the world.
     pushed_revision: u64,
     pub playback: Playback,
-    pub sim: SimControls,
-    pub render: RenderControls,
+    /// Physics, ground, emission and wind, as edited by the panel.
+    pub world_cfg: WorldConfig,
+    /// Render settings as in the profile (paths unresolved), as edited.
+    pub render_cfg: RenderConfig,
+    pub wind: WindHandle,
     pub camera: OrbitCamera,
     pub default_camera: OrbitCamera,
     pub stats: FrameStats,
@@ -122,9 +124,11 @@ pub struct Model {
 impl Model {
     /// A model on a loaded scene.
     pub fn new(profile: SceneProfile, source: SceneSource) -> Result<Self> {
-        let env = profile.atmosphere.build(&source.base_dir())?;
-        let editor = ProfileEditor::from_environment(&env)?;
-        let world = sim::World::new(editor.environment().clone(), SIM_SEED)?;
+        let editor = ProfileEditor::from_spec(&profile.atmosphere, &source.base_dir())?;
+        let world_cfg = WorldConfig::from_scene(&profile);
+        let world = ParcelWorld::new(editor.environment().clone(), world_cfg.clone(), SIM_SEED)?;
+        let render_cfg = profile.render.clone();
+        render_cfg.validate()?;
         let camera = default_camera(&profile);
         let path_text = match &source {
             SceneSource::File(p) => p.display().to_string(),
@@ -141,8 +145,9 @@ impl Model {
                 speed: 10.0,
                 step_once: false,
             },
-            sim: SimControls::default(),
-            render: RenderControls::default(),
+            wind: WindHandle::of(&world_cfg.wind),
+            world_cfg,
+            render_cfg,
             camera,
             default_camera: camera,
             stats: FrameStats::default(),
@@ -164,7 +169,7 @@ impl Model {
     /// Refreshes the condensation-level and mixing-ratio handles from the
     /// editor (after an edit elsewhere moved them).
     pub fn sync_handles(&mut self) {
-        self.cond_level_m = self.editor.curve().lcl_m.unwrap_or(0.0);
+        self.cond_level_m = self.editor.lcl_m().unwrap_or(0.0);
         self.surface_qv_g_per_kg = self.editor.surface_mixing_ratio() * 1000.0;
     }
 
@@ -185,7 +190,21 @@ impl Model {
         if self.playback.playing || self.playback.step_once {
             let dt = real_dt_s.min(MAX_FRAME_DT_S) * self.playback.speed;
             if dt > 0.0 {
-                self.world.step(dt);
+                let before = *self.world.counters();
+                let report = self.world.step(dt);
+                let after = self.world.counters();
+                let ms = |a: std::time::Duration, b: std::time::Duration| {
+                    (a.saturating_sub(b)).as_secs_f64() * 1000.0
+                };
+                self.stats.substeps = report.substeps;
+                self.stats.physics_stages = vec![
+                    ("neighbours", ms(after.neighbours, before.neighbours)),
+                    ("sph", ms(after.sph, before.sph)),
+                    ("exposed area", ms(after.exposed_area, before.exposed_area)),
+                    ("mixing", ms(after.mixing, before.mixing)),
+                    ("thermo", ms(after.thermo, before.thermo)),
+                    ("integrate", ms(after.integrate, before.integrate)),
+                ];
             }
             self.playback.step_once = false;
         }
@@ -207,16 +226,74 @@ impl Model {
 
     /// Restarts the simulation on the current (edited) profile.
     pub fn reset(&mut self) -> Result<()> {
-        self.world = sim::World::new(self.editor.environment().clone(), SIM_SEED)?;
+        self.world = ParcelWorld::new(
+            self.editor.environment().clone(),
+            self.world_cfg.clone(),
+            SIM_SEED,
+        )?;
         self.pushed_revision = self.editor.revision();
         Ok(())
     }
 
     /// The scene as edited: what "save" writes.
     pub fn edited_profile(&self) -> SceneProfile {
-        // The atmosphere points go back into the profile once the
-        // AtmosphereSpec with inline points is on main.
-        self.profile.clone()
+        let mut p = self.profile.clone();
+        p.atmosphere = self.editor.spec().clone();
+        p.physics = self.world_cfg.physics.clone();
+        p.ground = self.world_cfg.ground.clone();
+        p.emission = self.world_cfg.emission.clone();
+        p.wind = self.world_cfg.wind.clone();
+        p.render = self.render_cfg.clone();
+        let eye = self.camera.eye_m();
+        p.camera.position_m = eye.to_array();
+        p.camera.target_m = self.camera.target_m.to_array();
+        p.camera.vfov_deg = self.camera.fov_y_rad.to_degrees();
+        p
+    }
+
+    /// Applies the panel's simulation settings (emission, wind, time of
+    /// day) to the running world; on a refused value nothing changes.
+    pub fn apply_world_config(&mut self, mut cfg: WorldConfig) -> Result<()> {
+        self.wind.apply(&mut cfg.wind);
+        self.world.set_config(cfg.clone())?;
+        self.world_cfg = cfg;
+        Ok(())
+    }
+
+    /// Local solar time now. units: h
+    pub fn time_of_day_h(&self) -> f64 {
+        (self.world_cfg.emission.start_hour + self.world.time_s() / 3600.0).rem_euclid(24.0)
+    }
+
+    /// Sets the local solar time now (moves the start hour). units: h
+    pub fn set_time_of_day_h(&mut self, hour: f64) -> Result<()> {
+        let mut cfg = self.world_cfg.clone();
+        cfg.emission.start_hour = (hour - self.world.time_s() / 3600.0).rem_euclid(24.0);
+        self.apply_world_config(cfg)
+    }
+
+    /// The render settings with file paths resolved against the scene's
+    /// directory: what the renderer gets.
+    pub fn resolved_render_config(&self) -> RenderConfig {
+        let mut c = self.render_cfg.clone();
+        c.resolve_paths(&self.source.base_dir());
+        c
+    }
+
+    /// The renderer's camera now.
+    pub fn render_camera(&self) -> Camera {
+        Camera {
+            position: self.camera.eye_m(),
+            target: self.camera.target_m,
+            vfov_rad: self.camera.fov_y_rad,
+            near_m: self.profile.camera.near_m,
+            far_m: self.profile.camera.far_m,
+        }
+    }
+
+    /// The sun of the render settings.
+    pub fn sun(&self) -> Sun {
+        self.render_cfg.sun()
     }
 
     /// Saves the edited scene as a profile TOML, atomically.
@@ -252,12 +329,8 @@ impl Model {
     }
 }
 
-/// The scene's camera framing: the eye south-west of the domain centre,
-/// looking across the landscape at the cloud layer.
-pub fn default_camera(_profile: &SceneProfile) -> OrbitCamera {
-    OrbitCamera::look_at(
-        Vec3::new(-9000.0, -9000.0, 1200.0),
-        Vec3::new(0.0, 0.0, 1500.0),
-        55.0,
-    )
+/// The scene's `[camera]` framing as an orbit camera.
+pub fn default_camera(profile: &SceneProfile) -> OrbitCamera {
+    let c = &profile.camera;
+    OrbitCamera::look_at(Vec3::from(c.position_m), Vec3::from(c.target_m), c.vfov_deg)
 }

@@ -17,6 +17,7 @@ use winit::window::{Window, WindowId};
 use super::panel::{self, PanelState};
 use super::state::{FIXED_FRAME_DT_S, Model};
 use crate::error::{Error, Result};
+use crate::render::{FrameInput, GpuContext, Renderer};
 
 /// What `cumulus watch` was asked to do.
 #[derive(Debug, Clone)]
@@ -119,8 +120,8 @@ struct Input {
 struct Gfx {
     window: Arc<Window>,
     surface: wgpu::Surface<'static>,
-    device: wgpu::Device,
-    queue: wgpu::Queue,
+    ctx: GpuContext,
+    renderer: Renderer,
     config: wgpu::SurfaceConfiguration,
     egui_state: egui_winit::State,
     egui_renderer: egui_wgpu::Renderer,
@@ -154,27 +155,16 @@ impl App {
                 .create_window(attrs)
                 .map_err(|e| Error::Gpu(format!("cannot create the window: {e}")))?,
         );
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle(
-            Box::new(event_loop.owned_display_handle()),
-        ));
+        let instance = GpuContext::new_instance();
         let surface = instance
             .create_surface(window.clone())
             .map_err(|e| Error::Gpu(format!("cannot create a surface for the window: {e}")))?;
-        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-            power_preference: wgpu::PowerPreference::HighPerformance,
-            force_fallback_adapter: false,
-            compatible_surface: Some(&surface),
-            apply_limit_buckets: false,
-        }))
-        .map_err(|e| Error::NoAdapter(format!("none can present to the window: {e}")))?;
-        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-            label: Some("cumulus window"),
-            required_limits: adapter.limits(),
-            ..Default::default()
-        }))
-        .map_err(|e| Error::Gpu(format!("cannot open the device: {e}")))?;
+        let ctx = GpuContext::new_for_surface(instance, &surface)?;
+        let adapter = &ctx.adapter;
+        let device = &ctx.device;
+        eprintln!("GPU: {}", ctx.describe());
         let size = window.inner_size();
-        let caps = surface.get_capabilities(&adapter);
+        let caps = surface.get_capabilities(adapter);
         // egui paints in gamma space and expects a non-sRGB target.
         let format = caps
             .formats
@@ -195,8 +185,15 @@ impl App {
             view_formats: vec![],
         };
         if size.width > 0 && size.height > 0 {
-            surface.configure(&device, &config);
+            surface.configure(device, &config);
         }
+        let renderer = Renderer::new(
+            &ctx,
+            &self.model.resolved_render_config(),
+            format,
+            config.width,
+            config.height,
+        )?;
         let egui_state = egui_winit::State::new(
             self.egui_ctx.clone(),
             egui::ViewportId::ROOT,
@@ -206,12 +203,12 @@ impl App {
             Some(device.limits().max_texture_dimension_2d as usize),
         );
         let egui_renderer =
-            egui_wgpu::Renderer::new(&device, format, egui_wgpu::RendererOptions::default());
+            egui_wgpu::Renderer::new(device, format, egui_wgpu::RendererOptions::default());
         self.gfx = Some(Gfx {
             window,
             surface,
-            device,
-            queue,
+            ctx,
+            renderer,
             config,
             egui_state,
             egui_renderer,
@@ -219,15 +216,19 @@ impl App {
         Ok(())
     }
 
-    fn resize(&mut self, w: u32, h: u32) {
-        let Some(g) = &mut self.gfx else { return };
+    fn resize(&mut self, w: u32, h: u32) -> Result<()> {
+        let Some(g) = &mut self.gfx else {
+            return Ok(());
+        };
         g.config.width = w;
         g.config.height = h;
         // Minimised windows report zero size: keep the old configuration
         // and skip frames until the window comes back.
         if w > 0 && h > 0 {
-            g.surface.configure(&g.device, &g.config);
+            g.surface.configure(&g.ctx.device, &g.config);
+            g.renderer.resize(&g.ctx, w, h)?;
         }
+        Ok(())
     }
 
     /// Moves the camera by the keys held this frame.
@@ -275,8 +276,21 @@ impl App {
         let mut actions = panel::PanelActions::default();
         let out = self.egui_ctx.run_ui(raw, |ui| {
             actions = panel::show(ui, model, panel_state);
-            overlay_standin_clouds(ui, model);
         });
+        if actions.render_changed {
+            // Only what the changed settings need is rebuilt (Renderer::set_config).
+            g.renderer
+                .set_config(&g.ctx, &self.model.resolved_render_config())?;
+        }
+        g.renderer.prepare(
+            &g.ctx,
+            &FrameInput {
+                camera: self.model.render_camera(),
+                parcels: &self.model.parcels,
+                sun: self.model.sun(),
+                time_s: self.model.world.time_s() as f32,
+            },
+        )?;
         g.egui_state
             .handle_platform_output(&g.window, out.platform_output);
         let jobs = self.egui_ctx.tessellate(out.shapes, out.pixels_per_point);
@@ -287,7 +301,7 @@ impl App {
         for (id, deltas) in &out.textures_delta.set {
             for delta in deltas {
                 g.egui_renderer
-                    .update_texture(&g.device, &g.queue, *id, delta);
+                    .update_texture(&g.ctx.device, &g.ctx.queue, *id, delta);
             }
         }
 
@@ -295,17 +309,22 @@ impl App {
         let last = self.opts.frames.is_some_and(|n| self.frame >= n);
         let capture_now = last && self.opts.screenshot.is_some();
         let mut encoder = g
+            .ctx
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("frame"),
             });
-        let user_cmds =
-            g.egui_renderer
-                .update_buffers(&g.device, &g.queue, &mut encoder, &jobs, &screen);
+        let user_cmds = g.egui_renderer.update_buffers(
+            &g.ctx.device,
+            &g.ctx.queue,
+            &mut encoder,
+            &jobs,
+            &screen,
+        );
 
         let result = if capture_now {
             let path = self.opts.screenshot.clone().expect("capture set");
-            let tex = g.device.create_texture(&wgpu::TextureDescriptor {
+            let tex = g.ctx.device.create_texture(&wgpu::TextureDescriptor {
                 label: Some("screenshot"),
                 size: wgpu::Extent3d {
                     width: g.config.width,
@@ -320,7 +339,8 @@ impl App {
                 view_formats: &[],
             });
             let view = tex.create_view(&Default::default());
-            draw_frame(g, &mut encoder, &view, &jobs, &screen);
+            let timings = draw_frame(g, &mut encoder, &view, &jobs, &screen);
+            record(&mut self.model, timings);
             let rgba = read_back(g, encoder, user_cmds, &tex)?;
             crate::output::write_png_atomic(&path, g.config.width, g.config.height, &rgba)?;
             eprintln!(
@@ -336,7 +356,7 @@ impl App {
                 | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
                 wgpu::CurrentSurfaceTexture::Lost | wgpu::CurrentSurfaceTexture::Outdated => {
                     // The window changed under us: reconfigure and retry next frame.
-                    g.surface.configure(&g.device, &g.config);
+                    g.surface.configure(&g.ctx.device, &g.config);
                     return Ok(false);
                 }
                 wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => {
@@ -349,11 +369,13 @@ impl App {
                 }
             };
             let view = frame.texture.create_view(&Default::default());
-            draw_frame(g, &mut encoder, &view, &jobs, &screen);
-            g.queue
+            let timings = draw_frame(g, &mut encoder, &view, &jobs, &screen);
+            record(&mut self.model, timings);
+            g.ctx
+                .queue
                 .submit(user_cmds.into_iter().chain([encoder.finish()]));
             g.window.pre_present_notify();
-            g.queue.present(frame);
+            g.ctx.queue.present(frame);
             Ok(last)
         };
         for id in &out.textures_delta.free {
@@ -371,31 +393,10 @@ fn draw_frame(
     view: &wgpu::TextureView,
     jobs: &[egui::ClippedPrimitive],
     screen: &egui_wgpu::ScreenDescriptor,
-) {
-    {
-        // Stand-in for the 3D renderer: a sky-coloured clear.
-        let _pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("sky (stand-in)"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color {
-                        r: 0.35,
-                        g: 0.55,
-                        b: 0.85,
-                        a: 1.0,
-                    }),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-    }
+) -> crate::render::FrameTimings {
+    // The 3D view: the one render path shared with the headless commands.
+    // It submits its own passes (timed) before the panel's pass below.
+    let timings = g.renderer.render(&g.ctx, view);
     let mut pass = encoder
         .begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("egui"),
@@ -415,6 +416,7 @@ fn draw_frame(
         })
         .forget_lifetime();
     g.egui_renderer.render(&mut pass, jobs, screen);
+    timings
 }
 
 /// Copies `tex` to the CPU as tightly packed RGBA8.
@@ -428,7 +430,7 @@ fn read_back(
     let unpadded = w * 4;
     let align = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     let padded = unpadded.div_ceil(align) * align;
-    let buffer = g.device.create_buffer(&wgpu::BufferDescriptor {
+    let buffer = g.ctx.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("screenshot readback"),
         size: padded as u64 * h as u64,
         usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
@@ -450,11 +452,13 @@ fn read_back(
             depth_or_array_layers: 1,
         },
     );
-    g.queue
+    g.ctx
+        .queue
         .submit(user_cmds.into_iter().chain([encoder.finish()]));
     let slice = buffer.slice(..);
     slice.map_async(wgpu::MapMode::Read, |_| {});
-    g.device
+    g.ctx
+        .device
         .poll(wgpu::PollType::wait_indefinitely())
         .map_err(|e| Error::Gpu(format!("waiting for the screenshot copy: {e}")))?;
     let data = slice
@@ -477,50 +481,11 @@ fn read_back(
     Ok(rgba)
 }
 
-/// Until the GPU renderer is wired in: the condensed parcels as discs,
-/// projected with the camera, behind the panel.
-fn overlay_standin_clouds(ui: &mut egui::Ui, m: &Model) {
-    let rect = ui.ctx().content_rect();
-    let mut view = rect;
-    view.min.x += panel::PANEL_WIDTH;
-    let painter = ui
-        .ctx()
-        .layer_painter(egui::LayerId::background())
-        .with_clip_rect(view);
-    let (w, h) = (rect.width(), rect.height());
-    let ground = [
-        glam::Vec3::new(-5000.0, -5000.0, 0.0),
-        glam::Vec3::new(5000.0, -5000.0, 0.0),
-        glam::Vec3::new(5000.0, 5000.0, 0.0),
-        glam::Vec3::new(-5000.0, 5000.0, 0.0),
-    ];
-    let pts: Vec<egui::Pos2> = ground
-        .iter()
-        .filter_map(|p| m.camera.project_px(*p, w, h))
-        .map(|p| egui::pos2(p.x, p.y))
-        .collect();
-    if pts.len() == 4 {
-        painter.add(egui::Shape::convex_polygon(
-            pts,
-            egui::Color32::from_rgb(70, 110, 60),
-            egui::Stroke::NONE,
-        ));
-    }
-    let mut discs: Vec<(f32, egui::Pos2, f32, f32)> = m
-        .parcels
-        .iter()
-        .filter_map(|c| {
-            let p = m.camera.project_px(c.center_m, w, h)?;
-            let dist = (c.center_m - m.camera.eye_m()).length();
-            let r_px = c.radius_m / dist * h / (2.0 * (m.camera.fov_y_rad * 0.5).tan());
-            Some((dist, egui::pos2(p.x, p.y), r_px, c.fill))
-        })
-        .collect();
-    discs.sort_by(|a, b| b.0.total_cmp(&a.0));
-    for (_, p, r, fill) in discs {
-        let shade = (200.0 + 55.0 * fill) as u8;
-        painter.circle_filled(p, r, egui::Color32::from_rgb(shade, shade, shade));
-    }
+/// Keeps a frame's render timings for the panel.
+fn record(m: &mut Model, t: crate::render::FrameTimings) {
+    m.stats.upload_ms = t.upload_ms;
+    m.stats.gpu_timestamps = t.gpu_timestamps;
+    m.stats.passes = t.passes;
 }
 
 impl ApplicationHandler for App {
@@ -538,7 +503,11 @@ impl ApplicationHandler for App {
         let over_panel = self.egui_ctx.is_pointer_over_egui();
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
-            WindowEvent::Resized(size) => self.resize(size.width, size.height),
+            WindowEvent::Resized(size) => {
+                if let Err(e) = self.resize(size.width, size.height) {
+                    self.fail(event_loop, e);
+                }
+            }
             WindowEvent::RedrawRequested => match self.frame() {
                 Ok(true) => event_loop.exit(),
                 Ok(false) => {}
