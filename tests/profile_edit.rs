@@ -227,3 +227,47 @@ fn a_sounding_becomes_editable_points_with_the_same_surface_parcel() {
     // and hydrostatic instead of observed pressure (a few hPa aloft: ~10 m).
     assert!((ours - theirs).abs() < 40.0, "{ours} vs {theirs}");
 }
+
+#[test]
+fn saved_scene_loads_back_with_the_edits() {
+    let (profile, source) = cumulus::scene::load_scene(None).unwrap();
+    let mut m = cumulus::app::state::Model::new(profile, source).unwrap();
+    pe::set_condensation_level(&mut m.editor, 800.0).unwrap();
+    pe::add_point(&mut m.editor, 3000.0).unwrap();
+    let mut cfg = m.world_cfg.clone();
+    cfg.emission.rate_per_km2_per_h = 77.0;
+    m.wind.speed_m_s = 6.0;
+    m.wind.from_deg = 225.0;
+    m.apply_world_config(cfg).unwrap();
+    m.render_cfg.normals = !m.render_cfg.normals;
+    m.camera.orbit(120.0, 10.0);
+
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("edited.toml");
+    m.save(&path).unwrap();
+    let mut loaded = cumulus::app::state::Model::new(
+        cumulus::scene::SceneProfile::load(&path).unwrap(),
+        cumulus::scene::SceneSource::File(path.clone()),
+    )
+    .unwrap();
+    assert_eq!(loaded.editor.points(), m.editor.points());
+    // Same points, same thermodynamics: the LCL comes back where it was set
+    // (TOML keeps f64 exactly, so this is exact up to the build's rounding).
+    assert!((loaded.editor.lcl_m().unwrap() - 800.0).abs() < 1.0);
+    assert_eq!(loaded.world_cfg, m.world_cfg);
+    assert_eq!(loaded.render_cfg, m.render_cfg);
+    let w = loaded.world_cfg.wind.aloft_m_s;
+    // Wind from the south-west blows towards +x and +y.
+    assert!(w[0] > 4.2 && w[1] > 4.2, "{w:?}");
+    assert!((loaded.wind.from_deg - 225.0).abs() < 1e-9);
+    // The saved view is the view the user had (f32 round trip of the eye).
+    assert!((loaded.camera.eye_m() - m.camera.eye_m()).length() < 0.1);
+
+    // Loading a broken file is refused with the file named and changes nothing.
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(&bad, "name = \"x\"\n[atmosphere]\nbogus = 1\n").unwrap();
+    let before = loaded.editor.points().to_vec();
+    let err = loaded.load(&bad).unwrap_err().to_string();
+    assert!(err.contains("bad.toml:3:1"), "{err}");
+    assert_eq!(loaded.editor.points(), &before[..]);
+}

@@ -354,8 +354,21 @@ impl App {
             let frame = match g.surface.get_current_texture() {
                 wgpu::CurrentSurfaceTexture::Success(t)
                 | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
-                wgpu::CurrentSurfaceTexture::Lost | wgpu::CurrentSurfaceTexture::Outdated => {
+                wgpu::CurrentSurfaceTexture::Outdated => {
                     // The window changed under us: reconfigure and retry next frame.
+                    g.surface.configure(&g.ctx.device, &g.config);
+                    return Ok(false);
+                }
+                wgpu::CurrentSurfaceTexture::Lost => {
+                    // The surface itself is gone (the device is not): make a
+                    // new one for the same window and go on next frame.
+                    g.surface = g
+                        .ctx
+                        .instance
+                        .create_surface(g.window.clone())
+                        .map_err(|e| {
+                            Error::Gpu(format!("cannot recreate the lost surface: {e}"))
+                        })?;
                     g.surface.configure(&g.ctx.device, &g.config);
                     return Ok(false);
                 }
