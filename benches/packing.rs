@@ -10,14 +10,14 @@ use cumulus::render::RenderConfig;
 use cumulus::render::pack::pack;
 
 fn packing(c: &mut Criterion) {
-    let shell_m = RenderConfig::default().shell_m;
+    let cfg = RenderConfig::default();
     let mut group = c.benchmark_group("pack");
     for n in TABLE_COUNTS {
         let world = scenes::cloud_field(n).expect("bench scene builds");
         let parcels = scenes::cloud_parcels(&world);
         assert_eq!(parcels.len(), n);
         group.bench_with_input(BenchmarkId::from_parameter(n), &parcels, |b, p| {
-            b.iter(|| black_box(pack(black_box(p), shell_m).expect("packs")))
+            b.iter(|| black_box(pack(black_box(p), cfg.shell_m, cfg.radius_scale).expect("packs")))
         });
     }
     group.finish();

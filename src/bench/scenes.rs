@@ -12,8 +12,9 @@ use crate::physics::{CloudParcel, EmissionConfig, ParcelSpec, ParcelWorld, World
 
 /// Parcels per tower (the last tower takes the remainder).
 const PARCELS_PER_TOWER: usize = 10;
-/// Parcel radius in the cloud field. units: m
-const FIELD_RADIUS_M: f64 = 260.0;
+/// Physical parcel radius in the cloud field: that of emitted parcels
+/// (the renderer draws spheres `render.radius_scale` times larger). units: m
+const FIELD_RADIUS_M: f64 = 150.0;
 /// Side of the square the towers stand in (inside the 10 km domain). units: m
 const FIELD_SIDE_M: f64 = 8000.0;
 
@@ -57,11 +58,11 @@ pub fn cloud_field(n: usize) -> Result<ParcelWorld> {
         for k in 0..in_tower {
             let layer = k / 3;
             let a = rng.range(0.0, std::f64::consts::TAU);
-            let spread = if k == 0 { 0.0 } else { 0.55 * FIELD_RADIUS_M };
+            let spread = if k == 0 { 0.0 } else { 0.8 * FIELD_RADIUS_M };
             let pos = DVec3::new(
                 cx + a.cos() * spread,
                 cy + a.sin() * spread,
-                base_m + layer as f64 * 0.9 * FIELD_RADIUS_M,
+                base_m + layer as f64 * 1.2 * FIELD_RADIUS_M,
             );
             let radius = FIELD_RADIUS_M * rng.range(0.8, 1.1);
             let mut spec = ParcelSpec::from_environment(world.environment(), pos, 0.5, 0.0, radius);
