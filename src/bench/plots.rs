@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use plotters::coord::combinators::IntoLogRange;
+use plotters::coord::combinators::{BindKeyPoints, IntoLogRange};
 use plotters::prelude::*;
 
 use crate::error::{Error, Result};
@@ -30,14 +30,30 @@ pub struct Chart<'a> {
 }
 
 /// Colours for series, in order.
-pub const PALETTE: [RGBColor; 6] = [
+pub const PALETTE: [RGBColor; 8] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),
     RGBColor(148, 103, 189),
     RGBColor(255, 127, 14),
     RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(23, 190, 207),
 ];
+
+/// A tick label with as many decimals as the magnitude needs.
+fn tick(v: &f64) -> String {
+    let a = v.abs();
+    if a >= 100.0 {
+        format!("{v:.0}")
+    } else if a >= 1.0 {
+        format!("{v:.1}")
+    } else if a >= 0.001 {
+        format!("{v:.3}")
+    } else {
+        format!("{v:.1e}")
+    }
+}
 
 fn usable(p: &(f64, f64)) -> bool {
     p.0.is_finite() && p.1.is_finite() && p.0 > 0.0 && p.1 > 0.0
@@ -53,11 +69,28 @@ fn log_range(vals: impl Iterator<Item = f64>) -> (f64, f64) {
     if lo > hi {
         return (0.1, 10.0);
     }
-    if hi / lo < 4.0 {
+    // Wide enough for a few labelled ticks (1, 2, 5 × 10^k).
+    if hi / lo < 6.0 {
         let mid = (hi * lo).sqrt();
         return (mid / 2.5, mid * 2.5);
     }
     (lo / 1.5, hi * 1.5)
+}
+
+/// Labelled ticks for a log axis over lo..hi: 1, 2, 5 × 10^k.
+fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let mut out = Vec::new();
+    let mut k = lo.log10().floor() as i32;
+    while 10f64.powi(k) <= hi {
+        for m in [1.0, 2.0, 5.0] {
+            let v = m * 10f64.powi(k);
+            if v >= lo && v <= hi {
+                out.push(v);
+            }
+        }
+        k += 1;
+    }
+    out
 }
 
 fn draw(chart: &Chart, buf: &mut [u8], w: u32, h: u32) -> std::result::Result<(), String> {
@@ -78,15 +111,18 @@ fn draw(chart: &Chart, buf: &mut [u8], w: u32, h: u32) -> std::result::Result<()
         .margin(12)
         .x_label_area_size(44)
         .y_label_area_size(70)
-        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+        .build_cartesian_2d(
+            (x0..x1).log_scale().with_key_points(log_ticks(x0, x1)),
+            (y0..y1).log_scale().with_key_points(log_ticks(y0, y1)),
+        )
         .map_err(|x| e(&x))?;
     c.configure_mesh()
         .x_desc(chart.x_label)
         .y_desc(chart.y_label)
         .label_style(("sans-serif", 14))
         .axis_desc_style(("sans-serif", 16))
-        .x_label_formatter(&|v| format!("{v:.3}"))
-        .y_label_formatter(&|v| format!("{v:.3e}"))
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
         .draw()
         .map_err(|x| e(&x))?;
     for s in &chart.series {
@@ -161,6 +197,12 @@ pub fn write_chart_png(path: &Path, chart: &Chart, w: u32, h: u32) -> Result<()>
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn log_ticks_are_1_2_5() {
+        assert_eq!(log_ticks(0.015, 0.3), vec![0.02, 0.05, 0.1, 0.2]);
+        assert_eq!(log_ticks(3.0, 12.0), vec![5.0, 10.0]);
+    }
 
     #[test]
     fn draws_a_chart_with_zero_and_nan_points() {
