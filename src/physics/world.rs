@@ -647,27 +647,30 @@ impl ParcelWorld {
             }
             let xi = self.parcels[i].position_m;
             let c = cell(xi);
+            // Keys sort by (x, y, z) cell then index, so the three cells
+            // z − 1, z, z + 1 of one (x, y) column are contiguous: one binary
+            // search per column, and the same order as cell-by-cell scans.
             for dx in -1..=1 {
                 for dy in -1..=1 {
-                    for dz in -1..=1 {
-                        let key = [c[0] + dx, c[1] + dy, c[2] + dz];
-                        let lo = keys.partition_point(|(k, _)| *k < key);
-                        for &(k, j) in &keys[lo..] {
-                            if k != key {
-                                break;
-                            }
-                            if j == i {
-                                continue;
-                            }
-                            let r = xi - self.parcels[j].position_m;
-                            let d2 = r.length_squared();
-                            if d2 < h2 {
-                                self.nbrs.push(Neighbour {
-                                    j,
-                                    r,
-                                    dist: d2.sqrt(),
-                                });
-                            }
+                    let (kx, ky) = (c[0].saturating_add(dx), c[1].saturating_add(dy));
+                    let first = [kx, ky, c[2].saturating_sub(1)];
+                    let last = [kx, ky, c[2].saturating_add(1)];
+                    let lo = keys.partition_point(|(k, _)| *k < first);
+                    for &(k, j) in &keys[lo..] {
+                        if k > last {
+                            break;
+                        }
+                        if j == i {
+                            continue;
+                        }
+                        let r = xi - self.parcels[j].position_m;
+                        let d2 = r.length_squared();
+                        if d2 < h2 {
+                            self.nbrs.push(Neighbour {
+                                j,
+                                r,
+                                dist: d2.sqrt(),
+                            });
                         }
                     }
                 }
