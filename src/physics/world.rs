@@ -385,6 +385,7 @@ impl ParcelWorld {
             atm_force_n: DVec3::ZERO,
             entrain_rate_kg_s: 0.0,
             volume_ref: (p_pa, 0.0),
+            env_at_centre: (p_pa, 0.0),
         };
         p.volume_ref.1 = p.total_mass_kg();
         p.cond_plane_z_m = self.condensation_plane_m(&p);
@@ -575,6 +576,13 @@ impl ParcelWorld {
     /// only refreshes forces (new parcels, new environment).
     fn update(&mut self, dt: f64, clamps: &mut ClampCounts) {
         let t0 = Instant::now();
+        for p in &mut self.parcels {
+            let z = p.position_m.z;
+            let pr = self.env.pressure_pa(z);
+            let t = thermo::temperature_from_theta_k(self.env.theta_k(z), pr);
+            // Same expression as Environment::density_kg_m3, one pressure lookup fewer.
+            p.env_at_centre = (pr, thermo::air_density_kg_m3(pr, t, self.env.qv(z)));
+        }
         self.build_neighbours();
         let t1 = Instant::now();
         self.counters.neighbours += t1 - t0;
@@ -797,8 +805,10 @@ impl ParcelWorld {
             // Bound: the caps cannot lose more than the sphere's whole
             // Archimedes force ρ g V.
             let force = force * weight;
-            let bound =
-                weight * self.env.density_kg_m3(ci.z) * thermo::GRAVITY * self.parcels[i].volume_m3;
+            let bound = weight
+                * self.parcels[i].env_at_centre.1
+                * thermo::GRAVITY
+                * self.parcels[i].volume_m3;
             let force = if force.length() > bound {
                 clamps.atm_force += 1;
                 force * (bound / force.length())
@@ -827,7 +837,7 @@ impl ParcelWorld {
             let dma_e = c.entrainment_surface_factor
                 * (c.entrainment_rate_per_m * r)
                 * area
-                * self.env.density_kg_m3(z)
+                * p.env_at_centre.1
                 * speed
                 * dt;
             // eq 11's ρ_atm is moist air; its dry part is what the mixing ratios count.
@@ -940,7 +950,7 @@ impl ParcelWorld {
                 p.ql_kg_per_kg = 0.0;
                 clamps.negative_humidity += 1;
             }
-            let p2 = self.env.pressure_pa(p.position_m.z);
+            let p2 = p.env_at_centre.0;
             let m2 = p.total_mass_kg();
             let (p1, m1) = p.volume_ref;
             if p1 != p2 || m1 != m2 {
@@ -965,7 +975,7 @@ impl ParcelWorld {
     fn condense(&mut self, clamps: &mut ClampCounts) {
         let alpha = self.cfg.physics.latent_heat_alpha;
         for p in &mut self.parcels {
-            let pr = self.env.pressure_pa(p.position_m.z);
+            let pr = p.env_at_centre.0;
             let ex = thermo::exner(pr);
             let t = p.theta_k * ex;
             let a = thermo::saturation_adjust(t, p.qv_kg_per_kg, p.ql_kg_per_kg, pr, alpha);
@@ -1038,9 +1048,8 @@ impl ParcelWorld {
             let rel = vpred[i] - self.cfg.wind.at(z);
             if c.drag {
                 let area = PI * p.radius_m * p.radius_m;
-                a -= rel
-                    * (0.5 * c.drag_coefficient * self.env.density_kg_m3(z) * rel.length() * area
-                        / mi);
+                a -=
+                    rel * (0.5 * c.drag_coefficient * p.env_at_centre.1 * rel.length() * area / mi);
             }
             if c.mixing {
                 // Entrained air arrives with the wind's velocity.
