@@ -30,6 +30,13 @@ use perf::{PerfRow, PruningRow, ScalingRow};
 /// Parcel counts of the performance table (paper Table 1, and beyond).
 pub const TABLE_COUNTS: [usize; 6] = [8, 14, 34, 85, 256, 1024];
 
+/// Most parcels measured by brute force on a CPU adapter. Mesa llvmpipe
+/// cuts brute-force marches short once the parcel loop has run ~65 000
+/// times in a ray (34 parcels: exact up to ~1300 steps, towers lost from
+/// ~2000 — see [`accuracy::brute_force_reference`]); 256 parcels × the
+/// default 160 steps stays below that, 1024 would not.
+pub const CPU_BRUTE_MAX: usize = 256;
+
 /// How much to measure.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Mode {
@@ -240,7 +247,10 @@ pub fn run(opts: &Options) -> Result<BenchResults> {
 
 /// [`run`] on an open device.
 pub fn run_with(ctx: &GpuContext, opts: &Options) -> Result<BenchResults> {
-    let plan = Plan::for_mode(opts.mode);
+    let mut plan = Plan::for_mode(opts.mode);
+    if ctx.is_cpu() {
+        plan.brute_max = plan.brute_max.min(CPU_BRUTE_MAX);
+    }
     let (width, height) = opts.size.unwrap_or(opts.mode.default_size());
     let size = (width, height);
     let info = RunInfo {

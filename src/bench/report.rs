@@ -525,8 +525,10 @@ pub fn report_md(r: &BenchResults) -> String {
         "\n## Scaling\n\nRender frame time (upload + passes, default settings, no physics) \
          against the number of condensed parcels, with the culling grid (only the parcels \
          listed in a sample's cell) and by brute force (every parcel at every sample, as in \
-         the paper). \"–\": brute force not measured at that count in this mode. Plot: \
-         scaling.png.\n\n| parcels | grid culling ms | brute force ms | brute / grid |\n|---:|---:|---:|---:|"
+         the paper). \"–\": brute force not measured at that count in this mode (on a CPU adapter at most \
+         {} parcels: llvmpipe cuts longer brute-force loops short). Plot: \
+         scaling.png.\n\n| parcels | grid culling ms | brute force ms | brute / grid |\n|---:|---:|---:|---:|",
+        super::CPU_BRUTE_MAX
     );
     for row in &r.scaling {
         let _ = writeln!(
