@@ -59,6 +59,12 @@ impl Measured {
         self.passes.iter().find(|(n, _)| n == name).map(|(_, m)| *m)
     }
 
+    /// Sum of the medians of the parts (physics, upload, each pass): the
+    /// denominator of the shares, so that they add up to 100 %. units: ms
+    pub fn parts_ms(&self) -> f64 {
+        self.physics_ms + self.upload_ms + self.passes.iter().map(|(_, m)| m).sum::<f64>()
+    }
+
     /// Frames per second at the median frame time.
     pub fn fps(&self) -> f64 {
         1000.0 / self.frame_ms
