@@ -442,6 +442,14 @@ fn timings_name_every_pass() {
         assert!(ms.is_finite() && *ms >= 0.0, "{n}: {ms}");
     }
     assert!(t.upload_ms >= 0.0);
+    // The CPU-clock fallback names the same passes and says so.
+    hl.renderer.set_gpu_timestamps(false);
+    let (_, t) = hl.render(&ctx, &input).unwrap();
+    assert!(!t.gpu_timestamps);
+    let cpu_names: Vec<&str> = t.passes.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(cpu_names, names);
+    // Each pass waited for the queue, so each took measurable time.
+    assert!(t.passes.iter().all(|(_, ms)| *ms > 0.0), "{:?}", t.passes);
 }
 
 #[test]

@@ -104,6 +104,8 @@ pub struct Renderer {
     bind_terrain: Option<wgpu::BindGroup>,
     bind_clouds: Option<wgpu::BindGroup>,
     timestamps: Option<Timestamps>,
+    /// Use the timestamps when there are some (else CPU clock per pass).
+    use_timestamps: bool,
     /// Pipelines created so far (tests check that a setting rebuilds only
     /// what depends on it).
     pipelines_built: u32,
@@ -401,6 +403,7 @@ impl Renderer {
             bind_terrain: None,
             bind_clouds: None,
             timestamps,
+            use_timestamps: true,
             pipelines_built: 0,
         };
         r.ensure(ctx)?;
@@ -469,6 +472,12 @@ impl Renderer {
             .filter(|p| self.pipelines.contains_key(p))
             .map(|p| p.name())
             .collect()
+    }
+
+    /// Times passes with GPU timestamps (when the device has them; the
+    /// default) or with the CPU clock and a queue sync per pass.
+    pub fn set_gpu_timestamps(&mut self, on: bool) {
+        self.use_timestamps = on;
     }
 
     /// How many pipelines this renderer has created so far.
@@ -827,10 +836,10 @@ impl Renderer {
             .collect();
         let mut timings = FrameTimings {
             passes: Vec::new(),
-            gpu_timestamps: self.timestamps.is_some(),
+            gpu_timestamps: self.timestamps.is_some() && self.use_timestamps,
             upload_ms: self.upload_ms,
         };
-        if let Some(ts) = &self.timestamps {
+        if let Some(ts) = self.timestamps.as_ref().filter(|_| self.use_timestamps) {
             let mut enc = ctx.device.create_command_encoder(&Default::default());
             for (i, pass) in passes.iter().enumerate() {
                 let writes = wgpu::RenderPassTimestampWrites {
