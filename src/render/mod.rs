@@ -51,7 +51,7 @@ impl Default for TerrainConfig {
         Self {
             enabled: true,
             heightmap: None,
-            height_scale_m: 600.0,
+            height_scale_m: 1800.0,
             extent_m: 40_000.0,
             resolution: 160,
             seed: 7,
