@@ -5,6 +5,20 @@
 //! Layers: [`pack`], [`noise`] and [`terrain`] are pure CPU (unit-tested
 //! without a GPU); [`gpu`] opens the device; [`renderer`] owns the passes;
 //! [`headless`] renders to an offscreen texture and reads it back.
+//!
+//! Use (window, bench, tests alike):
+//!
+//! ```text
+//! let ctx = GpuContext::new_headless(None)?;            // or new_for_surface(instance, &surface)
+//! let mut r = Renderer::new(&ctx, &cfg, format, w, h)?;  // cfg: RenderConfig, validated
+//! r.prepare(&ctx, &FrameInput { camera, parcels: &parcels, sun: cfg.sun(), time_s })?;
+//! let timings = r.render(&ctx, &view);                   // FrameTimings per pass
+//! r.set_config(&ctx, &new_cfg)?;  r.resize(&ctx, w2, h2)?;
+//! // headless: headless::render_to_rgba(&ctx, &cfg, &input, w, h)? -> (rgba, w, h)
+//! ```
+//!
+//! The passes and their shaders are described in `shaders/*.wgsl` headers;
+//! the density of the hypertexture (paper eq. 18) in `shaders/density.wgsl`.
 
 pub mod gpu;
 pub mod headless;
