@@ -539,6 +539,20 @@ mod tests {
     }
 
     #[test]
+    fn configs_round_trip_through_toml() {
+        // The window saves scenes with toml::to_string_pretty.
+        let mut cfg = RenderConfig::default();
+        let text = toml::to_string_pretty(&cfg).unwrap();
+        assert_eq!(toml::from_str::<RenderConfig>(&text).unwrap(), cfg);
+        cfg.terrain.heightmap = Some(PathBuf::from("maps/h.png"));
+        let text = toml::to_string_pretty(&cfg).unwrap();
+        assert_eq!(toml::from_str::<RenderConfig>(&text).unwrap(), cfg);
+        let cam = CameraConfig::default();
+        let text = toml::to_string_pretty(&cam).unwrap();
+        assert_eq!(toml::from_str::<CameraConfig>(&text).unwrap(), cam);
+    }
+
+    #[test]
     fn features_prune() {
         let cfg = RenderConfig::default();
         let all = Features::new(&cfg, true);
