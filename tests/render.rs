@@ -559,3 +559,39 @@ fn the_most_parcels_the_uniforms_hold_render() {
     let e = hl.render(&ctx, &input).unwrap_err().to_string();
     assert!(e.contains("condensed parcel count"), "{e}");
 }
+
+#[test]
+fn a_target_of_another_size_resizes_the_renderer() {
+    let Some(ctx) = context() else { return };
+    let cfg = RenderConfig::default();
+    let fmt = wgpu::TextureFormat::Rgba8UnormSrgb;
+    let mut r = Renderer::new(&ctx, &cfg, fmt, 64, 48).unwrap();
+    let parcels = standin::default_field(600.0);
+    r.prepare(
+        &ctx,
+        &FrameInput {
+            camera: Camera::from(&CameraConfig::default()),
+            parcels: &parcels,
+            sun: cfg.sun(),
+            time_s: 0.0,
+        },
+    )
+    .unwrap();
+    let tex = ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: None,
+        size: wgpu::Extent3d {
+            width: 80,
+            height: 40,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: fmt,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        view_formats: &[],
+    });
+    let t = r.render(&ctx, &tex.create_view(&Default::default()));
+    assert_eq!(r.size(), (80, 40));
+    assert_eq!(t.passes.len(), 4);
+}

@@ -828,8 +828,20 @@ impl Renderer {
     }
 
     /// Draws the prepared frame into `target` (a view of a `target_format`
-    /// texture of the renderer's size) and returns per-pass timings.
+    /// texture) and returns per-pass timings. A target of another size than
+    /// the renderer's resizes the renderer first (a window that forgot to
+    /// call `resize` gets a correct frame, not a validation panic); a size
+    /// the device cannot hold draws nothing and returns no pass timings.
     pub fn render(&mut self, ctx: &GpuContext, target: &wgpu::TextureView) -> FrameTimings {
+        let size = target.texture().size();
+        if (size.width, size.height) != (self.width, self.height)
+            && self.resize(ctx, size.width, size.height).is_err()
+        {
+            return FrameTimings {
+                upload_ms: self.upload_ms,
+                ..FrameTimings::default()
+            };
+        }
         let passes: Vec<Pass> = Pass::ALL
             .into_iter()
             .filter(|p| self.pipelines.contains_key(p))
