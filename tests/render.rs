@@ -450,6 +450,19 @@ fn timings_name_every_pass() {
     assert_eq!(cpu_names, names);
     // Each pass waited for the queue, so each took measurable time.
     assert!(t.passes.iter().all(|(_, ms)| *ms > 0.0), "{:?}", t.passes);
+    // Lagged GPU timing: the first frame has nothing finished yet; once the
+    // GPU is idle a later frame reports the earlier frame's passes.
+    if ctx.timestamps {
+        use cumulus::render::renderer::TimingMode;
+        hl.renderer.set_timing_mode(TimingMode::GpuLagged);
+        let (_, first) = hl.render(&ctx, &input).unwrap();
+        assert!(first.passes.is_empty(), "{:?}", first.passes);
+        ctx.wait_idle();
+        let (_, second) = hl.render(&ctx, &input).unwrap();
+        let lagged: Vec<&str> = second.passes.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(lagged, names);
+        assert!(second.gpu_timestamps);
+    }
 }
 
 #[test]
