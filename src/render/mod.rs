@@ -38,7 +38,7 @@ use crate::error::{Error, Result};
 use crate::physics::CloudParcel;
 
 pub use gpu::GpuContext;
-pub use renderer::{FrameTimings, Renderer};
+pub use renderer::{FrameTimings, Renderer, TimingMode};
 
 /// Terrain settings (the `[render.terrain]` table).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
