@@ -124,8 +124,13 @@ pub struct Model {
 impl Model {
     /// A model on a loaded scene.
     pub fn new(profile: SceneProfile, source: SceneSource) -> Result<Self> {
-        let editor = ProfileEditor::from_spec(&profile.atmosphere, &source.base_dir())?;
+        let mut editor = ProfileEditor::from_spec(&profile.atmosphere, &source.base_dir())?;
         let world_cfg = WorldConfig::from_scene(&profile);
+        editor.set_lift_options(crate::atmosphere::lifting::LiftOptions {
+            alpha: world_cfg.physics.latent_heat_alpha,
+            condensate_loading: world_cfg.physics.condensate_loading,
+            ..Default::default()
+        })?;
         let world = ParcelWorld::new(editor.environment().clone(), world_cfg.clone(), SIM_SEED)?;
         let render_cfg = profile.render.clone();
         render_cfg.validate()?;
