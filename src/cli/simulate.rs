@@ -14,7 +14,7 @@ pub struct Args {
     /// Scene profile (TOML); the embedded fair-weather scene when omitted.
     pub scene: Option<PathBuf>,
     /// Simulated time. units: s
-    #[arg(long, default_value_t = 600.0)]
+    #[arg(long)]
     pub duration: f64,
     /// Output CSV file.
     #[arg(long)]
