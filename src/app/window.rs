@@ -64,7 +64,7 @@ pub fn run(mut opts: WatchOptions) -> Result<()> {
         opts,
         model,
         panel: PanelState::default(),
-        egui_ctx: egui_context(),
+        egui_ctx: panel::egui_context(),
         gfx: None,
         input: Input::default(),
         frame: 0,
@@ -78,34 +78,6 @@ pub fn run(mut opts: WatchOptions) -> Result<()> {
         Some(e) => Err(e),
         None => Ok(()),
     }
-}
-
-/// An egui context with fonts registered from `epaint_default_fonts`: the
-/// crate is built without egui's `default_fonts` feature, and we never read
-/// system fonts, so the window looks the same everywhere.
-fn egui_context() -> egui::Context {
-    use egui::{FontData, FontDefinitions, FontFamily};
-    let ctx = egui::Context::default();
-    let mut fonts = FontDefinitions::empty();
-    for (name, bytes) in [
-        ("Ubuntu-Light", epaint_default_fonts::UBUNTU_LIGHT),
-        ("Hack", epaint_default_fonts::HACK_REGULAR),
-        ("egui-icons", epaint_default_fonts::EGUI_ICONS),
-    ] {
-        fonts
-            .font_data
-            .insert(name.to_owned(), Arc::new(FontData::from_static(bytes)));
-    }
-    fonts.families.insert(
-        FontFamily::Proportional,
-        vec!["Ubuntu-Light".into(), "Hack".into(), "egui-icons".into()],
-    );
-    fonts.families.insert(
-        FontFamily::Monospace,
-        vec!["Hack".into(), "Ubuntu-Light".into(), "egui-icons".into()],
-    );
-    ctx.set_fonts(fonts);
-    ctx
 }
 
 /// Camera input state.
