@@ -375,12 +375,13 @@ fn render_section(ui: &mut egui::Ui, m: &mut Model) -> bool {
         ui.checkbox(&mut r.shadows, "shadows");
         ui.checkbox(&mut r.terrain.enabled, "terrain");
     });
-    ui.horizontal(|ui| {
-        if ui.button("Reset view").clicked() {
-            m.camera = m.default_camera;
-        }
-        ui.label("drag: orbit · right-drag: look · WASD/QE: fly · wheel: zoom");
-    });
+    if ui.button("Reset view").clicked() {
+        m.camera = m.default_camera;
+    }
+    ui.small(
+        "drag: orbit · right-drag: look around · W A S D / Q E: fly · wheel: zoom · \
+         R: reset view · space: play/pause",
+    );
     if m.render_cfg == before {
         return false;
     }
@@ -396,6 +397,9 @@ fn render_section(ui: &mut egui::Ui, m: &mut Model) -> bool {
 fn stats_section(ui: &mut egui::Ui, m: &mut Model) {
     ui.label(RichText::new("Frame time").strong());
     let s = &m.stats;
+    if !s.adapter.is_empty() {
+        ui.small(&s.adapter);
+    }
     let fps = if s.frame_ms > 0.0 {
         1000.0 / s.frame_ms
     } else {

@@ -80,6 +80,8 @@ impl WindHandle {
 /// Last frame's timings for the panel. units: ms
 #[derive(Debug, Clone, Default)]
 pub struct FrameStats {
+    /// The GPU adapter, for the panel.
+    pub adapter: String,
     pub frame_ms: f64,
     pub physics_ms: f64,
     /// Physics stages of the last step (from `physics::Counters`).

@@ -140,6 +140,7 @@ impl App {
         let adapter = &ctx.adapter;
         let device = &ctx.device;
         eprintln!("GPU: {}", ctx.describe());
+        self.model.stats.adapter = ctx.describe();
         let size = window.inner_size();
         let caps = surface.get_capabilities(adapter);
         // egui paints in gamma space and expects a non-sRGB target.
