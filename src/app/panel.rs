@@ -33,6 +33,8 @@ pub struct PanelState {
     plot_top_m: Option<f64>,
     /// The diagram's plot ↔ screen mapping of the last frame.
     transform: Option<egui_plot::PlotTransform>,
+    /// The diagram's temperature range of the last frame. units: °C
+    x_range: Option<(f64, f64)>,
 }
 
 impl PanelState {
@@ -126,7 +128,14 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
             (a.min(pe::dewpoint_c(p)), b.max(p.t_c))
         });
-    let (xmin, xmax) = ((tmin - 5.0).min(-10.0), (tmax + 5.0).max(30.0));
+    // The temperature axis follows the profile, except during a drag: then
+    // it stays put, or a point dragged near the edge would widen the axis
+    // under a still pointer and creep away from it.
+    let (xmin, xmax) = match (ps.drag, ps.x_range) {
+        (Some(_), Some(r)) => r,
+        _ => ((tmin - 5.0).min(-10.0), (tmax + 5.0).max(30.0)),
+    };
+    ps.x_range = Some((xmin, xmax));
 
     let mut edit: Option<crate::Result<()>> = None;
     let drag = &mut ps.drag;
