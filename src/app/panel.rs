@@ -94,7 +94,8 @@ pub fn show(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) -> PanelActio
                 ui.separator();
                 stats_section(ui, m);
                 ui.separator();
-                file_section(ui, m);
+                // A loaded scene brings its own render settings.
+                actions.render_changed |= file_section(ui, m);
             });
         });
     actions
@@ -432,7 +433,9 @@ fn stats_section(ui: &mut egui::Ui, m: &mut Model) {
     ui.monospace(format!("cloud parcels drawn: {}", m.parcels.len()));
 }
 
-fn file_section(ui: &mut egui::Ui, m: &mut Model) {
+/// Returns whether a scene was loaded.
+fn file_section(ui: &mut egui::Ui, m: &mut Model) -> bool {
+    let mut loaded = false;
     ui.label(RichText::new("Scene profile").strong());
     ui.text_edit_singleline(&mut m.path_text);
     ui.horizontal(|ui| {
@@ -445,10 +448,12 @@ fn file_section(ui: &mut egui::Ui, m: &mut Model) {
         }
         if ui.button("Load").clicked() {
             let r = m.path().and_then(|p| m.load(&p));
+            loaded = r.is_ok();
             report(m, r);
         }
     });
     if !m.status.is_empty() {
         ui.colored_label(Color32::from_rgb(200, 120, 0), &m.status);
     }
+    loaded
 }
