@@ -60,9 +60,9 @@ fn light_density_sum(p: vec3<f32>) -> f32 {
     var sum = 0.0;
     for (var i = 0u; i < steps; i++) {
         let q = p + sun * (t + 0.5 * ds);
-        // Past the first two steps the noise detail no longer shows in the
+        // Past the first step the noise detail no longer shows in the
         // shadow: the parcels alone (no texture fetches) are cheaper.
-        if i < 2u {
+        if i < 1u {
             sum += cloud_density(q) * ds;
         } else {
             sum += coarse_density(q) * ds;
