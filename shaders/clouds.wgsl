@@ -202,10 +202,14 @@ fn fs_main(in: FullscreenOut) -> @location(0) vec4<f32> {
             // upward. A little light bounced off the sunlit ground reaches
             // the bases from below.
             let above_base = clamp((p.z - vp.y) / BASE_FADE_M, 0.0, 1.0);
-            let diffuse = mix(0.25, 1.0, above_base * above_base);
-            let sky = 0.6 * sky_ambient() * diffuse * mix(0.35, 1.0, sky_visibility(p));
-            let bounce = vec3<f32>(0.05, 0.055, 0.04) * frame.sun_dir.z * frame.sun_color.rgb;
-            let source = frame.sun_color.rgb * (sun_light.x + sun_light.y * diffuse) + sky + bounce;
+            // The multiply scattered sun fades more than the skylight, which
+            // also reaches the base sideways from the horizon: bases turn
+            // blue-grey rather than neutral grey.
+            let a2 = above_base * above_base;
+            let sky = 0.8 * sky_ambient() * mix(0.5, 1.0, a2) * mix(0.5, 1.0, sky_visibility(p));
+            let bounce = vec3<f32>(0.03, 0.033, 0.024) * frame.sun_dir.z * frame.sun_color.rgb;
+            let multiple = sun_light.y * mix(0.1, 1.0, a2);
+            let source = frame.sun_color.rgb * (sun_light.x + multiple) + sky + bounce;
             let step_t = exp(-sigma * dt);
             radiance += trans * source * (1.0 - step_t);
             trans *= step_t;
