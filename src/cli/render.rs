@@ -34,8 +34,9 @@ pub struct Args {
     /// Image height in pixels.
     #[arg(long, default_value_t = 540)]
     pub height: u32,
-    /// Simulated time before the (first) frame. units: s
-    #[arg(long, default_value_t = 900.0)]
+    /// Simulated time before the (first) frame; half an hour lets the
+    /// shipped scenes' cloud fields form. units: s
+    #[arg(long, default_value_t = 1800.0)]
     pub time: f64,
     /// Finite-difference normals (overrides the scene's [render] normals).
     #[arg(long, value_enum)]
