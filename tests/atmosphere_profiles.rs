@@ -1,5 +1,7 @@
 //! Every shipped scene profile parses, builds its environment, and lifts a
-//! surface parcel into the weather situation its comments promise.
+//! surface parcel into the weather situation its comments promise (with
+//! LiftOptions::default(): α = 1, no condensate loading, as the physics
+//! defaults).
 
 use std::path::{Path, PathBuf};
 

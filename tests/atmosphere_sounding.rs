@@ -286,3 +286,27 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn the_station_indices_section_after_the_table_ends_it() {
+    // As weather.uwyo.edu serves it: the table, then prose and `key: value` lines.
+    let text = table("")
+        + "Station information and sounding indices\n\
+                         Station identifier: OUN\n\
+                         Showalter index: 3.01\n";
+    let s = Sounding::parse(&text, Path::new("ok.txt")).unwrap();
+    assert_eq!(s.levels.len(), 3);
+    // But a lone word where PRES belongs is a bad number, not the end.
+    let msg = error_at(&table(&row(&["nan", "1454", "22.0", "6.0"])), 8, 5);
+    assert!(msg.contains("\"nan\"") && msg.contains("PRES"), "{msg}");
+}
+
+#[test]
+fn rejects_levels_the_environment_cannot_hold() {
+    // 60 °C dewpoint at 200 hPa: vapour pressure above half the pressure.
+    let msg = error_at(&table(&row(&["200.0", "12000", "60.0", "60.0"])), 8, 25);
+    assert!(
+        msg.contains("g/kg of vapour") && msg.contains("at most 100"),
+        "{msg}"
+    );
+}

@@ -182,3 +182,33 @@ fn a_scene_without_an_atmosphere_table_gets_the_fair_weather_default() {
         .to_string();
     assert!(msg.contains("at least 2 points"), "{msg}");
 }
+
+#[test]
+fn sampled_points_keep_the_capping_inversion() {
+    // 12 evenly spaced points over the 16 km of the 2011 sounding would be
+    // 1.5 km apart and step over the 890 hPa inversion (18.8 °C at 650 m
+    // above the ground, 23.2 °C at 875 m: +4.4 K); significant-level
+    // sampling keeps at least half of that warming.
+    let env = Sounding::load(&profiles().join("soundings/oun-2011-05-22-12z.txt"))
+        .unwrap()
+        .to_environment()
+        .unwrap();
+    let s = AtmosphereSpec::inline_points_from(&env, 12);
+    assert_eq!(s.points.len(), 12);
+    let rise = s
+        .points
+        .windows(2)
+        .filter(|w| w[1].z_m < 1500.0)
+        .map(|w| w[1].t_c - w[0].t_c)
+        .fold(f64::MIN, f64::max);
+    assert!(
+        rise >= 2.0,
+        "warming with height below 1.5 km: {rise} K; {:?}",
+        s.points
+    );
+    // Fewer levels than asked for: padded to n with strictly rising heights.
+    let few = AtmosphereSpec::default().build(Path::new(".")).unwrap();
+    let s = AtmosphereSpec::inline_points_from(&few, 20);
+    assert_eq!(s.points.len(), 20);
+    s.validate().unwrap();
+}

@@ -134,3 +134,62 @@ fn lfc_and_el_bracket_the_buoyant_layer() {
         }
     }
 }
+
+#[test]
+fn saturated_surface_air_condenses_at_the_ground() {
+    let env = oun_2011();
+    let t = env.temperature_k(0.0);
+    let opts = LiftOptions {
+        surface_td_k: Some(t),
+        ..Default::default()
+    };
+    let a = lift_surface_parcel(&env, &opts).unwrap();
+    assert_eq!(a.lcl.unwrap().z_m, 0.0);
+    assert!(a.levels[1].ql > 0.0, "condensing from the first step");
+}
+
+#[test]
+fn without_latent_heat_the_parcel_stays_on_its_dry_adiabat() {
+    // α = 0 turns off latent heating: water still condenses but θ cannot
+    // change, so T = θ_surface Π(P) at every level (to rounding).
+    let env = oun_2011();
+    let opts = LiftOptions {
+        alpha: 0.0,
+        ..Default::default()
+    };
+    let a = lift_surface_parcel(&env, &opts).unwrap();
+    let theta = a.levels[0].theta_k;
+    for l in &a.levels {
+        let dry = theta * thermo::exner(l.p_pa);
+        assert!((l.t_k - dry).abs() < 1e-9, "{} hPa", l.p_pa / 100.0);
+    }
+    assert!(
+        a.levels.last().unwrap().ql > 0.01,
+        "most of the vapour condensed"
+    );
+}
+
+#[test]
+fn bad_options_and_heights_are_errors() {
+    let env = oun_2011();
+    let e = |opts: LiftOptions, h: &[f64]| lift_at(&env, &opts, h).unwrap_err().to_string();
+    let msg = e(LiftOptions::default(), &[0.0, 500.0, 100.0]);
+    assert!(msg.contains("non-decreasing"), "{msg}");
+    let msg = e(LiftOptions::default(), &[f64::NAN]);
+    assert!(msg.contains("finite heights"), "{msg}");
+    let nan_alpha = LiftOptions {
+        alpha: f64::NAN,
+        ..Default::default()
+    };
+    let msg = e(nan_alpha, &[0.0]);
+    assert!(
+        msg.contains("alpha") && msg.contains("between 0 and 2"),
+        "{msg}"
+    );
+    let hot = LiftOptions {
+        surface_t_k: Some(400.0),
+        ..Default::default()
+    };
+    let msg = e(hot, &[0.0]);
+    assert!(msg.contains("surface temperature"), "{msg}");
+}

@@ -12,21 +12,24 @@
 //! and the simulation agree.
 //!
 //! Because the water stays in the parcel (nothing precipitates), this is a
-//! reversible ascent, and the parcel's virtual temperature includes the
-//! condensate loading (it is the density temperature T (1 + q_v/ε)/(1 + q_v +
-//! q_l), the one the simulation's buoyancy uses). The *temperature* of the
-//! ascent barely depends on that choice: with c_p of dry air for the whole
-//! parcel (no heat capacity of vapour or liquid), reversible and pseudo-
-//! adiabatic ascents obey the same dT/dP, so T follows the pseudo-adiabat that
-//! MetPy's `parcel_profile` integrates (tests check within 1 K to 300 hPa).
+//! reversible ascent. The *temperature* of the ascent barely depends on that:
+//! with c_p of dry air for the whole parcel (no heat capacity of vapour or
+//! liquid), reversible and pseudo-adiabatic ascents obey the same dT/dP, so
+//! T follows the pseudo-adiabat that MetPy's `parcel_profile` integrates
+//! (tests check within 1 K to 300 hPa).
 //!
-//! LFC and EL are crossings of parcel and environment *virtual* temperature.
+//! LFC and EL are crossings of parcel and environment *virtual* temperature,
+//! the buoyancy the simulation uses (paper eq. 4–5). Like the simulation's
+//! `PhysicsConfig::condensate_loading`, [`LiftOptions::condensate_loading`]
+//! (off by default, as in the paper and the physics) adds the liquid water's
+//! weight: T_v = T (1 + q_v/ε)/(1 + q_v + q_l).
+//!
 //! MetPy's `lfc`/`el` differ: they compare plain temperatures unless given
-//! virtual ones, and their parcel drops its condensate (pseudo-adiabatic, no
-//! loading). Our loaded parcel is ~0.3 K per g/kg of q_l cooler in T_v, so our
-//! EL is lower and our LFC can be higher than MetPy's on the same sounding.
-//! We keep our definition because it is the buoyancy the simulated parcels
-//! feel.
+//! virtual ones, and their parcel drops its condensate. Without loading our
+//! crossings differ from MetPy's only by the vapour's virtual correction
+//! (≈ 0.6 q_v T, ~1.5 K at the LFC of a moist boundary-layer parcel, ~0 near
+//! the tropopause); with loading the parcel is ~0.3 K per g/kg of q_l cooler
+//! in T_v, so its EL is lower.
 
 use super::environment::Environment;
 use super::thermo;
@@ -47,6 +50,9 @@ pub struct LiftOptions {
     pub surface_t_k: Option<f64>,
     /// Surface parcel dewpoint; None = the environment's. units: K
     pub surface_td_k: Option<f64>,
+    /// Count the liquid water's weight in the parcel's virtual temperature
+    /// (the simulation's `condensate_loading`; off by default as there).
+    pub condensate_loading: bool,
 }
 
 impl Default for LiftOptions {
@@ -55,6 +61,7 @@ impl Default for LiftOptions {
             alpha: 1.0,
             surface_t_k: None,
             surface_td_k: None,
+            condensate_loading: false,
         }
     }
 }
@@ -77,7 +84,8 @@ pub struct ParcelLevel {
     pub z_m: f64,
     /// Parcel temperature. units: K
     pub t_k: f64,
-    /// Parcel virtual (density) temperature, with condensate loading. units: K
+    /// Parcel virtual temperature (with condensate loading if
+    /// [`LiftOptions::condensate_loading`]). units: K
     pub tv_k: f64,
     /// Environment temperature. units: K
     pub env_t_k: f64,
@@ -176,6 +184,7 @@ pub fn lift_at(env: &Environment, opts: &LiftOptions, heights: &[f64]) -> Result
         qt - thermo::saturation_mixing_ratio(theta_s * thermo::exner(p), p)
     };
 
+    let loading = opts.condensate_loading;
     let record = |z: f64, theta: f64, qv: f64, ql: f64| {
         let p = env.pressure_pa(z);
         let t = theta * thermo::exner(p);
@@ -184,7 +193,7 @@ pub fn lift_at(env: &Environment, opts: &LiftOptions, heights: &[f64]) -> Result
             p_pa: p,
             z_m: z,
             t_k: t,
-            tv_k: thermo::virtual_temperature_k(t, qv, ql),
+            tv_k: thermo::virtual_temperature_k(t, qv, if loading { ql } else { 0.0 }),
             env_t_k: env_t,
             env_tv_k: thermo::virtual_temperature_k(env_t, env.qv(z), 0.0),
             qv,

@@ -140,7 +140,7 @@ impl Sounding {
                     return Err(Error::parse(
                         path,
                         lineno,
-                        line.len() - trimmed.len() + 1,
+                        line.chars().count() - trimmed.chars().count() + 1,
                         format!(
                             "unexpected text {trimmed:?} before the table: allowed are one station line, dashed rulers, the PRES ... THTV names line and the units line"
                         ),
@@ -148,6 +148,14 @@ impl Sounding {
                 }
                 station = Some(trimmed.to_string());
                 continue;
+            }
+            // The Wyoming service follows the table with a "Station
+            // information and sounding indices" section (and, saved from the
+            // web page, HTML tags): prose after the data ends the table. A
+            // data row never starts with a letter, and a lone word such as
+            // `nan` in the PRES column is still reported as a bad number.
+            if !levels.is_empty() && ends_table(trimmed) {
+                break;
             }
             let row = parse_row(line, path, lineno)?;
             let f = &row.fields;
@@ -253,11 +261,37 @@ impl Sounding {
                 ));
             }
             let t_k = t_c + 273.15;
+            let td_k = (td_c + 273.15).min(t_k);
+            // The environment accepts q_v ≤ 0.1 kg/kg and θ ≤ 2000 K; check
+            // here so that the message can point at the row.
+            let qv = thermo::mixing_ratio_from_dewpoint(td_k, p_hpa * 100.0);
+            if qv > 0.1 {
+                return Err(Error::parse(
+                    path,
+                    lineno,
+                    col_of(3),
+                    format!(
+                        "dewpoint {td_c} °C at {p_hpa} hPa means {:.0} g/kg of vapour: allowed is at most 100 g/kg",
+                        qv * 1000.0
+                    ),
+                ));
+            }
+            let theta = thermo::potential_temperature_k(t_k, p_hpa * 100.0);
+            if theta > 2000.0 {
+                return Err(Error::parse(
+                    path,
+                    lineno,
+                    col_of(0),
+                    format!(
+                        "level at {p_hpa} hPa with {t_c} °C has θ = {theta:.0} K: allowed are levels with θ ≤ 2000 K (pressures above a few hPa)"
+                    ),
+                ));
+            }
             levels.push(SoundingLevel {
                 p_pa: p_hpa * 100.0,
                 z_msl_m: z,
                 t_k,
-                td_k: (td_c + 273.15).min(t_k),
+                td_k,
                 wind_dir_deg: f[6],
                 wind_speed_m_s: f[7].map(|kn| kn * KNOT_M_S),
             });
@@ -298,6 +332,17 @@ impl Sounding {
     pub fn surface_msl_m(&self) -> f64 {
         self.levels[0].z_msl_m
     }
+}
+
+/// Whether a line after the data is prose that ends the table: it starts
+/// with a letter or `<` and has at least two words of letters.
+fn ends_table(trimmed: &str) -> bool {
+    let first = trimmed.chars().next().unwrap_or(' ');
+    let words = trimmed
+        .split(|c: char| !c.is_alphabetic())
+        .filter(|w| w.len() >= 2)
+        .count();
+    (first.is_alphabetic() || first == '<') && words >= 2
 }
 
 /// 1-based column of field `k` (the first non-blank character, else the

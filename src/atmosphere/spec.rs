@@ -79,7 +79,7 @@ impl Default for AtmosphereSpec {
                 p(1200.0, 14.6, 12.0),
                 p(1900.0, 9.7, 6.0),
                 p(2200.0, 12.5, -2.0),
-                p(5000.0, -5.7, -20.0),
+                p(5000.0, -2.0, -18.0),
                 p(10_000.0, -38.0, -50.0),
                 p(12_000.0, -52.0, -65.0),
             ],
@@ -271,15 +271,55 @@ impl AtmosphereSpec {
     }
 
     /// Samples an environment (typically from a sounding) into `n` (≥ 2)
-    /// editable points evenly spaced from the ground to its top, with
-    /// dewpoints, hydrostatic pressure and the environment's surface pressure.
+    /// editable points, with dewpoints, hydrostatic pressure and the
+    /// environment's surface pressure. The points are the environment's most
+    /// significant levels: starting from the ground and the top, the level
+    /// worst reproduced by linear interpolation between the points so far
+    /// (in temperature, or half-weighted dewpoint) is added until there are
+    /// `n`, so inversions and dry layers survive where even spacing would
+    /// step over them. An environment with fewer than `n` levels is padded
+    /// by halving its widest gaps.
     pub fn inline_points_from(env: &Environment, n: usize) -> AtmosphereSpec {
         let n = n.max(2);
-        let top = env.top_m();
+        let levels = env.levels();
+        let zs: Vec<f64> = levels.iter().map(|l| l.z_m.round()).collect();
+        let t: Vec<f64> = levels.iter().map(|l| env.temperature_k(l.z_m)).collect();
+        let td: Vec<f64> = levels.iter().map(|l| env.dewpoint_k(l.z_m)).collect();
+        let mut chosen = vec![0, levels.len() - 1];
+        while chosen.len() < n {
+            let mut best: Option<(f64, usize)> = None;
+            for w in chosen.windows(2) {
+                let (a, b) = (w[0], w[1]);
+                for k in a + 1..b {
+                    let f = (zs[k] - zs[a]) / (zs[b] - zs[a]);
+                    let et = (t[k] - (t[a] + (t[b] - t[a]) * f)).abs();
+                    let ed = (td[k] - (td[a] + (td[b] - td[a]) * f)).abs();
+                    let err = et.max(0.5 * ed);
+                    if best.is_none_or(|(e, _)| err > e) {
+                        best = Some((err, k));
+                    }
+                }
+            }
+            let Some((_, k)) = best else { break };
+            let at = chosen.partition_point(|&c| c < k);
+            chosen.insert(at, k);
+        }
+        let mut heights: Vec<f64> = chosen.iter().map(|&i| zs[i]).collect();
+        while heights.len() < n {
+            let (i, gap) = heights
+                .windows(2)
+                .map(|w| w[1] - w[0])
+                .enumerate()
+                .fold((0, 0.0), |acc, (i, g)| if g > acc.1 { (i, g) } else { acc });
+            if gap < 2.0 {
+                break;
+            }
+            heights.insert(i + 1, (heights[i] + 0.5 * gap).round());
+        }
         let round1 = |x: f64| (x * 10.0).round() / 10.0;
-        let points = (0..n)
-            .map(|i| {
-                let z = (top * i as f64 / (n - 1) as f64).round();
+        let points = heights
+            .iter()
+            .map(|&z| {
                 let t_c = round1(env.temperature_k(z) - 273.15);
                 AtmospherePoint {
                     z_m: z,

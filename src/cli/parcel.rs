@@ -18,8 +18,8 @@ use cumulus::plots::skewt::{SkewT, write_skew_t_png};
 condensation level (LCL), level of free convection (LFC) and equilibrium level (EL).\n\n\
 The parcel conserves potential temperature and total water and is brought to saturation \
 equilibrium at every height with the same saturation adjustment the cloud simulation uses \
-(latent-heat factor 1); LFC and EL are where the parcel's virtual temperature (with its \
-condensate) crosses the environment's. Heights are above the sounding's first usable level.",
+(latent-heat factor 1); LFC and EL are where the parcel's virtual temperature crosses the \
+environment's (without the condensate's weight unless --condensate-loading). Heights are above the sounding's first usable level.",
     after_help = "Examples:\n  cumulus parcel --sounding profiles/soundings/oun-2011-05-22-12z.txt\n  \
 cumulus parcel --sounding profiles/soundings/oun-1999-05-04-00z.txt --json\n  \
 cumulus parcel --sounding profiles/soundings/oun-2011-05-22-12z.txt --surface-temp 30 --plot skewt.png"
@@ -35,6 +35,10 @@ pub struct Args {
     /// Surface parcel dewpoint instead of the sounding's, in °C (at most the temperature).
     #[arg(long, value_name = "C", allow_negative_numbers = true)]
     pub surface_dewpoint: Option<f64>,
+    /// Count the condensed water's weight in the parcel's virtual temperature
+    /// (lowers the EL; the simulation's `condensate_loading`, off by default there too).
+    #[arg(long)]
+    pub condensate_loading: bool,
     /// Print exactly one JSON object (lcl_hpa, lcl_m, lfc_hpa, lfc_m, el_hpa, el_m, levels) instead of the table.
     #[arg(long)]
     pub json: bool,
@@ -53,6 +57,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         alpha: 1.0,
         surface_t_k: args.surface_temp.map(|c| c + 273.15),
         surface_td_k: args.surface_dewpoint.map(|c| c + 273.15),
+        condensate_loading: args.condensate_loading,
     };
     let ascent = lifting::lift_surface_parcel(&env, &opts)?;
     if let Some(path) = &args.plot {

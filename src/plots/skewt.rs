@@ -348,7 +348,7 @@ fn draw(
             .draw_series(DashedLineSeries::new(run, 5, 4, style))
             .map_err(|x| e(&x))?;
         if first {
-            s.label("parcel virtual temperature (with condensate)")
+            s.label("parcel virtual temperature")
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], style));
             first = false;
         }
