@@ -14,18 +14,22 @@ pub struct Args {
     /// Scene profile (TOML); the embedded fair-weather scene when omitted.
     pub scene: Option<PathBuf>,
     /// Simulated time. units: s
-    #[arg(long, default_value_t = 600.0)]
+    #[arg(long, default_value_t = 600.0, allow_negative_numbers = true)]
     pub duration: f64,
     /// Output CSV file.
     #[arg(long)]
     pub out: PathBuf,
     /// Frame step (the physics sub-steps it as needed). units: s
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
     pub dt: f64,
     /// Seed of the emission draws.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
 }
+
+/// Most frames one run may ask for: the CSV holds one row per frame in
+/// memory (about 150 bytes each), so 10⁷ frames is ~1.5 GB.
+const MAX_FRAMES: f64 = 1.0e7;
 
 /// CSV header; keep in sync with [`row`].
 const HEADER: &str = "time_s,parcels,condensed_parcels,cloud_base_m,cloud_top_m,total_water_kg,kinetic_energy_j,substeps,dt_s,budget_hit,emitted,escaped,evaporated,grounded,aged,clamps_total";
@@ -70,14 +74,30 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             args.dt
         );
     }
+    let frames = (args.duration / args.dt).ceil();
+    if frames > MAX_FRAMES {
+        bail!(
+            "--duration {} s with --dt {} s makes {frames:.0} frames: at most {MAX_FRAMES:.0} frames are allowed (use a larger --dt)",
+            args.duration,
+            args.dt
+        );
+    }
+    let frames = frames as u64;
     let (profile, source) = load_scene(args.scene.as_deref())?;
+    // Validation errors name the field; say which file it is in.
+    let scene_name = args.scene.as_ref().map_or_else(
+        || "<embedded fair_weather.toml>".to_string(),
+        |p| p.display().to_string(),
+    );
     let env = profile
         .atmosphere
         .build(&source.base_dir())
-        .context("building the atmosphere")?;
-    let mut world = ParcelWorld::new(env, WorldConfig::from_scene(&profile), args.seed)?;
+        .with_context(|| format!("{scene_name}: building the atmosphere"))?;
+    let mut world = ParcelWorld::new(env, WorldConfig::from_scene(&profile), args.seed)
+        .with_context(|| {
+            format!("{scene_name}: checking [physics], [ground], [emission], [wind]")
+        })?;
 
-    let frames = (args.duration / args.dt).ceil() as u64;
     let bar = indicatif::ProgressBar::new(frames);
     bar.set_style(
         indicatif::ProgressStyle::with_template(
