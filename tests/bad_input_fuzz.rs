@@ -371,3 +371,23 @@ proptest! {
         check_world(env, WorldConfig::from_scene(&scene));
     }
 }
+
+/// Found by the fuzzer: TEMP of the second-last level of the 1999 sounding
+/// replaced by 0 °C leaves a top segment 9 m deep with θ falling by 49 K;
+/// extrapolated above the top, that gave T = −825 K 200 m higher (and NaN in
+/// the physics, which samples above the top for condensation levels).
+#[test]
+fn superadiabatic_top_segment_is_not_extrapolated_to_negative_temperature() {
+    let text = shipped("profiles/soundings/oun-1999-05-04-00z.txt").replace(
+        "  269.0  10049  -49.0  -53.2",
+        "  269.0  10049      0  -53.2",
+    );
+    let env = Sounding::parse(&text, Path::new("mutated.txt"))
+        .unwrap()
+        .to_environment()
+        .unwrap();
+    check_environment(&env);
+    let top = env.levels().last().unwrap().theta_k;
+    assert_eq!(env.theta_k(env.top_m() + 5000.0), top);
+    check_world(env, WorldConfig::default());
+}
