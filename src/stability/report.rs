@@ -64,7 +64,9 @@ pub fn to_markdown(results: &[CaseResult], title: &str) -> String {
         "- **KE ratio**: max over frames of KE(t) / (KE₀ + E_sph,0 + M(t)·e_phys), the kinetic \
          energy over all the energy the case can supply (initial SPH compression, CAPE of the \
          hottest and downdraft CAPE of the coldest parcel possible, ½|wind|²); a case fails above \
-         {KE_RATIO_BOUND}. `e_phys` is that energy per kg.\n\
+         {KE_RATIO_BOUND}. `e_phys` is that energy per kg. W_atm, the work of the atmospheric \
+         pressure on hidden caps (paper §5.1: overlapping parcels weigh their lens volume), is \
+         measured and added; **W_atm share** is its largest share of the budget.\n\
          - **KE step**: largest per-frame factor KE(n+1)/max(KE(n), ½M·(1 m/s)²) (information only).\n\
          - **NaN/Inf**: parcels removed by the non-finite guard plus frames with a non-finite state; \
          any fails the case. A panic fails it too (caught, not propagated).\n\
@@ -73,16 +75,16 @@ pub fn to_markdown(results: &[CaseResult], title: &str) -> String {
     );
     let _ = writeln!(
         s,
-        "| case | dt (s) | frames | parcels start/peak | NaN/Inf | KE ratio | KE step | e_phys (J/kg) | max speed (m/s) | escaped sides/top | sub-steps | clamps | wall (s) | result |"
+        "| case | dt (s) | frames | parcels start/peak | NaN/Inf | KE ratio | KE step | e_phys (J/kg) | W_atm share | max speed (m/s) | escaped sides/top | sub-steps | clamps | wall (s) | result |"
     );
     let _ = writeln!(
         s,
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---|"
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---|"
     );
     for r in results {
         let _ = writeln!(
             s,
-            "| {} | {} | {}/{} | {}/{} | {} | {:.3} | {:.3e} | {:.0} | {:.1} | {}/{} | {} | {} | {:.2} | {} |",
+            "| {} | {} | {}/{} | {}/{} | {} | {:.3} | {:.3e} | {:.0} | {:.2} | {:.1} | {}/{} | {} | {} | {:.2} | {} |",
             r.name,
             r.frame_dt_s,
             r.frames_run,
@@ -93,6 +95,7 @@ pub fn to_markdown(results: &[CaseResult], title: &str) -> String {
             r.ke_ratio,
             r.ke_step_growth,
             r.e_phys_j_per_kg,
+            r.atm_work_share,
             r.max_speed_m_s,
             r.escaped_sides,
             r.escaped_top,
@@ -112,7 +115,7 @@ pub fn to_markdown(results: &[CaseResult], title: &str) -> String {
 /// The CSV report: one row per case, every clamp kind in its own column.
 pub fn to_csv(results: &[CaseResult]) -> String {
     let mut s = String::from(
-        "case,group,frame_dt_s,frames,frames_run,parcels_start,parcels_peak,completed,panic,non_finite,ke_max_j,ke_ratio,ke_step_growth,e_phys_j_per_kg,max_speed_m_s,escaped_sides,escaped_top,substeps",
+        "case,group,frame_dt_s,frames,frames_run,parcels_start,parcels_peak,completed,panic,non_finite,ke_max_j,ke_ratio,ke_step_growth,e_phys_j_per_kg,atm_work_j,atm_work_share,max_speed_m_s,escaped_sides,escaped_top,substeps",
     );
     for (k, _) in clamp_kinds(&ClampCounts::default()) {
         let _ = write!(s, ",clamp_{k}");
@@ -122,7 +125,7 @@ pub fn to_csv(results: &[CaseResult]) -> String {
     for r in results {
         let _ = write!(
             s,
-            "{},{},{},{},{},{},{},{},{},{},{:.6e},{:.6},{:.6e},{:.3},{:.3},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{:.6e},{:.6},{:.6e},{:.3},{:.6e},{:.4},{:.3},{},{},{}",
             r.name,
             r.group,
             r.frame_dt_s,
@@ -137,6 +140,8 @@ pub fn to_csv(results: &[CaseResult]) -> String {
             r.ke_ratio,
             r.ke_step_growth,
             r.e_phys_j_per_kg,
+            r.atm_work_j,
+            r.atm_work_share,
             r.max_speed_m_s,
             r.escaped_sides,
             r.escaped_top,
