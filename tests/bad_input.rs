@@ -120,37 +120,53 @@ fn profile_wrong_type() {
 fn profile_negative_radius() {
     profile_fails(
         "negative_radius.toml",
-        &["emission.radius_m = -150", "between 1 and 5000"],
+        &[
+            "negative_radius.toml:2:1:",
+            "emission.radius_m = -150",
+            "between 1 and 5000",
+        ],
     );
 }
 
 #[test]
 fn profile_stiffness_zero_and_negative() {
     for f in ["zero_stiffness.toml", "negative_stiffness.toml"] {
-        profile_fails(f, &["physics.stiffness", "above 0", "sph = false"]);
+        profile_fails(f, &[":2:1:", "physics.stiffness", "above 0", "sph = false"]);
     }
 }
 
 #[test]
 fn profile_time_step_zero_and_negative() {
     for f in ["zero_dt.toml", "negative_dt.toml"] {
-        profile_fails(f, &["physics.max_dt_s", "between 0.0001 and 600"]);
+        profile_fails(f, &[":2:1:", "physics.max_dt_s", "between 0.0001 and 600"]);
     }
 }
 
 #[test]
 fn profile_nan_and_inf_literals() {
-    profile_fails("nan_stiffness.toml", &["physics.stiffness = NaN", "finite"]);
+    profile_fails(
+        "nan_stiffness.toml",
+        &[
+            "nan_stiffness.toml:2:1:",
+            "physics.stiffness = NaN",
+            "finite",
+        ],
+    );
     profile_fails(
         "inf_wind.toml",
         &[
+            "inf_wind.toml:2:1:",
             "wind.aloft_m_s[0] = inf",
             "finite number between -100 and 100",
         ],
     );
     profile_fails(
         "profile_nan_temperature.toml",
-        &["atmosphere.points[1].t_c = NaN", "between -100 and 60 °C"],
+        &[
+            "profile_nan_temperature.toml:10:1:",
+            "atmosphere.points[1].t_c = NaN",
+            "between -100 and 60 °C",
+        ],
     );
 }
 
@@ -159,6 +175,7 @@ fn profile_dewpoint_above_temperature() {
     profile_fails(
         "profile_dewpoint_above_temperature.toml",
         &[
+            "profile_dewpoint_above_temperature.toml:6:1:",
             "atmosphere.points[0].td_c = 25",
             "up to the temperature t_c = 20",
         ],

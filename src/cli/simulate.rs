@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, bail};
+use anyhow::bail;
 use cumulus::physics::{Diagnostics, ParcelWorld, StepReport, WorldConfig};
 use cumulus::scene::load_scene;
 
@@ -84,19 +84,37 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let frames = frames as u64;
     let (profile, source) = load_scene(args.scene.as_deref())?;
-    // Validation errors name the field; say which file it is in.
-    let scene_name = args.scene.as_ref().map_or_else(
-        || "<embedded fair_weather.toml>".to_string(),
-        |p| p.display().to_string(),
-    );
-    let env = profile
-        .atmosphere
-        .build(&source.base_dir())
-        .with_context(|| format!("{scene_name}: building the atmosphere"))?;
-    let mut world = ParcelWorld::new(env, WorldConfig::from_scene(&profile), args.seed)
-        .with_context(|| {
-            format!("{scene_name}: checking [physics], [ground], [emission], [wind]")
-        })?;
+    // Validation errors name the field; say which file (and line) it is in.
+    let scene_text = args
+        .scene
+        .as_ref()
+        .and_then(|p| std::fs::read_to_string(p).ok());
+    let place = |e: &cumulus::Error| -> String {
+        let file = args.scene.as_ref().map_or_else(
+            || "<embedded fair_weather.toml>".to_string(),
+            |p| p.display().to_string(),
+        );
+        match (e, &scene_text) {
+            (cumulus::Error::InvalidParameter { name, .. }, Some(text)) => {
+                match locate_key(text, name) {
+                    Some((line, col)) => format!("{file}:{line}:{col}"),
+                    None => file,
+                }
+            }
+            _ => file,
+        }
+    };
+    let env = match profile.atmosphere.build(&source.base_dir()) {
+        Ok(env) => env,
+        Err(e) => bail!("{}: building the atmosphere: {e}", place(&e)),
+    };
+    let mut world = match ParcelWorld::new(env, WorldConfig::from_scene(&profile), args.seed) {
+        Ok(w) => w,
+        Err(e) => bail!(
+            "{}: checking [physics], [ground], [emission], [wind]: {e}",
+            place(&e)
+        ),
+    };
 
     let bar = indicatif::ProgressBar::new(frames);
     bar.set_style(
@@ -157,4 +175,38 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         c.integrate
     );
     Ok(())
+}
+
+/// 1-based line and column of the key that a validation error's `name`
+/// ("physics.stiffness", "wind.aloft_m_s[0]", "atmosphere.points[1].t_c")
+/// sets in a profile's TOML text, when it is written there as `key = value`
+/// under its `[table]` or `[[array.of.tables]]` header.
+fn locate_key(text: &str, name: &str) -> Option<(usize, usize)> {
+    let (table, key) = name.rsplit_once('.')?;
+    let key = key.split('[').next()?;
+    // "atmosphere.points[1]" → the second [[atmosphere.points]] table.
+    let (table, index) = match table.split_once('[') {
+        Some((t, rest)) => (t, Some(rest.trim_end_matches(']').parse::<usize>().ok()?)),
+        None => (table, None),
+    };
+    let mut inside = false;
+    let mut seen = 0;
+    for (i, line) in text.lines().enumerate() {
+        let t = line.trim();
+        if let Some(h) = t.strip_prefix("[[") {
+            let h = h.split("]]").next().unwrap_or("").trim();
+            inside = h == table && index == Some(seen);
+            if h == table {
+                seen += 1;
+            }
+        } else if let Some(h) = t.strip_prefix('[') {
+            inside = index.is_none() && h.split(']').next().unwrap_or("").trim() == table;
+        } else if inside
+            && let Some((k, _)) = t.split_once('=')
+            && k.trim() == key
+        {
+            return Some((i + 1, line.len() - line.trim_start().len() + 1));
+        }
+    }
+    None
 }
