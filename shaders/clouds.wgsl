@@ -8,7 +8,9 @@
 // cheap multiple-scattering term; plus sky ambient that falls off toward the
 // cloud base, so bases are dark. Energy-conserving step integration:
 // L += T·S·(1 − exp(−σΔt)), T *= exp(−σΔt). Early exit when T drops below
-// the threshold (0 disables it). Output is premultiplied (rgb = L, a = 1 − T)
+// the threshold (0 disables it). With GRID_CULLING, empty grid cells are
+// skipped whole (the samples kept are the brute-force march's, same
+// positions). Output is premultiplied (rgb = L, a = 1 − T)
 // and blended over the sky/terrain with (ONE, ONE_MINUS_SRC_ALPHA).
 
 // Finite-difference normals of ρ for extra (voxel) shading: paper Table 1
@@ -86,15 +88,26 @@ fn fs_main(in: FullscreenOut) -> @location(0) vec4<f32> {
     let base_z = frame.grid_min.z;
     let top_z = grid_max.z;
 
-    var t = t0 + dt * hash2(in.pos.xy);
+    // Samples sit at t_first + k·dt, k = 0, 1, …
+    let t_first = t0 + dt * hash2(in.pos.xy);
+    var k = 0.0;
     var trans = 1.0;
     var radiance = vec3<f32>(0.0);
     var first_hit = -1.0;
     for (var i = 0u; i < max_steps; i++) {
+        let t = t_first + k * dt;
         if t >= t1 {
             break;
         }
         let p = ro + rd * t;
+        if GRID_CULLING && cell_list(p).y == 0u {
+            // Empty cell: no density until the ray leaves it. Jump to the
+            // first sample past its exit, on the same dt lattice, so the
+            // samples taken are exactly the brute-force march's.
+            let t_exit = t + cell_exit(p, rd);
+            k = max(ceil((t_exit - t_first) / dt), k + 1.0);
+            continue;
+        }
         let rho = cloud_density(p);
         if rho > 1e-3 {
             if first_hit < 0.0 {
@@ -117,7 +130,7 @@ fn fs_main(in: FullscreenOut) -> @location(0) vec4<f32> {
                 break;
             }
         }
-        t += dt;
+        k += 1.0;
     }
     if first_hit < 0.0 {
         return vec4<f32>(0.0);

@@ -25,7 +25,7 @@ struct Frame {
     grid_min: vec4<f32>,   // xyz: grid origin (m)
     grid_cell: vec4<f32>,  // xyz: cell size (m)
     grid_dims: vec4<u32>,  // nx, ny, nz, parcel count
-    domain: vec4<f32>,     // half domain side (m), terrain height scale (m), viewport w, h (px)
+    shadow_rect: vec4<f32>, // ground rectangle of the shadow map: min x, min y, max x, max y (m)
 }
 
 // 32 bytes; keep in sync with GpuParcel in src/render/pack.rs.

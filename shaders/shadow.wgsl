@@ -1,9 +1,10 @@
-// Cloud-shadow pass (paper §7): for each texel of a 2D map covering the
-// domain on the ground plane z = 0, march from the ground toward the sun
+// Cloud-shadow pass (paper §7): for each texel of a 2D map covering, on the
+// ground plane z = 0, the rectangle whose sun rays can meet the cloud grid's
+// box (frame.shadow_rect, from src/render/renderer.rs), march toward the sun
 // through the cloud layer's box and store the sun's transmittance
 // exp(−∫σ ds). The terrain looks it up where its own sun ray meets z = 0,
 // so hills (a few hundred metres) under clouds (1–3 km) get the right shadow.
-// Texel row 0 is y = +half domain (north), like an image.
+// Texel row 0 is the rectangle's north edge (max y), like an image.
 
 const SHADOW_STEPS: u32 = 48u;
 
@@ -14,8 +15,9 @@ fn vs_main(@builtin(vertex_index) i: u32) -> FullscreenOut {
 
 @fragment
 fn fs_main(in: FullscreenOut) -> @location(0) vec4<f32> {
-    let half = frame.domain.x;
-    let ground = vec3<f32>(in.ndc * half, 0.0);
+    let r = frame.shadow_rect;
+    let uv = vec2<f32>(0.5 + 0.5 * in.ndc.x, 0.5 - 0.5 * in.ndc.y);
+    let ground = vec3<f32>(r.x + uv.x * (r.z - r.x), r.w - uv.y * (r.w - r.y), 0.0);
     let sun = frame.sun_dir.xyz;
     let grid_max = frame.grid_min.xyz + frame.grid_cell.xyz * vec3<f32>(frame.grid_dims.xyz);
     let span = ray_box(ground, sun, frame.grid_min.xyz, grid_max);

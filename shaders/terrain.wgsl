@@ -34,7 +34,8 @@ fn cloud_shadow(p: vec3<f32>) -> f32 {
     }
     let sun = frame.sun_dir.xyz;
     let g = p.xy - p.z * sun.xy / max(sun.z, 0.03);
-    let uv = vec2<f32>(0.5 + 0.5 * g.x / frame.domain.x, 0.5 - 0.5 * g.y / frame.domain.x);
+    let r = frame.shadow_rect;
+    let uv = vec2<f32>((g.x - r.x) / max(r.z - r.x, 1.0), (r.w - g.y) / max(r.w - r.y, 1.0));
     if any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) {
         return 1.0;
     }

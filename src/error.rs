@@ -18,7 +18,7 @@ pub enum Error {
         message: String,
     },
     /// A file could not be opened, read or written.
-    #[error("{}: {source}", path.display())]
+    #[error("{}", path.display())]
     Io {
         path: PathBuf,
         #[source]

@@ -206,6 +206,8 @@ fn profile_that_does_not_exist() {
         &[
             "simulate",
             "/nonexistent/scene.toml",
+            "--duration",
+            "10",
             "--out",
             "/tmp/never-written.csv",
         ],
@@ -305,7 +307,16 @@ fn simulate_absurd_duration_and_dt() {
         ("--dt", "-1", "positive number of seconds up to 600"),
         ("--dt", "inf", "positive number of seconds up to 600"),
     ] {
-        fails_cleanly(&["simulate", flag, v, "--out", out], &[flag, allowed]);
+        // The other of --duration/--dt is valid (--duration has no default).
+        let other = if flag == "--dt" {
+            ["--duration", "10"]
+        } else {
+            ["--dt", "2"]
+        };
+        fails_cleanly(
+            &["simulate", flag, v, other[0], other[1], "--out", out],
+            &[flag, allowed],
+        );
     }
     // Before the frame bound this tried to allocate terabytes and aborted.
     fails_cleanly(

@@ -118,3 +118,61 @@ fn bad_sounding_fails_with_file_line_column() {
     assert!(err.contains(&format!("{}:10:18:", bad.display())), "{err}");
     assert!(err.contains("\"x0.8\"") && err.contains("TEMP"), "{err}");
 }
+
+#[test]
+fn dynamic_release_reports_summary_trajectory_and_csv() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv_path = dir.path().join("traj.csv");
+    let out = cumulus()
+        .args([
+            "parcel",
+            "--sounding",
+            "profiles/soundings/oun-2011-05-22-12z.txt",
+            "--json",
+            "--dynamic",
+            "--temp-excess",
+            "3",
+            "--duration",
+            "900",
+            "--csv",
+        ])
+        .arg(&csv_path)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let d = &v["dynamic"];
+    let zmax = d["max_altitude_m"].as_f64().unwrap();
+    let lcl = v["lcl_m"].as_f64().unwrap();
+    // A 3 K warm bubble under this morning's capping inversion (890–850 hPa,
+    // ~0.7–1.1 km) rises past the LCL but cannot break the cap: it must top
+    // out between the LCL and the top of the inversion.
+    assert!(
+        zmax > lcl && zmax < 1500.0,
+        "max altitude {zmax} m, LCL {lcl} m"
+    );
+    let traj = d["trajectory"].as_array().unwrap();
+    assert_eq!(traj.len(), 901, "one point per 1 s step plus the start");
+    let csv = std::fs::read_to_string(&csv_path).unwrap();
+    assert!(csv.starts_with("time_s,z_m,"));
+    assert_eq!(csv.lines().count(), 902, "header + 901 rows");
+}
+
+#[test]
+fn dynamic_flags_need_dynamic() {
+    let out = cumulus()
+        .args([
+            "parcel",
+            "--sounding",
+            "profiles/soundings/oun-2011-05-22-12z.txt",
+            "--mixing",
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--dynamic"));
+}

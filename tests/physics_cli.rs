@@ -49,7 +49,7 @@ fn simulate_rejects_a_bad_step() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("diag.csv");
     let o = cumulus()
-        .args(["simulate", "--dt", "0", "--out"])
+        .args(["simulate", "--duration", "10", "--dt", "0", "--out"])
         .arg(&out)
         .output()
         .unwrap();

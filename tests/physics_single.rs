@@ -287,7 +287,102 @@ fn mixing_dries_and_decays_the_parcel() {
     );
     // It still oscillates while it decays (paper §7.1).
     assert!(dry.period_s.is_some());
+    // The filling ratio follows the liquid water: opaque fraction only while
+    // there is liquid, none once it has evaporated.
+    for p in t {
+        assert_eq!(p.fill > 0.0, p.ql_kg_per_kg > 0.0, "t = {}", p.time_s);
+        assert!((0.0..=1.0).contains(&p.fill));
+    }
     // Without mixing the water mass is conserved (1e-12: rounding).
     let wl = wet.trajectory.last().unwrap();
     assert!((wl.water_kg - first.water_kg).abs() < 1e-12 * first.water_kg);
+}
+
+#[test]
+fn sub_steps_apply_mixing_and_condensation_with_the_sub_step_dt() {
+    // 80 frames of 4 s cut into 4 sub-steps of 1 s must match 320 frames of
+    // 1 s: mixing and condensation act per sub-step with the sub-step dt, so
+    // the frame length only changes when planes and deaths are checked.
+    let env = fair_weather();
+    let run = |frame: f64, frames: usize| {
+        let physics = PhysicsConfig {
+            max_dt_s: 1.0,
+            ..PhysicsConfig::default()
+        };
+        let mut w = quiet_world(env.clone(), physics);
+        w.set_deaths(false);
+        let spec = ParcelSpec::from_environment(&env, DVec3::ZERO, 2.0, 0.002, 150.0);
+        w.spawn_parcel(spec).unwrap();
+        let mut subs = 0;
+        for _ in 0..frames {
+            subs += w.step(frame).substeps;
+        }
+        assert_eq!(subs, 320);
+        w.parcels()[0].clone()
+    };
+    let a = run(4.0, 80);
+    let b = run(1.0, 320);
+    assert!(a.ql_kg_per_kg > 0.0, "the run must reach condensation");
+    // 1e-6: the condensation plane (detrainment's threshold) is refreshed
+    // once per frame, the only place the frame length enters.
+    let rel = |x: f64, y: f64| (x - y).abs() / y.abs().max(1e-30);
+    assert!(
+        rel(a.position_m.z, b.position_m.z) < 1e-6,
+        "{} vs {}",
+        a.position_m.z,
+        b.position_m.z
+    );
+    assert!(rel(a.water_kg(), b.water_kg()) < 1e-6);
+    assert!(
+        rel(a.ql_kg_per_kg, b.ql_kg_per_kg) < 1e-4,
+        "{} vs {}",
+        a.ql_kg_per_kg,
+        b.ql_kg_per_kg
+    );
+    assert!(rel(a.theta_k, b.theta_k) < 1e-9);
+}
+
+#[test]
+fn release_summary_finds_equilibrium_level_and_period() {
+    // A dry parcel released from the ground with θ = θ_env(1000 m) in a
+    // uniformly stable layer: it rises, overshoots and, damped by drag,
+    // settles at 1000 m, oscillating with the Brunt–Väisälä period there.
+    let gradient = 0.005;
+    let env = dry_stable(gradient);
+    let z_eq = 1000.0;
+    let theta = env.theta_k(z_eq);
+    let t0 = thermo::temperature_from_theta_k(theta, env.pressure_pa(0.0));
+    let run = single::release(
+        env.clone(),
+        &PhysicsConfig::default(),
+        SingleRelease {
+            surface_t_k: t0,
+            surface_qv: 0.0,
+            radius_m: 150.0,
+            mixing: false,
+            duration_s: 7200.0,
+            dt_s: 2.0,
+        },
+    )
+    .unwrap();
+    assert!(!run.ended_early);
+    // Drag damps the overshoot, so the maximum lies between z_eq and 2 z_eq.
+    assert!(run.max_altitude_m > z_eq && run.max_altitude_m < 2.0 * z_eq);
+    // 2 %: the late oscillation has decayed to a few metres around 1000 m
+    // (mean over the last third, not over whole periods).
+    assert!(
+        (run.equilibrium_altitude_m - z_eq).abs() < 0.02 * z_eq,
+        "{}",
+        run.equilibrium_altitude_m
+    );
+    let n = (thermo::GRAVITY / env.theta_v_k(z_eq) * gradient).sqrt();
+    let expect = 2.0 * std::f64::consts::PI / n;
+    let period = run.period_s.expect("an oscillation");
+    // 5 %: the period is averaged from the first crossing, where the
+    // amplitude (up to 1 km) makes θ_env in eq 5's denominator vary by 1.6 %,
+    // and quadratic drag adds a small phase lag.
+    assert!(
+        (period - expect).abs() < 0.05 * expect,
+        "{period} vs {expect}"
+    );
 }

@@ -189,8 +189,12 @@ fn exposed_area_pressure_vanishes_for_an_isolated_parcel() {
 #[test]
 fn overlap_removes_the_buoyancy_of_the_hidden_caps() {
     // Two equal spheres side by side overlapping: each loses the buoyancy
-    // of its hidden cap, ρ g V_cap, downward, and nothing sideways.
-    let physics = PhysicsConfig::default();
+    // of its hidden cap, ρ g V_cap, downward, and nothing sideways (weight 1
+    // is the unscaled physical value; scenes use a calibrated smaller one).
+    let physics = PhysicsConfig {
+        atm_pressure_weight: 1.0,
+        ..PhysicsConfig::default()
+    };
     let mut w = world(neutral(), physics, false, 1);
     let r = 150.0;
     let d = 240.0;
@@ -424,4 +428,63 @@ fn substep_budget_is_counted() {
     assert!(r.budget_hit);
     assert_eq!(r.substeps, 2);
     assert_eq!(w.diagnostics().clamps.substep_budget, 1);
+}
+
+#[test]
+fn drag_carries_a_neutral_parcel_with_the_wind() {
+    // Quadratic drag du/dt = −k |u| u on the slip u = v − w, with
+    // k = ½ C_D ρ π r² / m, has the exact solution u(t) = u0/(1 + k |u0| t).
+    // Mixing is off so that drag is the only horizontal force.
+    let physics = PhysicsConfig {
+        mixing: false,
+        ..PhysicsConfig::default()
+    };
+    let wind = DVec3::new(5.0, -2.0, 0.0);
+    let cfg = WorldConfig {
+        physics: physics.clone(),
+        emission: EmissionConfig {
+            enabled: false,
+            ..EmissionConfig::default()
+        },
+        wind: cumulus::physics::WindConfig {
+            surface_m_s: [wind.x, wind.y],
+            aloft_m_s: [wind.x, wind.y],
+            aloft_z_m: 1000.0,
+        },
+        ground: cumulus::physics::GroundConfig {
+            size_m: [100_000.0, 100_000.0],
+            ..Default::default()
+        },
+    };
+    let mut w = ParcelWorld::new(neutral(), cfg, 1).unwrap();
+    let spec = ParcelSpec::from_environment(
+        w.environment(),
+        DVec3::new(0.0, 0.0, 1500.0),
+        0.0,
+        0.0,
+        150.0,
+    );
+    w.spawn_parcel(spec).unwrap();
+    let p = &w.parcels()[0];
+    let k = 0.5
+        * physics.drag_coefficient
+        * w.environment().density_kg_m3(1500.0)
+        * std::f64::consts::PI
+        * p.radius_m
+        * p.radius_m
+        / p.total_mass_kg();
+    let u0 = -wind;
+    for _ in 0..900 {
+        w.step(2.0);
+    }
+    let t = w.time_s();
+    let expect = wind + u0 / (1.0 + k * u0.length() * t);
+    let v = w.parcels()[0].velocity_m_s;
+    // 1e-3 m/s: leapfrog's error at dt = 2 s against a 1/(k|u0|) ≈ 150 s
+    // time scale is ~(dt k u)² ≈ 1e-4 of the slip.
+    assert!((v - expect).length() < 1e-3, "{v} vs {expect}");
+    assert!(
+        v.z.abs() < 1e-9,
+        "a neutral parcel must not move vertically: {v}"
+    );
 }

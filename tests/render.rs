@@ -121,8 +121,10 @@ fn compare_with_reference(name: &str, rgba: &[u8], w: u32, h: u32) {
 
 /// One full parcel with its plane 300 m under the centre.
 fn one_parcel(shell_m: f32) -> (RenderConfig, CloudParcel) {
+    // radius_scale 1: the drawn sphere is the parcel's, for the geometry checks.
     let cfg = RenderConfig {
         shell_m,
+        radius_scale: 1.0,
         ..no_terrain()
     };
     let p = CloudParcel {
@@ -148,14 +150,14 @@ fn reference_towers_over_terrain() {
     let Some(ctx) = context() else { return };
     let cfg = RenderConfig::default();
     let (w, h) = (224, 126);
-    let img = render(
-        &ctx,
-        &cfg,
-        Camera::from(&CameraConfig::default()),
-        &standin::default_field(900.0),
-        w,
-        h,
-    );
+    // Close to two towers, with their shadows on the ground in front.
+    let camera = Camera::from(&CameraConfig {
+        position_m: [-3000.0, -6000.0, 1000.0],
+        target_m: [-1500.0, -1000.0, 1800.0],
+        vfov_deg: 45.0,
+        ..CameraConfig::default()
+    });
+    let img = render(&ctx, &cfg, camera, &standin::default_field(900.0), w, h);
     compare_with_reference("towers_over_terrain", &img, w, h);
 }
 
@@ -260,6 +262,7 @@ fn shadow_pass_darkens_terrain_under_the_cloud() {
     };
     let on = RenderConfig {
         terrain: flat.clone(),
+        radius_scale: 1.0,
         ..RenderConfig::default()
     };
     let off = RenderConfig {
@@ -397,8 +400,26 @@ fn pruned_scenes_create_fewer_passes() {
     };
     r.prepare(&ctx, &input).unwrap();
     assert_eq!(r.pass_names(), ["sky", "terrain", "clouds"]);
+    // Shadows on: the shadow pass is built, and the terrain pipeline (its
+    // HAS_SHADOWS constant changed); sky and clouds are kept.
+    let built = r.pipelines_built();
     r.set_config(&ctx, &RenderConfig::default()).unwrap();
     assert_eq!(r.pass_names(), ["shadow", "sky", "terrain", "clouds"]);
+    assert_eq!(r.pipelines_built(), built + 2);
+    // Normals: only the cloud pipeline changes.
+    let normals = RenderConfig {
+        normals: true,
+        ..RenderConfig::default()
+    };
+    r.set_config(&ctx, &normals).unwrap();
+    assert_eq!(r.pipelines_built(), built + 3);
+    // A march parameter is a uniform: nothing is rebuilt.
+    let steps = RenderConfig {
+        step_m: 80.0,
+        ..normals
+    };
+    r.set_config(&ctx, &steps).unwrap();
+    assert_eq!(r.pipelines_built(), built + 3);
 }
 
 #[test]
@@ -421,4 +442,112 @@ fn timings_name_every_pass() {
         assert!(ms.is_finite() && *ms >= 0.0, "{n}: {ms}");
     }
     assert!(t.upload_ms >= 0.0);
+}
+
+#[test]
+fn grid_culling_matches_brute_force() {
+    let Some(ctx) = context() else { return };
+    // Every parcel whose padded sphere touches a cell is in its list, so
+    // evaluating only the cell's parcels must give the same image as
+    // evaluating all of them (up to float ordering in the max()).
+    let culled = RenderConfig::default();
+    let brute = RenderConfig {
+        grid_culling: false,
+        ..culled.clone()
+    };
+    let camera = Camera::from(&CameraConfig {
+        position_m: [-3000.0, -6000.0, 1000.0],
+        target_m: [-1500.0, -1000.0, 1800.0],
+        vfov_deg: 45.0,
+        ..CameraConfig::default()
+    });
+    let parcels = standin::default_field(900.0);
+    let (w, h) = (128, 72);
+    let a = render(&ctx, &culled, camera, &parcels, w, h);
+    let b = render(&ctx, &brute, camera, &parcels, w, h);
+    let differing = a
+        .chunks_exact(4)
+        .zip(b.chunks_exact(4))
+        .filter(|(x, y)| (0..3).any(|c| (x[c] as i32 - y[c] as i32).abs() > 2))
+        .count();
+    // 2/255: rounding of identical maths; allow a handful of edge pixels.
+    assert!(
+        differing <= 5,
+        "{differing} pixels differ between culled and brute-force marching"
+    );
+}
+
+#[test]
+fn window_like_formats_render_alike() {
+    let Some(ctx) = context() else { return };
+    // A window surface may be BGRA and not sRGB: the shaders then encode
+    // gamma themselves (ENCODE_SRGB), so the image must match the sRGB
+    // target's. Tolerance 6/255 mean: pow(1/2.2) differs from the exact sRGB
+    // curve by up to ~4/255 in mid-tones, and blending happens in a
+    // different space for the cloud edges.
+    let cfg = RenderConfig::default();
+    let parcels = standin::default_field(900.0);
+    let camera = Camera::from(&CameraConfig::default());
+    let input = FrameInput {
+        camera,
+        parcels: &parcels,
+        sun: cfg.sun(),
+        time_s: 0.0,
+    };
+    let (w, h) = (96, 64);
+    let mut srgb = Headless::new(&ctx, &cfg, w, h).unwrap();
+    let reference = srgb.render(&ctx, &input).unwrap().0;
+    for format in [
+        wgpu::TextureFormat::Bgra8Unorm,
+        wgpu::TextureFormat::Bgra8UnormSrgb,
+    ] {
+        let mut hl = Headless::with_format(&ctx, &cfg, w, h, format).unwrap();
+        let img = hl.render(&ctx, &input).unwrap().0;
+        let mean = img
+            .iter()
+            .zip(&reference)
+            .map(|(a, b)| (*a as i32 - *b as i32).abs() as f64)
+            .sum::<f64>()
+            / img.len() as f64;
+        assert!(mean < 6.0, "{format:?}: mean difference {mean:.2}/255");
+    }
+    assert!(Headless::with_format(&ctx, &cfg, w, h, wgpu::TextureFormat::R8Unorm).is_err());
+}
+
+#[test]
+fn the_most_parcels_the_uniforms_hold_render() {
+    let Some(ctx) = context() else { return };
+    use cumulus::render::pack::MAX_PARCELS;
+    let side = (MAX_PARCELS as f32).sqrt() as usize;
+    let parcels: Vec<CloudParcel> = (0..MAX_PARCELS)
+        .map(|i| CloudParcel {
+            center_m: Vec3::new(
+                (i % side) as f32 * 300.0 - 4800.0,
+                (i / side) as f32 * 300.0 - 4800.0,
+                1600.0 + (i % 7) as f32 * 60.0,
+            ),
+            radius_m: 150.0,
+            fill: 0.9,
+            cond_plane_z_m: 1500.0,
+        })
+        .collect();
+    let cfg = RenderConfig::default();
+    let mut hl = Headless::new(&ctx, &cfg, 64, 48).unwrap();
+    let input = FrameInput {
+        camera: Camera::from(&CameraConfig::default()),
+        parcels: &parcels,
+        sun: cfg.sun(),
+        time_s: 0.0,
+    };
+    hl.render(&ctx, &input).unwrap();
+    assert_eq!(hl.renderer.grid_info().parcel_count as usize, MAX_PARCELS);
+    // One more is refused with an error, not drawn truncated.
+    let mut more = parcels.clone();
+    more.push(parcels[0]);
+    let input = FrameInput {
+        parcels: &more,
+        ..input
+    };
+    let e = hl.render(&ctx, &input).unwrap_err().to_string();
+    assert!(e.contains("condensed parcel count"), "{e}");
 }

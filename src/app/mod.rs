@@ -1,1 +1,17 @@
 //! The live window (winit + egui): watch clouds form, edit the profile.
+//!
+//! - [`profile_edit`]: the profile editor's state and every edit the panel
+//!   makes (plain functions, also called by the tests);
+//! - [`camera`]: orbit/fly camera maths;
+//! - [`state`]: the model the panel edits (scene, editor, simulation,
+//!   playback, settings), free of window and GPU types;
+//! - [`panel`]: the egui side panel;
+//! - [`window`]: winit event loop, surface, frame loop and screenshot.
+
+pub mod camera;
+pub mod panel;
+pub mod profile_edit;
+pub mod state;
+pub mod window;
+
+pub use window::{WatchOptions, run};

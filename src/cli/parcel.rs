@@ -9,6 +9,8 @@ use std::path::PathBuf;
 use anyhow::Context as _;
 use cumulus::atmosphere::Sounding;
 use cumulus::atmosphere::lifting::{self, LevelMark, LiftOptions, ParcelAscent};
+use cumulus::physics::PhysicsConfig;
+use cumulus::physics::single::{self, SingleRelease, SingleRun};
 use cumulus::plots::skewt::{SkewT, write_skew_t_png};
 
 /// Arguments of `cumulus parcel`.
@@ -42,9 +44,127 @@ pub struct Args {
     /// Print exactly one JSON object (lcl_hpa, lcl_m, lfc_hpa, lfc_m, el_hpa, el_m, levels) instead of the table.
     #[arg(long)]
     pub json: bool,
-    /// Also write a Skew-T log-p diagram (PNG, 900×1000) to this file.
+    /// Also write a Skew-T log-p diagram (PNG, 900×1000) to this file; with
+    /// --dynamic it also shows the released parcel's path.
     #[arg(long, value_name = "FILE.png")]
     pub plot: Option<PathBuf>,
+    /// Also release one parcel from the surface with the full dynamics of the
+    /// cloud simulation (buoyancy, drag, volume, condensation) and follow it:
+    /// maximum altitude, equilibrium altitude, oscillation period, trajectory.
+    #[arg(long)]
+    pub dynamic: bool,
+    /// With --dynamic: entrain and detrain environment air (the parcel loses
+    /// water and decays, paper figs 3–4).
+    #[arg(long, requires = "dynamic")]
+    pub mixing: bool,
+    /// With --dynamic: how long to follow the parcel, in seconds.
+    #[arg(long, value_name = "S", default_value_t = 3600.0, requires = "dynamic",
+          value_parser = positive_seconds)]
+    pub duration: f64,
+    /// With --dynamic: frame time step in seconds (the integrator sub-steps it
+    /// when the CFL or force limits ask for less).
+    #[arg(long, value_name = "S", default_value_t = 1.0, requires = "dynamic",
+          value_parser = positive_seconds)]
+    pub dt: f64,
+    /// With --dynamic: temperature excess of the released parcel over the
+    /// surface air, in K (a parcel at exactly the surface temperature is
+    /// neutral and stays put).
+    #[arg(
+        long,
+        value_name = "K",
+        default_value_t = 1.0,
+        requires = "dynamic",
+        allow_negative_numbers = true
+    )]
+    pub temp_excess: f64,
+    /// With --dynamic: radius of the released parcel, in metres.
+    #[arg(long, value_name = "M", default_value_t = 150.0, requires = "dynamic")]
+    pub radius: f64,
+    /// With --dynamic: write the whole trajectory (time, z, T, θ, θ_v of parcel
+    /// and environment, q_v, q_l, radius, mass) to this CSV file.
+    #[arg(long, value_name = "FILE.csv", requires = "dynamic")]
+    pub csv: Option<PathBuf>,
+}
+
+fn positive_seconds(s: &str) -> Result<f64, String> {
+    let v: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
+    if v.is_finite() && v > 0.0 && v <= 1e7 {
+        Ok(v)
+    } else {
+        Err(format!(
+            "{s} s is not allowed: give a finite time > 0 and ≤ 1e7 s"
+        ))
+    }
+}
+
+/// Releases the surface parcel with the full dynamics (`--dynamic`).
+fn release_dynamic(
+    args: &Args,
+    env: &cumulus::atmosphere::Environment,
+    ascent: &ParcelAscent,
+) -> anyhow::Result<SingleRun> {
+    let surface = &ascent.levels[0];
+    let run = single::release(
+        env.clone(),
+        &PhysicsConfig::default(),
+        SingleRelease {
+            surface_t_k: surface.t_k + args.temp_excess,
+            surface_qv: surface.qv + surface.ql,
+            radius_m: args.radius,
+            mixing: args.mixing,
+            duration_s: args.duration,
+            dt_s: args.dt,
+        },
+    )?;
+    if let Some(path) = &args.csv {
+        write_trajectory_csv(path, &run)?;
+    }
+    Ok(run)
+}
+
+fn write_trajectory_csv(path: &std::path::Path, run: &SingleRun) -> anyhow::Result<()> {
+    cumulus::output::write_atomic_with(path, |w| {
+        let mut c = csv::Writer::from_writer(w);
+        c.write_record([
+            "time_s",
+            "z_m",
+            "w_m_s",
+            "t_k",
+            "theta_k",
+            "theta_v_k",
+            "env_t_k",
+            "env_theta_k",
+            "env_theta_v_k",
+            "qv_gkg",
+            "ql_gkg",
+            "radius_m",
+            "mass_kg",
+            "water_kg",
+        ])?;
+        for p in &run.trajectory {
+            c.write_record(
+                [
+                    p.time_s,
+                    p.z_m,
+                    p.w_m_s,
+                    p.t_k,
+                    p.theta_k,
+                    p.theta_v_k,
+                    p.env_t_k,
+                    p.env_theta_k,
+                    p.env_theta_v_k,
+                    p.qv_kg_per_kg * 1000.0,
+                    p.ql_kg_per_kg * 1000.0,
+                    p.radius_m,
+                    p.mass_kg,
+                    p.water_kg,
+                ]
+                .map(|v| v.to_string()),
+            )?;
+        }
+        c.flush()
+    })?;
+    Ok(())
 }
 
 /// Runs `cumulus parcel`.
@@ -60,7 +180,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         condensate_loading: args.condensate_loading,
     };
     let ascent = lifting::lift_surface_parcel(&env, &opts)?;
+    let dynamic = if args.dynamic {
+        Some(release_dynamic(&args, &env, &ascent)?)
+    } else {
+        None
+    };
     if let Some(path) = &args.plot {
+        let dynamic_path: Option<Vec<(f64, f64)>> = dynamic.as_ref().map(|run| {
+            run.trajectory
+                .iter()
+                .map(|p| (env.pressure_pa(p.z_m), p.t_k))
+                .collect()
+        });
         // 100 m spacing draws a smooth curve; finer steps make the thick line
         // jagged (each short segment is rounded to whole pixels).
         let n = (env.top_m() / 100.0).ceil() as usize + 1;
@@ -80,6 +211,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 env: &env,
                 ascent: &ascent,
                 parcel_curve: &curve.levels,
+                dynamic_path: dynamic_path.as_deref(),
             },
             900,
             1000,
@@ -87,13 +219,94 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let mut out = std::io::stdout().lock();
     if args.json {
-        serde_json::to_writer(&mut out, &to_json(&ascent))?;
+        let mut json = to_json(&ascent);
+        if let Some(run) = &dynamic {
+            json["dynamic"] = dynamic_json(run);
+        }
+        serde_json::to_writer(&mut out, &json)?;
         writeln!(out)?;
     } else {
         write_table(&mut out, &sounding, &ascent)?;
+        if let Some(run) = &dynamic {
+            write_dynamic(&mut out, &args, run)?;
+        }
         if let Some(path) = &args.plot {
             writeln!(out, "Skew-T diagram written to {}", path.display())?;
         }
+    }
+    Ok(())
+}
+
+fn dynamic_json(run: &SingleRun) -> serde_json::Value {
+    serde_json::json!({
+        "max_altitude_m": run.max_altitude_m,
+        "equilibrium_altitude_m": run.equilibrium_altitude_m,
+        "period_s": run.period_s,
+        "ended_early": run.ended_early,
+        "trajectory": run.trajectory.iter().map(|p| serde_json::json!({
+            "time_s": p.time_s, "z_m": p.z_m, "t_k": p.t_k, "theta_k": p.theta_k,
+            "theta_v_k": p.theta_v_k, "env_t_k": p.env_t_k, "env_theta_k": p.env_theta_k,
+            "env_theta_v_k": p.env_theta_v_k, "qv_gkg": p.qv_kg_per_kg * 1000.0,
+            "ql_gkg": p.ql_kg_per_kg * 1000.0, "radius_m": p.radius_m, "mass_kg": p.mass_kg,
+        })).collect::<Vec<_>>(),
+    })
+}
+
+fn write_dynamic(
+    out: &mut impl std::io::Write,
+    args: &Args,
+    run: &SingleRun,
+) -> std::io::Result<()> {
+    writeln!(out)?;
+    writeln!(
+        out,
+        "released parcel ({} K excess, radius {} m, mixing {}), followed {} s:",
+        args.temp_excess,
+        args.radius,
+        if args.mixing { "on" } else { "off" },
+        run.trajectory.last().map(|p| p.time_s).unwrap_or(0.0)
+    )?;
+    writeln!(out, "  maximum altitude      {:8.0} m", run.max_altitude_m)?;
+    writeln!(
+        out,
+        "  equilibrium altitude  {:8.0} m (mean of the last third)",
+        run.equilibrium_altitude_m
+    )?;
+    match run.period_s {
+        Some(p) => writeln!(out, "  oscillation period    {p:8.0} s")?,
+        None => writeln!(
+            out,
+            "  oscillation period        none (fewer than 3 crossings of the equilibrium)"
+        )?,
+    }
+    if run.ended_early {
+        writeln!(out, "  the parcel died or left the domain before the end")?;
+    }
+    writeln!(out)?;
+    writeln!(
+        out,
+        "  time(s)    z(m)  T(°C)   θ(K)  θv(K) envθv(K)  qv(g/kg) ql(g/kg)  r(m)   mass(kg)"
+    )?;
+    // About 40 rows; the CSV has every step.
+    let every = (run.trajectory.len() / 40).max(1);
+    for p in run.trajectory.iter().step_by(every) {
+        writeln!(
+            out,
+            "{:9.0} {:7.0} {:6.1} {:6.1} {:6.1} {:8.1} {:9.2} {:8.2} {:5.0} {:10.3e}",
+            p.time_s,
+            p.z_m,
+            p.t_k - 273.15,
+            p.theta_k,
+            p.theta_v_k,
+            p.env_theta_v_k,
+            p.qv_kg_per_kg * 1000.0,
+            p.ql_kg_per_kg * 1000.0,
+            p.radius_m,
+            p.mass_kg
+        )?;
+    }
+    if let Some(path) = &args.csv {
+        writeln!(out, "trajectory written to {}", path.display())?;
     }
     Ok(())
 }

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
-use cumulus::physics::CloudParcel;
+use cumulus::physics::{CloudParcel, ParcelWorld, WorldConfig};
 use cumulus::render::headless::Headless;
 use cumulus::render::{Camera, FrameInput, GpuContext};
 
@@ -46,6 +46,15 @@ pub struct Args {
     /// Simulated time between frames. units: s
     #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
     pub every: f64,
+    /// Physics frame step (sub-stepped as needed). units: s
+    #[arg(long, default_value_t = 2.0)]
+    pub dt: f64,
+    /// Seed of the emission draws.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Draw the deterministic stand-in cloud field instead of simulating.
+    #[arg(long)]
+    pub stand_in: bool,
     /// Part of the GPU adapter's name to use (e.g. llvmpipe).
     #[arg(long)]
     pub adapter: Option<String>,
@@ -64,10 +73,55 @@ pub fn numbered(out: &Path, i: u32) -> PathBuf {
     out.with_file_name(format!("{stem}-{i:04}.{ext}"))
 }
 
-/// The cloud field at `time_s`: a deterministic stand-in until the parcel
-/// physics (`ParcelWorld`) is on main.
-fn clouds_at(time_s: f64) -> Vec<CloudParcel> {
-    cumulus::render::standin::default_field(time_s as f32)
+/// Where the clouds come from: the parcel physics, or the stand-in field.
+enum Clouds {
+    World { world: Box<ParcelWorld>, dt: f64 },
+    StandIn,
+}
+
+impl Clouds {
+    /// The condensed parcels at simulated time `time_s` (≥ the last call's).
+    fn at(&mut self, time_s: f64, out: &mut Vec<CloudParcel>) -> anyhow::Result<()> {
+        match self {
+            Clouds::StandIn => *out = cumulus::render::standin::default_field(time_s as f32),
+            Clouds::World { world, dt } => {
+                // Frames of `dt`, the last one shortened to land on `time_s`.
+                while world.time_s() < time_s - 1e-9 {
+                    let step = dt.min(time_s - world.time_s());
+                    let report = world.step(step);
+                    anyhow::ensure!(
+                        report.clamps.non_finite == 0,
+                        "the physics produced a NaN/infinite state at t = {:.1} s; try a smaller --dt",
+                        world.time_s()
+                    );
+                }
+                world.cloud_parcels(out);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// "N cloud parcels, radius a–b m, fill a–b, planes a–b m".
+fn summary(parcels: &[CloudParcel]) -> String {
+    if parcels.is_empty() {
+        return "no cloud parcels".into();
+    }
+    let range = |f: &dyn Fn(&CloudParcel) -> f32| {
+        let (lo, hi) = parcels
+            .iter()
+            .map(f)
+            .fold((f32::MAX, f32::MIN), |(a, b), x| (a.min(x), b.max(x)));
+        (lo, hi)
+    };
+    let (r0, r1) = range(&|p| p.radius_m);
+    let (f0, f1) = range(&|p| p.fill);
+    let (z0, z1) = range(&|p| p.cond_plane_z_m);
+    let (c0, c1) = range(&|p| p.center_m.z);
+    format!(
+        "{} cloud parcels (radius {r0:.0}–{r1:.0} m, fill {f0:.2}–{f1:.2}, planes {z0:.0}–{z1:.0} m, centres {c0:.0}–{c1:.0} m)",
+        parcels.len()
+    )
 }
 
 /// Runs `cumulus render`.
@@ -80,6 +134,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     anyhow::ensure!(
         args.every.is_finite() && args.every > 0.0,
         "--every must be a positive number of seconds"
+    );
+    anyhow::ensure!(
+        args.dt.is_finite() && args.dt > 0.0 && args.dt <= 600.0,
+        "--dt must be a positive number of seconds up to 600"
     );
     let (scene, source) = cumulus::scene::load_scene(args.scene.as_deref())?;
     let mut cfg = scene.render.clone();
@@ -99,11 +157,29 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .validate()
         .with_context(|| format!("{scene_name}: checking [camera]"))?;
     let camera = Camera::from(&scene.camera);
+    let mut clouds = if args.stand_in {
+        Clouds::StandIn
+    } else {
+        let env = scene
+            .atmosphere
+            .build(&source.base_dir())
+            .context("building the atmosphere")?;
+        let world = ParcelWorld::new(env, WorldConfig::from_scene(&scene), args.seed)?;
+        Clouds::World {
+            world: Box::new(world),
+            dt: args.dt,
+        }
+    };
 
     let ctx = GpuContext::new_headless(args.adapter.as_deref())?;
     eprintln!("adapter: {}", ctx.describe());
     let mut headless = Headless::new(&ctx, &cfg, args.width, args.height)?;
 
+    let mut parcels = Vec::new();
+    if !args.stand_in {
+        eprintln!("simulating {:.0} s …", args.time);
+    }
+    clouds.at(args.time, &mut parcels)?;
     let bar = (args.frames > 1).then(|| {
         let b = indicatif::ProgressBar::new(args.frames as u64);
         b.set_style(
@@ -116,7 +192,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     });
     for i in 0..args.frames {
         let t = args.time + args.every * i as f64;
-        let parcels = clouds_at(t);
+        if i > 0 {
+            clouds.at(t, &mut parcels)?;
+        }
         let input = FrameInput {
             camera,
             parcels: &parcels,
@@ -137,9 +215,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .map(|(n, ms)| format!("{n} {ms:.1} ms"))
             .collect();
         let line = format!(
-            "{}: t = {t:.0} s, {} parcels; {} ({}), upload {:.2} ms",
+            "{}: t = {t:.0} s, {}; {} ({}), upload {:.2} ms",
             path.display(),
-            parcels.len(),
+            summary(&parcels),
             passes.join(", "),
             if timings.gpu_timestamps {
                 "GPU timestamps"

@@ -14,7 +14,7 @@ pub struct Args {
     /// Scene profile (TOML); the embedded fair-weather scene when omitted.
     pub scene: Option<PathBuf>,
     /// Simulated time. units: s
-    #[arg(long, default_value_t = 600.0, allow_negative_numbers = true)]
+    #[arg(long, allow_negative_numbers = true)]
     pub duration: f64,
     /// Output CSV file.
     #[arg(long)]
@@ -104,17 +104,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             _ => file,
         }
     };
-    let env = match profile.atmosphere.build(&source.base_dir()) {
-        Ok(env) => env,
-        Err(e) => bail!("{}: building the atmosphere: {e}", place(&e)),
-    };
-    let mut world = match ParcelWorld::new(env, WorldConfig::from_scene(&profile), args.seed) {
-        Ok(w) => w,
-        Err(e) => bail!(
-            "{}: checking [physics], [ground], [emission], [wind]: {e}",
-            place(&e)
-        ),
-    };
+    // The error stays the source, so `{:#}` prints its own chain (I/O causes).
+    let env = profile.atmosphere.build(&source.base_dir()).map_err(|e| {
+        let at = place(&e);
+        anyhow::Error::new(e).context(format!("{at}: building the atmosphere"))
+    })?;
+    let mut world =
+        ParcelWorld::new(env, WorldConfig::from_scene(&profile), args.seed).map_err(|e| {
+            let at = place(&e);
+            anyhow::Error::new(e).context(format!(
+                "{at}: checking [physics], [ground], [emission], [wind]"
+            ))
+        })?;
 
     let bar = indicatif::ProgressBar::new(frames);
     bar.set_style(

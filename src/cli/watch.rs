@@ -1,10 +1,62 @@
-//! `cumulus watch`.
+//! `cumulus watch [SCENE]`: the live window. Plain `cumulus` runs it on the
+//! embedded default scene.
+
+use std::path::PathBuf;
+
+use anyhow::Context as _;
 
 /// Arguments of `cumulus watch`.
-#[derive(Debug, Default, clap::Args)]
-pub struct Args {}
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Scene profile (TOML); the embedded fair-weather scene when omitted.
+    pub scene: Option<PathBuf>,
+    /// Run `--frames` frames, capture the whole window (3D view and panel)
+    /// to this PNG, and exit.
+    #[arg(long, value_name = "FILE.png")]
+    pub screenshot: Option<PathBuf>,
+    /// Frames to run, then exit (after writing the screenshot if asked; 10
+    /// by default with --screenshot, else run until the window is closed).
+    /// Counted frames advance the simulation by a fixed 1/30 s times the
+    /// time speed, so a capture does not depend on the machine's speed.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub frames: Option<u32>,
+    /// Seconds of simulated time to run before the first frame, so clouds
+    /// have formed when the window opens.
+    #[arg(long, value_name = "S", default_value_t = 0.0)]
+    pub warmup: f64,
+    /// Window width in logical pixels.
+    #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(200..=8192))]
+    pub width: u32,
+    /// Window height in logical pixels.
+    #[arg(long, default_value_t = 760, value_parser = clap::value_parser!(u32).range(200..=8192))]
+    pub height: u32,
+}
+
+impl Default for Args {
+    fn default() -> Self {
+        let d = cumulus::app::WatchOptions::default();
+        Self {
+            scene: d.scene,
+            screenshot: d.screenshot,
+            frames: d.frames,
+            warmup: d.warmup_s,
+            width: d.size.0,
+            height: d.size.1,
+        }
+    }
+}
 
 /// Runs `cumulus watch`.
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("`cumulus watch` is not built yet")
+pub fn run(args: Args) -> anyhow::Result<()> {
+    if !(args.warmup.is_finite() && args.warmup >= 0.0) {
+        anyhow::bail!("invalid --warmup {}: a number of seconds ≥ 0", args.warmup);
+    }
+    let opts = cumulus::app::WatchOptions {
+        scene: args.scene,
+        screenshot: args.screenshot,
+        frames: args.frames,
+        warmup_s: args.warmup,
+        size: (args.width, args.height),
+    };
+    cumulus::app::run(opts).context("cumulus watch")
 }

@@ -53,7 +53,8 @@ pub struct PhysicsConfig {
     pub stiffness: f64,
     /// SPH viscosity coefficient μ (paper: 0.01). units: Pa s
     pub viscosity_mu: f64,
-    /// Calibrated weight of the atmospheric-pressure term (paper §5.1). units: 1
+    /// Calibrated weight of the atmospheric-pressure term (paper §5.1; 1 =
+    /// remove the full buoyancy of overlapping caps, see `world`). units: 1
     pub atm_pressure_weight: f64,
     /// Entrainment rate ε (ε' = ε r). units: m⁻¹
     pub entrainment_rate_per_m: f64,
@@ -115,7 +116,7 @@ impl Default for PhysicsConfig {
             support_radius_m: 300.0,
             stiffness: 100.0,
             viscosity_mu: 0.01,
-            atm_pressure_weight: 1.0,
+            atm_pressure_weight: 0.01,
             entrainment_rate_per_m: 1.0e-4,
             detrainment_rate_per_m: 2.0e-4,
             entrainment_surface_factor: 1.0,
@@ -323,7 +324,7 @@ impl Default for EmissionConfig {
     fn default() -> Self {
         EmissionConfig {
             enabled: true,
-            rate_per_km2_per_h: 30.0,
+            rate_per_km2_per_h: 50.0,
             radius_m: 150.0,
             start_hour: 12.0,
             diurnal: true,

@@ -153,6 +153,47 @@ mod tests {
     }
 
     #[test]
+    fn emission_count_follows_the_rate_and_the_map() {
+        // Poisson process: over many frames the count must match
+        // rate · Σ(weight · cell area) · time within 5 σ = 5 √E.
+        let g = GroundMap::new(&GroundConfig::default());
+        let e = EmissionConfig {
+            diurnal: false,
+            ..EmissionConfig::default()
+        };
+        let (dx, dy) = g.cell_size();
+        let weight_km2: f64 = g.cell_weight.iter().sum::<f64>() * dx * dy * 1e-6;
+        let (frames, dt) = (3000, 10.0);
+        let expect = e.rate_per_km2_per_h * weight_km2 * frames as f64 * dt / 3600.0;
+        let mut rng = SplitMix64::new(3);
+        let mut n = 0usize;
+        let mut hot = 0usize;
+        for _ in 0..frames {
+            for (x, y) in g.draw(&e, 0.0, dt, &mut rng) {
+                n += 1;
+                if g.sample(x, y).0 > 0.25 {
+                    hot += 1;
+                }
+            }
+        }
+        assert!(
+            (n as f64 - expect).abs() < 5.0 * expect.sqrt(),
+            "{n} vs {expect}"
+        );
+        // Most parcels come from the patches although they cover a small
+        // part of the ground (the background map value is 0.05).
+        let hot_cells = (0..CELLS * CELLS)
+            .filter(|k| {
+                let (x, y) = g.cell_centre(k % CELLS, k / CELLS);
+                g.sample(x, y).0 > 0.25
+            })
+            .count();
+        let hot_area = hot_cells as f64 / (CELLS * CELLS) as f64;
+        assert!(hot_area < 0.2, "{hot_area}");
+        assert!(hot as f64 > 0.5 * n as f64, "{hot} of {n}");
+    }
+
+    #[test]
     fn no_sun_no_emission() {
         let e = EmissionConfig {
             start_hour: 0.0,

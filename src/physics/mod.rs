@@ -4,6 +4,34 @@
 //!
 //! Coordinates: metres, x and y horizontal, z up, z = 0 at the ground; the
 //! domain is centred on x = y = 0.
+//!
+//! - [`world`]: [`ParcelWorld`], Algorithm 1 and the kick–drift–kick
+//!   integrator with adaptive sub-steps;
+//! - [`single`]: one parcel released from the ground (`parcel --dynamic`);
+//! - [`config`]: the `[physics]`, `[ground]`, `[emission]`, `[wind]` tables;
+//! - [`ground`]: heat/humidity maps and the parcel generator;
+//! - [`sph`], [`tessellation`], [`rng`]: kernels, the 18 × 9 sphere, SplitMix64.
+//!
+//! Where the paper is loose, what we do (details at each function):
+//! - SI units throughout; latent-heat factor α = 1 (the paper's 0.3 is
+//!   `latent_heat_alpha`).
+//! - Kernels of Müller et al. 2003: poly6 density, spiky pressure gradient,
+//!   viscosity Laplacian. Rest density ρ0 per parcel = its own isolated
+//!   density, so pressure measures overlap only and is never tensile.
+//! - Atmospheric pressure on the exposed surface: only the hidden caps'
+//!   share, each closed on its contact disk, so an isolated sphere gets
+//!   exactly zero and Archimedes (already in eq 5) is not counted twice;
+//!   calibrated weight 0.01.
+//! - Entrained vapour (eq 12) at the environment's q_v, not ω_s (a typo);
+//!   |v + δv_t| as √(|v − w|² + δv_t²); detrainment from the lower of the
+//!   parcel's condensation plane and the scene's condensation level.
+//! - Vapour exchange through the analytic contact disk of overlapping spheres.
+//! - Filling ratio f = liquid water content / 0.5 g m⁻³ (`opaque_lwc_kg_m3`).
+//! - Condensation plane from the parcel's liquid-water potential temperature
+//!   θ_l and total water: the LCL of its own air, flat for a cluster.
+//! - Death: once cloudy, no liquid left, sinking and `death_depth_m` below
+//!   its plane; centre sinking below the ground; older than `max_age_s`.
+//!   Leaving the sides or the top (domain or profile) is an escape.
 
 pub mod config;
 pub mod ground;

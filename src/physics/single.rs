@@ -41,7 +41,8 @@ pub struct TrajectoryPoint {
     pub t_k: f64,
     /// Parcel potential temperature. units: K
     pub theta_k: f64,
-    /// Parcel virtual potential temperature. units: K
+    /// Parcel virtual potential temperature (with condensate loading when
+    /// the physics has it on). units: K
     pub theta_v_k: f64,
     /// Environment temperature at z. units: K
     pub env_t_k: f64,
@@ -55,6 +56,10 @@ pub struct TrajectoryPoint {
     pub ql_kg_per_kg: f64,
     /// units: m
     pub radius_m: f64,
+    /// Filling ratio. units: 1
+    pub fill: f64,
+    /// Condensation plane. units: m
+    pub cond_plane_z_m: f64,
     /// Total mass. units: kg
     pub mass_kg: f64,
     /// Water (vapour + liquid). units: kg
@@ -144,13 +149,23 @@ fn point(world: &ParcelWorld) -> TrajectoryPoint {
         w_m_s: p.velocity_m_s.z,
         t_k: thermo::temperature_from_theta_k(p.theta_k, pr),
         theta_k: p.theta_k,
-        theta_v_k: thermo::virtual_potential_temperature_k(p.theta_k, p.qv_kg_per_kg, 0.0),
+        theta_v_k: thermo::virtual_potential_temperature_k(
+            p.theta_k,
+            p.qv_kg_per_kg,
+            if world.config().physics.condensate_loading {
+                p.ql_kg_per_kg
+            } else {
+                0.0
+            },
+        ),
         env_t_k: env.temperature_k(z),
         env_theta_k: env.theta_k(z),
         env_theta_v_k: env.theta_v_k(z),
         qv_kg_per_kg: p.qv_kg_per_kg,
         ql_kg_per_kg: p.ql_kg_per_kg,
         radius_m: p.radius_m,
+        fill: p.fill,
+        cond_plane_z_m: p.cond_plane_z_m,
         mass_kg: p.total_mass_kg(),
         water_kg: p.water_kg(),
     }

@@ -1,6 +1,6 @@
 //! SPH kernels of Müller, Charypar & Gross, "Particle-based fluid simulation
 //! for interactive applications" (SCA 2003), which the paper cites for its
-//! kernels ([16]): poly6 for density (eq 7), the gradient of "spiky" for
+//! kernels (\[16\]): poly6 for density (eq 7), the gradient of "spiky" for
 //! pressure (eq 9, poly6's gradient vanishes at the centre and lets particles
 //! clump), and the Laplacian of the "viscosity" kernel for eq 10 (positive
 //! everywhere, so viscosity only ever damps relative motion).

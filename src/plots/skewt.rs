@@ -44,6 +44,10 @@ pub struct SkewT<'a> {
     pub ascent: &'a ParcelAscent,
     /// Parcel curve sampled densely enough to look smooth.
     pub parcel_curve: &'a [ParcelLevel],
+    /// Optional path of a dynamically released parcel (`parcel --dynamic`):
+    /// (pressure in Pa, temperature in K) along its trajectory, drawn over the
+    /// kinematic ascent so overshoot and oscillation show against it (paper fig. 4).
+    pub dynamic_path: Option<&'a [(f64, f64)]>,
 }
 
 fn to_xy(t_c: f64, p_hpa: f64) -> (f64, f64) {
@@ -330,6 +334,27 @@ fn draw(
                 s.label(name).legend(move |(x, y)| {
                     PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(3))
                 });
+                first = false;
+            }
+        }
+    }
+
+    if let Some(path) = chart_data.dynamic_path {
+        let color = RGBColor(30, 90, 220);
+        let pts: Vec<(f64, f64)> = path
+            .iter()
+            .map(|&(p_pa, t_k)| to_xy(t_k - 273.15, p_pa / 100.0))
+            .collect();
+        let mut first = true;
+        for run in clipped(pts) {
+            let s = chart
+                .draw_series(LineSeries::new(run, color.stroke_width(2)))
+                .map_err(|x| e(&x))?;
+            if first {
+                s.label("released parcel (full dynamics)")
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(2))
+                    });
                 first = false;
             }
         }

@@ -2,7 +2,7 @@
 //! rendered with the same `Renderer::render` path as the window, and read
 //! back row by row (rows padded to wgpu's 256-byte copy alignment).
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::render::gpu::GpuContext;
 use crate::render::renderer::{FrameTimings, Renderer, read_buffer};
 use crate::render::{FrameInput, RenderConfig};
@@ -17,12 +17,37 @@ pub struct Headless {
     view: wgpu::TextureView,
     readback: wgpu::Buffer,
     padded_row: u32,
+    bgra: bool,
 }
 
 impl Headless {
-    /// A `width`×`height` offscreen renderer.
+    /// A `width`×`height` offscreen renderer in [`HEADLESS_FORMAT`].
     pub fn new(ctx: &GpuContext, cfg: &RenderConfig, width: u32, height: u32) -> Result<Self> {
-        let renderer = Renderer::new(ctx, cfg, HEADLESS_FORMAT, width, height)?;
+        Self::with_format(ctx, cfg, width, height, HEADLESS_FORMAT)
+    }
+
+    /// Like [`Headless::new`] with another 8-bit RGBA/BGRA target format
+    /// (as window surfaces use); readback is RGBA either way.
+    pub fn with_format(
+        ctx: &GpuContext,
+        cfg: &RenderConfig,
+        width: u32,
+        height: u32,
+        format: wgpu::TextureFormat,
+    ) -> Result<Self> {
+        use wgpu::TextureFormat as F;
+        let bgra = match format {
+            F::Rgba8Unorm | F::Rgba8UnormSrgb => false,
+            F::Bgra8Unorm | F::Bgra8UnormSrgb => true,
+            other => {
+                return Err(Error::invalid(
+                    "headless target format",
+                    format!("{other:?}"),
+                    "Rgba8Unorm, Rgba8UnormSrgb, Bgra8Unorm or Bgra8UnormSrgb",
+                ));
+            }
+        };
+        let renderer = Renderer::new(ctx, cfg, format, width, height)?;
         let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("headless target"),
             size: wgpu::Extent3d {
@@ -33,7 +58,7 @@ impl Headless {
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
-            format: HEADLESS_FORMAT,
+            format,
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         });
@@ -51,6 +76,7 @@ impl Headless {
             view,
             readback,
             padded_row,
+            bgra,
         })
     }
 
@@ -86,6 +112,9 @@ impl Headless {
         let mut rgba = Vec::with_capacity((4 * w * h) as usize);
         for row in padded.chunks_exact(self.padded_row as usize) {
             rgba.extend_from_slice(&row[..4 * w as usize]);
+        }
+        if self.bgra {
+            rgba.chunks_exact_mut(4).for_each(|p| p.swap(0, 2));
         }
         Ok((rgba, timings))
     }

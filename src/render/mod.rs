@@ -73,8 +73,6 @@ pub struct RenderConfig {
     /// Evaluate only the parcels listed in a sample's grid cell (paper §6.2);
     /// off = every parcel at every sample (brute force, for the bench).
     pub grid_culling: bool,
-    /// Side of the square simulation domain (for the shadow map). units: m
-    pub domain_m: f32,
     /// Ray-march step along view rays. units: m
     pub step_m: f32,
     /// Most steps per view ray.
@@ -89,8 +87,12 @@ pub struct RenderConfig {
     pub noise_amplitude: f32,
     /// Size of the largest noise feature (one texture tile). units: m
     pub noise_scale_m: f32,
-    /// Thickness of the soft shell of the sphere and of the condensation
-    /// plane, over which the pseudo-distance d goes from 0 to 1. units: m
+    /// Rendered sphere radius over the physical parcel radius (paper §6.1
+    /// draws spheres larger than the SPH kernels so neighbours merge).
+    pub radius_scale: f32,
+    /// Thickness of the soft shell of the sphere, over which the
+    /// pseudo-distance d goes from 0 to 1 (the condensation plane's shell is
+    /// 0.3× this; see shaders/density.wgsl). units: m
     pub shell_m: f32,
     /// Extinction coefficient of fully dense cloud. units: m^-1
     pub extinction_per_m: f32,
@@ -117,15 +119,15 @@ impl Default for RenderConfig {
             shadows: true,
             normals: false,
             grid_culling: true,
-            domain_m: 10_000.0,
             step_m: 40.0,
             max_steps: 160,
             light_steps: 4,
             light_step_m: 90.0,
             noise_octaves: 4,
-            noise_amplitude: 1.2,
+            noise_amplitude: 1.4,
             noise_scale_m: 900.0,
-            shell_m: 260.0,
+            radius_scale: 2.5,
+            shell_m: 280.0,
             extinction_per_m: 0.03,
             early_exit_transmittance: 0.02,
             phase_g: 0.35,
@@ -150,12 +152,6 @@ impl RenderConfig {
     /// Checks every field; the error names the field and its allowed range.
     pub fn validate(&self) -> Result<()> {
         let r = self;
-        check(
-            "render.domain_m",
-            r.domain_m,
-            r.domain_m >= 100.0,
-            "≥ 100 m",
-        )?;
         check(
             "render.step_m",
             r.step_m,
@@ -198,6 +194,12 @@ impl RenderConfig {
             "≥ 10 m",
         )?;
         check("render.shell_m", r.shell_m, r.shell_m >= 1.0, "≥ 1 m")?;
+        check(
+            "render.radius_scale",
+            r.radius_scale,
+            (0.1..=10.0).contains(&r.radius_scale),
+            "0.1 to 10",
+        )?;
         check(
             "render.extinction_per_m",
             r.extinction_per_m,
@@ -308,14 +310,15 @@ pub struct CameraConfig {
 }
 
 impl Default for CameraConfig {
-    /// Stands south of a 10 km domain, a few hundred metres up, looking north
-    /// across the landscape at the cloud layer (1–3 km); with the default sun
-    /// from the east the bases are in shade and the shadows fall sideways.
+    /// Stands 6.5 km south of a 10 km domain, 1 km up (just under the usual
+    /// cloud base), looking north across the landscape at the cloud layer
+    /// (1–3 km); with the default sun from the east the bases are in shade
+    /// and the shadows fall sideways onto the ground in front of the clouds.
     fn default() -> Self {
         Self {
-            position_m: [-1500.0, -9000.0, 900.0],
-            target_m: [0.0, 0.0, 700.0],
-            vfov_deg: 50.0,
+            position_m: [-2000.0, -11500.0, 1000.0],
+            target_m: [0.0, -1000.0, 900.0],
+            vfov_deg: 45.0,
             near_m: 10.0,
             far_m: 60_000.0,
         }

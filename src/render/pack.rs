@@ -22,8 +22,9 @@ use glam::Vec3;
 use crate::error::{Error, Result};
 use crate::physics::CloudParcel;
 
-/// Most condensed parcels one frame can draw (uniform array length).
-pub const MAX_PARCELS: usize = 512;
+/// Most condensed parcels one frame can draw (uniform array length; the
+/// physics emits at most `emission.max_parcels`, 1024 by default).
+pub const MAX_PARCELS: usize = 1024;
 /// Most cells per grid axis (x, y, z).
 pub const MAX_GRID_DIMS: [u32; 3] = [16, 16, 8];
 /// Most grid cells in all (product of [`MAX_GRID_DIMS`]).
@@ -61,8 +62,8 @@ pub struct FrameUniform {
     pub grid_cell: [f32; 4],
     /// nx, ny, nz, parcel count.
     pub grid_dims: [u32; 4],
-    /// half domain side (m), terrain height scale (m), viewport width, height (px).
-    pub domain: [f32; 4],
+    /// Ground rectangle the cloud-shadow map covers: min x, min y, max x, max y (m).
+    pub shadow_rect: [f32; 4],
 }
 
 /// One parcel. Keep in sync with `struct Parcel` in shaders/common.wgsl.
@@ -170,10 +171,19 @@ fn parcel_bounds(p: &GpuParcel, shell_m: f32) -> (Vec3, Vec3) {
 }
 
 /// Packs `parcels` for the GPU. `shell_m` is the hypertexture shell thickness
-/// (density reaches that far beyond the sphere and below the plane).
-pub fn pack(parcels: &[CloudParcel], shell_m: f32) -> Result<Packed> {
+/// (density reaches that far beyond the sphere and below the plane);
+/// `radius_scale` enlarges the rendered spheres over the physical parcels
+/// (paper §6.1: "spheres larger than these kernels for nice looking unions").
+pub fn pack(parcels: &[CloudParcel], shell_m: f32, radius_scale: f32) -> Result<Packed> {
     if !(shell_m.is_finite() && shell_m >= 0.0) {
         return Err(Error::invalid("render.shell_m", shell_m, "finite, ≥ 0 m"));
+    }
+    if !(radius_scale.is_finite() && radius_scale > 0.0) {
+        return Err(Error::invalid(
+            "render.radius_scale",
+            radius_scale,
+            "finite, > 0",
+        ));
     }
     let mut out_parcels = zeroed_box::<ParcelsUniform>();
     let mut n = 0usize;
@@ -207,7 +217,12 @@ pub fn pack(parcels: &[CloudParcel], shell_m: f32) -> Result<Packed> {
             ));
         }
         out_parcels.parcels[n] = GpuParcel {
-            center_radius: [p.center_m.x, p.center_m.y, p.center_m.z, p.radius_m],
+            center_radius: [
+                p.center_m.x,
+                p.center_m.y,
+                p.center_m.z,
+                p.radius_m * radius_scale,
+            ],
             fill_plane: [p.fill.min(1.0), p.cond_plane_z_m, 0.0, 0.0],
         };
         n += 1;
@@ -344,14 +359,14 @@ mod tests {
 
     #[test]
     fn empty_packs_to_zero_parcels() {
-        let p = pack(&[], 100.0).unwrap();
+        let p = pack(&[], 100.0, 1.0).unwrap();
         assert_eq!(p.info.parcel_count, 0);
         assert_eq!(p.info.entry_count, 0);
     }
 
     #[test]
     fn parcel_fields_land_in_place() {
-        let p = pack(&[parcel(10.0, 20.0, 1500.0, 300.0)], 50.0).unwrap();
+        let p = pack(&[parcel(10.0, 20.0, 1500.0, 300.0)], 50.0, 1.0).unwrap();
         let g = p.parcels.parcels[0];
         assert_eq!(g.center_radius, [10.0, 20.0, 1500.0, 300.0]);
         assert_eq!(g.fill_plane[0], 0.8);
@@ -373,7 +388,7 @@ mod tests {
             })
             .collect();
         let shell = 100.0;
-        let p = pack(&parcels, shell).unwrap();
+        let p = pack(&parcels, shell, 1.0).unwrap();
         let info = p.info;
         assert_eq!(info.coarsened, 0);
         let mut total = 0;
@@ -408,8 +423,8 @@ mod tests {
         let parcels: Vec<_> = (0..MAX_PARCELS + 1)
             .map(|i| parcel(i as f32 * 10.0, 0.0, 1500.0, 50.0))
             .collect();
-        let e = pack(&parcels, 10.0).unwrap_err().to_string();
-        assert!(e.contains("at most 512"), "{e}");
+        let e = pack(&parcels, 10.0, 1.0).unwrap_err().to_string();
+        assert!(e.contains(&format!("at most {MAX_PARCELS}")), "{e}");
     }
 
     #[test]
@@ -425,7 +440,7 @@ mod tests {
                 )
             })
             .collect();
-        let p = pack(&parcels, 200.0).unwrap();
+        let p = pack(&parcels, 200.0, 1.0).unwrap();
         assert!(p.info.coarsened > 0, "{:?}", p.info);
         assert!(p.info.entry_count as usize <= MAX_GRID_ENTRIES);
         assert_eq!(p.info.parcel_count as usize, MAX_PARCELS);
@@ -435,8 +450,8 @@ mod tests {
     fn empty_and_nan_parcels() {
         let mut q = parcel(0.0, 0.0, 1000.0, 100.0);
         q.fill = 0.0;
-        assert_eq!(pack(&[q], 10.0).unwrap().info.parcel_count, 0);
+        assert_eq!(pack(&[q], 10.0, 1.0).unwrap().info.parcel_count, 0);
         q.center_m.x = f32::NAN;
-        assert!(pack(&[q], 10.0).is_err());
+        assert!(pack(&[q], 10.0, 1.0).is_err());
     }
 }

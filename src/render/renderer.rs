@@ -104,6 +104,9 @@ pub struct Renderer {
     bind_terrain: Option<wgpu::BindGroup>,
     bind_clouds: Option<wgpu::BindGroup>,
     timestamps: Option<Timestamps>,
+    /// Pipelines created so far (tests check that a setting rebuilds only
+    /// what depends on it).
+    pipelines_built: u32,
 }
 
 fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
@@ -375,7 +378,7 @@ impl Renderer {
             height,
             features: Features::new(cfg, true),
             any_clouds: true,
-            grid_info: pack::pack(&[], cfg.shell_m)?.info,
+            grid_info: pack::pack(&[], cfg.shell_m, cfg.radius_scale)?.info,
             upload_ms: 0.0,
             frame_buf,
             parcels_buf,
@@ -398,6 +401,7 @@ impl Renderer {
             bind_terrain: None,
             bind_clouds: None,
             timestamps,
+            pipelines_built: 0,
         };
         r.ensure(ctx)?;
         Ok(r)
@@ -465,6 +469,11 @@ impl Renderer {
             .filter(|p| self.pipelines.contains_key(p))
             .map(|p| p.name())
             .collect()
+    }
+
+    /// How many pipelines this renderer has created so far.
+    pub fn pipelines_built(&self) -> u32 {
+        self.pipelines_built
     }
 
     /// Frame size in pixels.
@@ -637,7 +646,17 @@ impl Renderer {
             if self.pipelines.get(&pass).map(|p| &p.constants) == Some(&constants) {
                 continue;
             }
+            // Shader or pipeline errors become an Error, not wgpu's panic.
+            let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
             let pipeline = self.create_pipeline(ctx, pass, &constants);
+            if let Some(e) = pollster::block_on(scope.pop()) {
+                self.modules.remove(&pass);
+                return Err(Error::Gpu(format!(
+                    "creating the {} pass: {e}",
+                    pass.name()
+                )));
+            }
+            self.pipelines_built += 1;
             self.pipelines.insert(
                 pass,
                 PassPipeline {
@@ -739,7 +758,7 @@ impl Renderer {
     /// wrong) when the parcels exceed the uniform limits (see [`pack`]).
     pub fn prepare(&mut self, ctx: &GpuContext, input: &FrameInput<'_>) -> Result<()> {
         let start = Instant::now();
-        let packed = pack::pack(input.parcels, self.cfg.shell_m)?;
+        let packed = pack::pack(input.parcels, self.cfg.shell_m, self.cfg.radius_scale)?;
         self.grid_info = packed.info;
         self.any_clouds = packed.info.parcel_count > 0;
         let features = Features::new(&self.cfg, packed.info.parcel_count > 0);
@@ -795,12 +814,7 @@ impl Renderer {
             grid_min: g.min.extend(0.0).to_array(),
             grid_cell: g.cell.extend(0.0).to_array(),
             grid_dims: [g.dims[0], g.dims[1], g.dims[2], g.parcel_count],
-            domain: [
-                c.domain_m * 0.5,
-                c.terrain.height_scale_m,
-                self.width as f32,
-                self.height as f32,
-            ],
+            shadow_rect: shadow_rect(g, input.sun.direction),
         }
     }
 
@@ -917,6 +931,22 @@ impl Renderer {
             _ => rp.draw(0..3, 0..1),
         }
     }
+}
+
+/// Ground rectangle (min x, min y, max x, max y) whose sun rays can cross
+/// the grid box: the box's footprint and its shadow cast from its top.
+pub fn shadow_rect(g: &GridInfo, sun: glam::Vec3) -> [f32; 4] {
+    let sun = sun.normalize();
+    let (lo, hi) = (g.min, g.max());
+    // Along the sun ray from ground (x, y, 0), height z is reached at x + z·s.
+    let s = glam::Vec2::new(sun.x, sun.y) / sun.z.max(0.03);
+    let a = lo.truncate() - s * hi.z;
+    let b = hi.truncate() - s * hi.z;
+    let c = lo.truncate() - s * lo.z.max(0.0);
+    let d = hi.truncate() - s * lo.z.max(0.0);
+    let min = a.min(c).min(b).min(d);
+    let max = a.max(c).max(b).max(d);
+    [min.x, min.y, max.x, max.y]
 }
 
 fn check_size(ctx: &GpuContext, width: u32, height: u32) -> Result<()> {

@@ -1,6 +1,7 @@
 //! A deterministic stand-in cloud field: a few cumulus towers, each a small
 //! cluster of parcels sharing a condensation plane, for renders, tests and
-//! the bench when no physics run is wanted (and until the physics exists).
+//! the bench when no physics run is wanted. Radii are physical parcel radii
+//! (the renderer enlarges them by `render.radius_scale`).
 
 use glam::Vec3;
 
@@ -33,7 +34,7 @@ pub fn cumulus_field(
         let cx = (rand(s, 1) - 0.5) * domain_m * 0.8;
         let cy = (rand(s, 2) - 0.5) * domain_m * 0.8;
         let size = 0.6 + 0.8 * rand(s, 3);
-        let r0 = 380.0 * size;
+        let r0 = 150.0 * size;
         // Bottom ring of parcels just above the base, then a rising column.
         let layers = 1 + (3.0 * g * size) as u32;
         for l in 0..=layers {
@@ -41,9 +42,9 @@ pub fn cumulus_field(
             for k in 0..count {
                 let i = l * 10 + k;
                 let a = rand(s, 10 + i) * std::f32::consts::TAU;
-                let spread = r0 * (0.9 - 0.15 * l as f32).max(0.3);
+                let spread = 2.5 * r0 * (0.9 - 0.15 * l as f32).max(0.3);
                 let r = r0 * (1.0 - 0.12 * l as f32).max(0.45);
-                let z = base_m + r * 0.55 + l as f32 * r0 * 0.85;
+                let z = base_m + 2.5 * (r * 0.55 + l as f32 * r0 * 0.85);
                 out.push(CloudParcel {
                     center_m: Vec3::new(cx + a.cos() * spread, cy + a.sin() * spread, z),
                     radius_m: r,

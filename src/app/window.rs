@@ -1,0 +1,582 @@
+//! The winit window: surface set-up, the frame loop (simulate → panel → 3D
+//! render → egui on top → present), camera input, resize/minimise/close,
+//! surface loss, and the `--screenshot` capture of the whole window.
+
+use std::collections::HashSet;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Instant;
+
+use winit::application::ApplicationHandler;
+use winit::dpi::{LogicalSize, PhysicalPosition};
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::window::{Window, WindowId};
+
+use super::panel::{self, PanelState};
+use super::state::{FIXED_FRAME_DT_S, Model};
+use crate::error::{Error, Result};
+use crate::render::{FrameInput, GpuContext, Renderer};
+
+/// What `cumulus watch` was asked to do.
+#[derive(Debug, Clone)]
+pub struct WatchOptions {
+    /// Scene profile; None = the embedded default.
+    pub scene: Option<PathBuf>,
+    /// Capture the whole window at the last frame, write this PNG and exit.
+    pub screenshot: Option<PathBuf>,
+    /// Frames to run before exiting; None = until closed (10 with a
+    /// screenshot). Counted frames use a fixed time step.
+    pub frames: Option<u32>,
+    /// Simulated time before the first frame. units: s
+    pub warmup_s: f64,
+    /// Inner window size. units: logical pixels
+    pub size: (u32, u32),
+}
+
+impl Default for WatchOptions {
+    fn default() -> Self {
+        Self {
+            scene: None,
+            screenshot: None,
+            frames: None,
+            warmup_s: 0.0,
+            size: (1280, 760),
+        }
+    }
+}
+
+/// Opens the window and runs until it is closed (or the screenshot is written).
+pub fn run(mut opts: WatchOptions) -> Result<()> {
+    if opts.screenshot.is_some() && opts.frames.is_none() {
+        opts.frames = Some(10);
+    }
+    let (profile, source) = crate::scene::load_scene(opts.scene.as_deref())?;
+    let mut model = Model::new(profile, source)?;
+    if opts.warmup_s > 0.0 {
+        model.warm_up(opts.warmup_s);
+    }
+    let event_loop = EventLoop::new()
+        .map_err(|e| Error::Gpu(format!("cannot open a window (is DISPLAY set?): {e}")))?;
+    event_loop.set_control_flow(ControlFlow::Poll);
+    let mut app = App {
+        opts,
+        model,
+        panel: PanelState::default(),
+        egui_ctx: egui_context(),
+        gfx: None,
+        input: Input::default(),
+        frame: 0,
+        last_frame: Instant::now(),
+        error: None,
+    };
+    event_loop
+        .run_app(&mut app)
+        .map_err(|e| Error::Gpu(format!("window event loop: {e}")))?;
+    match app.error {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+/// An egui context with fonts registered from `epaint_default_fonts`: the
+/// crate is built without egui's `default_fonts` feature, and we never read
+/// system fonts, so the window looks the same everywhere.
+fn egui_context() -> egui::Context {
+    use egui::{FontData, FontDefinitions, FontFamily};
+    let ctx = egui::Context::default();
+    let mut fonts = FontDefinitions::empty();
+    for (name, bytes) in [
+        ("Ubuntu-Light", epaint_default_fonts::UBUNTU_LIGHT),
+        ("Hack", epaint_default_fonts::HACK_REGULAR),
+        ("egui-icons", epaint_default_fonts::EGUI_ICONS),
+    ] {
+        fonts
+            .font_data
+            .insert(name.to_owned(), Arc::new(FontData::from_static(bytes)));
+    }
+    fonts.families.insert(
+        FontFamily::Proportional,
+        vec!["Ubuntu-Light".into(), "Hack".into(), "egui-icons".into()],
+    );
+    fonts.families.insert(
+        FontFamily::Monospace,
+        vec!["Hack".into(), "Ubuntu-Light".into(), "egui-icons".into()],
+    );
+    ctx.set_fonts(fonts);
+    ctx
+}
+
+/// Camera input state.
+#[derive(Default)]
+struct Input {
+    /// Button held for a camera drag that started outside the panel.
+    dragging: Option<MouseButton>,
+    cursor: Option<PhysicalPosition<f64>>,
+    keys: HashSet<KeyCode>,
+}
+
+struct Gfx {
+    window: Arc<Window>,
+    surface: wgpu::Surface<'static>,
+    ctx: GpuContext,
+    renderer: Renderer,
+    config: wgpu::SurfaceConfiguration,
+    egui_state: egui_winit::State,
+    egui_renderer: egui_wgpu::Renderer,
+}
+
+struct App {
+    opts: WatchOptions,
+    model: Model,
+    panel: PanelState,
+    egui_ctx: egui::Context,
+    gfx: Option<Gfx>,
+    input: Input,
+    frame: u32,
+    last_frame: Instant,
+    error: Option<Error>,
+}
+
+impl App {
+    fn fail(&mut self, event_loop: &ActiveEventLoop, e: Error) {
+        self.error = Some(e);
+        event_loop.exit();
+    }
+
+    fn init(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        let (w, h) = self.opts.size;
+        let attrs = Window::default_attributes()
+            .with_title(self.model.title())
+            .with_inner_size(LogicalSize::new(w, h));
+        let window = Arc::new(
+            event_loop
+                .create_window(attrs)
+                .map_err(|e| Error::Gpu(format!("cannot create the window: {e}")))?,
+        );
+        let instance = GpuContext::new_instance();
+        let surface = instance
+            .create_surface(window.clone())
+            .map_err(|e| Error::Gpu(format!("cannot create a surface for the window: {e}")))?;
+        let ctx = GpuContext::new_for_surface(instance, &surface)?;
+        let adapter = &ctx.adapter;
+        let device = &ctx.device;
+        eprintln!("GPU: {}", ctx.describe());
+        let size = window.inner_size();
+        let caps = surface.get_capabilities(adapter);
+        // egui paints in gamma space and expects a non-sRGB target.
+        let format = caps
+            .formats
+            .iter()
+            .copied()
+            .find(|f| !f.is_srgb())
+            .or(caps.formats.first().copied())
+            .ok_or_else(|| Error::Gpu("the surface supports no format".into()))?;
+        let config = wgpu::SurfaceConfiguration {
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            format,
+            color_space: wgpu::SurfaceColorSpace::Auto,
+            width: size.width.max(1),
+            height: size.height.max(1),
+            present_mode: wgpu::PresentMode::AutoVsync,
+            desired_maximum_frame_latency: 2,
+            alpha_mode: caps.alpha_modes[0],
+            view_formats: vec![],
+        };
+        if size.width > 0 && size.height > 0 {
+            surface.configure(device, &config);
+        }
+        let renderer = Renderer::new(
+            &ctx,
+            &self.model.resolved_render_config(),
+            format,
+            config.width,
+            config.height,
+        )?;
+        let egui_state = egui_winit::State::new(
+            self.egui_ctx.clone(),
+            egui::ViewportId::ROOT,
+            &window,
+            Some(window.scale_factor() as f32),
+            None,
+            Some(device.limits().max_texture_dimension_2d as usize),
+        );
+        let egui_renderer =
+            egui_wgpu::Renderer::new(device, format, egui_wgpu::RendererOptions::default());
+        self.gfx = Some(Gfx {
+            window,
+            surface,
+            ctx,
+            renderer,
+            config,
+            egui_state,
+            egui_renderer,
+        });
+        Ok(())
+    }
+
+    fn resize(&mut self, w: u32, h: u32) -> Result<()> {
+        let Some(g) = &mut self.gfx else {
+            return Ok(());
+        };
+        g.config.width = w;
+        g.config.height = h;
+        // Minimised windows report zero size: keep the old configuration
+        // and skip frames until the window comes back.
+        if w > 0 && h > 0 {
+            g.surface.configure(&g.ctx.device, &g.config);
+            g.renderer.resize(&g.ctx, w, h)?;
+        }
+        Ok(())
+    }
+
+    /// Moves the camera by the keys held this frame.
+    fn fly(&mut self, dt_s: f32) {
+        let k = &self.input.keys;
+        let axis = |pos: KeyCode, neg: KeyCode| k.contains(&pos) as i32 - k.contains(&neg) as i32;
+        let (f, r, u) = (
+            axis(KeyCode::KeyW, KeyCode::KeyS),
+            axis(KeyCode::KeyD, KeyCode::KeyA),
+            axis(KeyCode::KeyE, KeyCode::KeyQ),
+        );
+        if (f, r, u) != (0, 0, 0) {
+            // Speed scales with the view distance so both close-ups and the
+            // whole landscape are quick to cross.
+            let speed = 0.5 * self.model.camera.distance_m * dt_s;
+            self.model
+                .camera
+                .fly(f as f32 * speed, r as f32 * speed, u as f32 * speed);
+        }
+    }
+
+    /// One frame. Returns Ok(true) when the app should exit.
+    fn frame(&mut self) -> Result<bool> {
+        let now = Instant::now();
+        let real_dt = now - self.last_frame;
+        self.last_frame = now;
+        // Counted frames advance by a fixed step, so a capture is reproducible.
+        let dt_s = if self.opts.frames.is_some() {
+            FIXED_FRAME_DT_S
+        } else {
+            real_dt.as_secs_f64()
+        };
+        self.fly(dt_s as f32);
+        self.model.advance(dt_s);
+
+        let Some(g) = &mut self.gfx else {
+            return Ok(false);
+        };
+        if g.config.width == 0 || g.config.height == 0 {
+            return Ok(false);
+        }
+        let raw = g.egui_state.take_egui_input(&g.window);
+        let model = &mut self.model;
+        let panel_state = &mut self.panel;
+        let mut actions = panel::PanelActions::default();
+        let out = self.egui_ctx.run_ui(raw, |ui| {
+            actions = panel::show(ui, model, panel_state);
+        });
+        if actions.render_changed {
+            // Only what the changed settings need is rebuilt (Renderer::set_config).
+            g.renderer
+                .set_config(&g.ctx, &self.model.resolved_render_config())?;
+        }
+        g.renderer.prepare(
+            &g.ctx,
+            &FrameInput {
+                camera: self.model.render_camera(),
+                parcels: &self.model.parcels,
+                sun: self.model.sun(),
+                time_s: self.model.world.time_s() as f32,
+            },
+        )?;
+        g.egui_state
+            .handle_platform_output(&g.window, out.platform_output);
+        let jobs = self.egui_ctx.tessellate(out.shapes, out.pixels_per_point);
+        let screen = egui_wgpu::ScreenDescriptor {
+            size_in_pixels: [g.config.width, g.config.height],
+            pixels_per_point: out.pixels_per_point,
+        };
+        for (id, deltas) in &out.textures_delta.set {
+            for delta in deltas {
+                g.egui_renderer
+                    .update_texture(&g.ctx.device, &g.ctx.queue, *id, delta);
+            }
+        }
+
+        self.frame += 1;
+        let last = self.opts.frames.is_some_and(|n| self.frame >= n);
+        let capture_now = last && self.opts.screenshot.is_some();
+        let mut encoder = g
+            .ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("frame"),
+            });
+        let user_cmds = g.egui_renderer.update_buffers(
+            &g.ctx.device,
+            &g.ctx.queue,
+            &mut encoder,
+            &jobs,
+            &screen,
+        );
+
+        let result = if capture_now {
+            let path = self.opts.screenshot.clone().expect("capture set");
+            let tex = g.ctx.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("screenshot"),
+                size: wgpu::Extent3d {
+                    width: g.config.width,
+                    height: g.config.height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: g.config.format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            });
+            let view = tex.create_view(&Default::default());
+            let timings = draw_frame(g, &mut encoder, &view, &jobs, &screen);
+            record(&mut self.model, timings);
+            let rgba = read_back(g, encoder, user_cmds, &tex)?;
+            crate::output::write_png_atomic(&path, g.config.width, g.config.height, &rgba)?;
+            eprintln!(
+                "wrote {} ({}×{})",
+                path.display(),
+                g.config.width,
+                g.config.height
+            );
+            Ok(true)
+        } else {
+            let frame = match g.surface.get_current_texture() {
+                wgpu::CurrentSurfaceTexture::Success(t)
+                | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
+                wgpu::CurrentSurfaceTexture::Outdated => {
+                    // The window changed under us: reconfigure and retry next frame.
+                    g.surface.configure(&g.ctx.device, &g.config);
+                    return Ok(false);
+                }
+                wgpu::CurrentSurfaceTexture::Lost => {
+                    // The surface itself is gone (the device is not): make a
+                    // new one for the same window and go on next frame.
+                    g.surface = g
+                        .ctx
+                        .instance
+                        .create_surface(g.window.clone())
+                        .map_err(|e| {
+                            Error::Gpu(format!("cannot recreate the lost surface: {e}"))
+                        })?;
+                    g.surface.configure(&g.ctx.device, &g.config);
+                    return Ok(false);
+                }
+                wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => {
+                    return Ok(false);
+                }
+                other => {
+                    return Err(Error::Gpu(format!(
+                        "cannot get the window's next frame: {other:?}"
+                    )));
+                }
+            };
+            let view = frame.texture.create_view(&Default::default());
+            let timings = draw_frame(g, &mut encoder, &view, &jobs, &screen);
+            record(&mut self.model, timings);
+            g.ctx
+                .queue
+                .submit(user_cmds.into_iter().chain([encoder.finish()]));
+            g.window.pre_present_notify();
+            g.ctx.queue.present(frame);
+            Ok(last)
+        };
+        for id in &out.textures_delta.free {
+            g.egui_renderer.free_texture(id);
+        }
+        self.model.stats.frame_ms = real_dt.as_secs_f64() * 1000.0;
+        result
+    }
+}
+
+/// The 3D view, then the panel on top, into `view`.
+fn draw_frame(
+    g: &mut Gfx,
+    encoder: &mut wgpu::CommandEncoder,
+    view: &wgpu::TextureView,
+    jobs: &[egui::ClippedPrimitive],
+    screen: &egui_wgpu::ScreenDescriptor,
+) -> crate::render::FrameTimings {
+    // The 3D view: the one render path shared with the headless commands.
+    // It submits its own passes (timed) before the panel's pass below.
+    let timings = g.renderer.render(&g.ctx, view);
+    let mut pass = encoder
+        .begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("egui"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
+        .forget_lifetime();
+    g.egui_renderer.render(&mut pass, jobs, screen);
+    timings
+}
+
+/// Copies `tex` to the CPU as tightly packed RGBA8.
+fn read_back(
+    g: &Gfx,
+    mut encoder: wgpu::CommandEncoder,
+    user_cmds: Vec<wgpu::CommandBuffer>,
+    tex: &wgpu::Texture,
+) -> Result<Vec<u8>> {
+    let (w, h) = (g.config.width, g.config.height);
+    let unpadded = w * 4;
+    let align = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let padded = unpadded.div_ceil(align) * align;
+    let buffer = g.ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("screenshot readback"),
+        size: padded as u64 * h as u64,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    encoder.copy_texture_to_buffer(
+        tex.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded),
+                rows_per_image: Some(h),
+            },
+        },
+        wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+    );
+    g.ctx
+        .queue
+        .submit(user_cmds.into_iter().chain([encoder.finish()]));
+    let slice = buffer.slice(..);
+    slice.map_async(wgpu::MapMode::Read, |_| {});
+    g.ctx
+        .device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| Error::Gpu(format!("waiting for the screenshot copy: {e}")))?;
+    let data = slice
+        .get_mapped_range()
+        .map_err(|e| Error::Gpu(format!("reading the screenshot back: {e}")))?;
+    let bgra = matches!(
+        g.config.format,
+        wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb
+    );
+    let mut rgba = Vec::with_capacity((unpadded * h) as usize);
+    for row in data.chunks(padded as usize).take(h as usize) {
+        for px in row[..unpadded as usize].chunks_exact(4) {
+            if bgra {
+                rgba.extend_from_slice(&[px[2], px[1], px[0], 255]);
+            } else {
+                rgba.extend_from_slice(&[px[0], px[1], px[2], 255]);
+            }
+        }
+    }
+    Ok(rgba)
+}
+
+/// Keeps a frame's render timings for the panel.
+fn record(m: &mut Model, t: crate::render::FrameTimings) {
+    m.stats.upload_ms = t.upload_ms;
+    m.stats.gpu_timestamps = t.gpu_timestamps;
+    m.stats.passes = t.passes;
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.gfx.is_none()
+            && let Err(e) = self.init(event_loop)
+        {
+            self.fail(event_loop, e);
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let Some(g) = &mut self.gfx else { return };
+        let consumed = g.egui_state.on_window_event(&g.window, &event).consumed;
+        let over_panel = self.egui_ctx.is_pointer_over_egui();
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::Resized(size) => {
+                if let Err(e) = self.resize(size.width, size.height) {
+                    self.fail(event_loop, e);
+                }
+            }
+            WindowEvent::RedrawRequested => match self.frame() {
+                Ok(true) => event_loop.exit(),
+                Ok(false) => {}
+                Err(e) => self.fail(event_loop, e),
+            },
+            WindowEvent::MouseInput { state, button, .. } => match state {
+                ElementState::Pressed if !consumed && !over_panel => {
+                    self.input.dragging = Some(button)
+                }
+                ElementState::Released if self.input.dragging == Some(button) => {
+                    self.input.dragging = None
+                }
+                _ => {}
+            },
+            WindowEvent::CursorMoved { position, .. } => {
+                if let (Some(b), Some(last)) = (self.input.dragging, self.input.cursor) {
+                    let (dx, dy) = ((position.x - last.x) as f32, (position.y - last.y) as f32);
+                    match b {
+                        MouseButton::Left => self.model.camera.orbit(dx, dy),
+                        MouseButton::Right => self.model.camera.look(dx, dy),
+                        _ => {}
+                    }
+                }
+                self.input.cursor = Some(position);
+            }
+            WindowEvent::MouseWheel { delta, .. } if !consumed && !over_panel => {
+                let steps = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y,
+                    MouseScrollDelta::PixelDelta(p) => p.y as f32 / 40.0,
+                };
+                self.model.camera.zoom(steps);
+            }
+            WindowEvent::KeyboardInput { event, .. } => {
+                if let PhysicalKey::Code(code) = event.physical_key {
+                    if event.state == ElementState::Released {
+                        self.input.keys.remove(&code);
+                    } else if !self.egui_ctx.egui_wants_keyboard_input() {
+                        self.input.keys.insert(code);
+                        match code {
+                            KeyCode::KeyR => self.model.camera = self.model.default_camera,
+                            KeyCode::Space if !event.repeat => {
+                                self.model.playback.playing = !self.model.playback.playing
+                            }
+                            _ => {}
+                        }
+                    }
+                }
+            }
+            WindowEvent::Focused(false) => self.input.keys.clear(),
+            _ => {}
+        }
+    }
+
+    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
+        if let Some(g) = &self.gfx {
+            g.window.request_redraw();
+        }
+    }
+}

@@ -1,0 +1,223 @@
+//! The live window under a virtual X server on the CPU adapter:
+//! `cumulus watch --screenshot out.png --frames N` captures the whole window
+//! (3D view and panel) and exits 0, and the picture has real content.
+//!
+//! Needs an X display: uses `DISPLAY` when set, else starts its own Xvfb on a
+//! free display number. Without either the test FAILS when CI=true (CI
+//! installs Xvfb) and otherwise prints a notice and passes.
+
+use std::path::Path;
+
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// An Xvfb server this test started; killed when dropped, even on panic.
+struct Xvfb {
+    child: Child,
+    display: String,
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        // SIGTERM first: Xvfb then removes its lock file and socket, so the
+        // display number is free again. SIGKILL only if it does not go.
+        let _ = Command::new("kill")
+            .arg(self.child.id().to_string())
+            .status();
+        let t0 = Instant::now();
+        while t0.elapsed() < Duration::from_secs(5) {
+            if let Ok(Some(_)) = self.child.try_wait() {
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn on_path(program: &str) -> bool {
+    std::env::var_os("PATH")
+        .map(|paths| std::env::split_paths(&paths).any(|d| d.join(program).is_file()))
+        .unwrap_or(false)
+}
+
+/// Starts Xvfb on the first display number with neither a lock file nor a
+/// socket, and waits for its socket.
+fn start_xvfb() -> Option<Xvfb> {
+    for n in 90..140 {
+        let lock = format!("/tmp/.X{n}-lock");
+        let socket = format!("/tmp/.X11-unix/X{n}");
+        if Path::new(&lock).exists() || Path::new(&socket).exists() {
+            continue;
+        }
+        let child = Command::new("Xvfb")
+            .args([
+                &format!(":{n}"),
+                "-screen",
+                "0",
+                "1280x800x24",
+                "-nolisten",
+                "tcp",
+            ])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .ok()?;
+        let mut x = Xvfb {
+            child,
+            display: format!(":{n}"),
+        };
+        let t0 = Instant::now();
+        while t0.elapsed() < Duration::from_secs(10) {
+            if Path::new(&socket).exists() {
+                return Some(x);
+            }
+            if let Ok(Some(_)) = x.child.try_wait() {
+                break; // lost a race for this number: try the next
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+    None
+}
+
+/// The display to use, and the server to keep alive while using it.
+fn display() -> Option<(String, Option<Xvfb>)> {
+    if let Ok(d) = std::env::var("DISPLAY")
+        && !d.is_empty()
+    {
+        return Some((d, None));
+    }
+    if on_path("Xvfb") {
+        let x = start_xvfb()?;
+        return Some((x.display.clone(), Some(x)));
+    }
+    None
+}
+
+fn no_display(why: &str) {
+    if std::env::var("CI").as_deref() == Ok("true") {
+        panic!("CI=true but the window test cannot run: {why}");
+    }
+    eprintln!("NOTICE: window test skipped: {why}");
+}
+
+/// Runs `cumulus watch --screenshot` with `args` on `display` and returns the image.
+fn capture(display: &str, args: &[&str], keep_as: &str) -> image::RgbaImage {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("window.png");
+    let output = Command::new(env!("CARGO_BIN_EXE_cumulus"))
+        .args(["watch", "--screenshot"])
+        .arg(&out)
+        .args(args)
+        .env("DISPLAY", display)
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run cumulus");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "cumulus watch failed:\n{stderr}");
+    // Keep the capture for a look when asked (CUMULUS_KEEP_SCREENSHOTS=dir).
+    if let Some(k) = std::env::var_os("CUMULUS_KEEP_SCREENSHOTS") {
+        std::fs::copy(&out, Path::new(&k).join(keep_as)).unwrap();
+    }
+    image::open(&out).expect("a PNG").to_rgba8()
+}
+
+/// Left edge of the 3D view in the capture: the panel is 380 points wide
+/// (scale factor 1 under Xvfb); a margin keeps its border out.
+const VIEW_X0: u32 = 420;
+
+/// Pixels of the 3D view that look like cloud: bright and nearly grey. The
+/// sky is blue (even its pale horizon differs by ≥ 25 between channels) and
+/// the ground green/brown and darker, so this counts only cloud.
+fn cloud_pixels(img: &image::RgbaImage) -> u32 {
+    let (w, h) = img.dimensions();
+    let mut n = 0;
+    for y in 0..h {
+        for x in VIEW_X0..w {
+            let p = img.get_pixel(x, y);
+            let (mx, mn) = (p[0].max(p[1]).max(p[2]), p[0].min(p[1]).min(p[2]));
+            if mn > 150 && mx - mn < 15 {
+                n += 1;
+            }
+        }
+    }
+    n
+}
+
+#[test]
+fn screenshot_shows_panel_and_clouds() {
+    let Some((display, _xvfb)) = display() else {
+        no_display("DISPLAY is unset and Xvfb is not installed");
+        return;
+    };
+    // Small window (the CPU adapter is slow), a few frames, and ten minutes
+    // of simulated warm-up so that clouds have formed.
+    let img = capture(
+        &display,
+        &[
+            "--frames", "3", "--warmup", "600", "--width", "900", "--height", "560",
+        ],
+        "window.png",
+    );
+    let (w, h) = img.dimensions();
+    assert_eq!((w, h), (900, 560), "the capture is the whole window");
+
+    // Not a blank window: text, plot lines and shading give thousands of
+    // colours; a cleared or single-colour frame has one or two.
+    let mut colours = std::collections::HashSet::new();
+    for p in img.pixels() {
+        colours.insert([p[0], p[1], p[2]]);
+    }
+
+    // The panel (dark egui theme, left 380 points) differs from the 3D view.
+    let mean = |x0: u32, x1: u32| {
+        let mut s = [0f64; 3];
+        let mut n = 0f64;
+        for y in 0..h {
+            for x in x0..x1 {
+                let p = img.get_pixel(x, y);
+                for c in 0..3 {
+                    s[c] += p[c] as f64;
+                }
+                n += 1.0;
+            }
+        }
+        s.map(|v| v / n)
+    };
+    let panel = mean(0, 360);
+    let view = mean(VIEW_X0, w);
+    let diff: f64 = (0..3).map(|c| (panel[c] - view[c]).abs()).sum();
+    let cloud = cloud_pixels(&img);
+    let area = (w - VIEW_X0) * h;
+    eprintln!(
+        "{} colours, panel {panel:?} vs view {view:?}, {cloud} cloud pixels of {area}",
+        colours.len()
+    );
+    assert!(
+        colours.len() > 200,
+        "only {} distinct colours",
+        colours.len()
+    );
+    // Mean 8-bit colours: a dark panel against sky and ground differs by far
+    // more than 60 summed over channels; the same content would differ by ~0.
+    assert!(diff > 60.0, "panel {panel:?} vs view {view:?}");
+    // Clouds: at least 0.1% of the view (a few small cumulus several km
+    // away cover ~0.5% here).
+    assert!(cloud * 1000 > area, "{cloud} cloud pixels of {area}");
+
+    // And the cloud count means cloud: at t = 0 nothing has condensed yet,
+    // and the same view has (next to) no such pixels.
+    let clear = capture(
+        &display,
+        &["--frames", "1", "--width", "900", "--height", "560"],
+        "window-clear.png",
+    );
+    let clear_cloud = cloud_pixels(&clear);
+    // 0.02% allows a few anti-aliased pixels of the sun or panel edge.
+    assert!(
+        clear_cloud * 5000 < area,
+        "{clear_cloud} cloud pixels in a clear sky"
+    );
+}
