@@ -280,6 +280,22 @@ pub fn matrix(size: Size) -> Result<Vec<Case>> {
         seed: 11,
     });
 
+    // The most viscous SPH validate() allows: explicit viscosity past its
+    // stable rate (guarded in the physics, counted as `viscosity` clamps).
+    let mut cfg = quiet();
+    cfg.physics.viscosity_mu = 1e6;
+    cases.push(Case {
+        name: "viscosity_1e6".into(),
+        group: "stiffness",
+        note: format!("μ = 1e6 Pa s (the largest allowed), {n}-parcel cluster, dt 1 s"),
+        env: fair.clone(),
+        config: cfg,
+        frame_dt_s: 1.0,
+        frames: secs as u32,
+        cluster: Some(cluster(n, h)),
+        seed: 11,
+    });
+
     // Requested frame step from 0.01 s to 10 s, emission and a cluster.
     let secs = if quick { 120.0 } else { 600.0 };
     let n = if quick { 27 } else { 64 };

@@ -9,7 +9,7 @@ use crate::error::Result;
 use crate::physics::ClampCounts;
 
 /// Clamp kinds and their counts, in a fixed order.
-fn clamp_kinds(c: &ClampCounts) -> [(&'static str, u64); 10] {
+fn clamp_kinds(c: &ClampCounts) -> [(&'static str, u64); 12] {
     [
         ("negative_humidity", c.negative_humidity),
         ("radius", c.radius),
@@ -21,6 +21,8 @@ fn clamp_kinds(c: &ClampCounts) -> [(&'static str, u64); 10] {
         ("substep_budget", c.substep_budget),
         ("non_finite", c.non_finite),
         ("bad_frame_dt", c.bad_frame_dt),
+        ("atm_force", c.atm_force),
+        ("viscosity", c.viscosity),
     ]
 }
 
