@@ -398,3 +398,42 @@ fn superadiabatic_top_segment_is_not_extrapolated_to_negative_temperature() {
     assert_eq!(env.theta_k(env.top_m() + 5000.0), top);
     check_world(env, WorldConfig::default());
 }
+
+/// Found while widening the stability matrix: inline points at 0, 1 km and
+/// 30 km over a 500 hPa surface (all within validate()'s ranges) made the
+/// hydrostatic fixed point oscillate onto Π's floor, and the build failed
+/// with "θ = 173149999 K" at a level the user wrote as −100 °C.
+#[test]
+fn deep_inline_layer_builds_and_returns_its_points() {
+    use cumulus::atmosphere::{AtmospherePoint, AtmosphereSpec};
+    let pt = |z_m, t_c: f64| AtmospherePoint {
+        z_m,
+        t_c,
+        td_c: Some(t_c - 5.0),
+        rh_percent: None,
+    };
+    for surface_hpa in [500.0, 1000.0, 1100.0] {
+        let spec = AtmosphereSpec {
+            sounding: None,
+            points: vec![pt(0.0, 35.0), pt(1000.0, 20.0), pt(30_000.0, -95.0)],
+            surface_pressure_hpa: Some(surface_hpa),
+            pressure: None,
+        };
+        let env = spec.build(Path::new(".")).unwrap();
+        check_environment(&env);
+        for p in &spec.points {
+            // The build integrates each segment with θ_v linear in z; the
+            // environment's table integrates θ(1 + 0.61 q_v) with θ and q_v
+            // each linear, which is quadratic. Over 29 km with ~20 g/kg at
+            // the base the two differ by ~1 K of θ_v mid-layer, and the top
+            // point comes back ~0.6 K warm: 1 K, where shallow layers agree
+            // to 0.01 K (spec.rs's own test).
+            let t = env.temperature_k(p.z_m) - 273.15;
+            assert!(
+                (t - p.t_c).abs() < 1.0,
+                "{surface_hpa} hPa, z {}: {t}",
+                p.z_m
+            );
+        }
+    }
+}
