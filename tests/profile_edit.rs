@@ -15,16 +15,16 @@ fn pt(z_m: f64, t_c: f64, td_c: f64) -> AtmospherePoint {
 }
 
 /// Fair-weather cumulus: a dry-adiabatic mixed layer, a conditionally
-/// unstable cloud layer (6.5 K/km, steeper than the moist adiabat) and an
-/// inversion at 2.6–2.8 km that caps the clouds.
+/// unstable cloud layer (6.5 K/km, steeper than the moist adiabat) and a
+/// 7 K inversion at 2.6–2.8 km that caps the clouds.
 fn capped() -> ProfileEditor {
     ProfileEditor::new(AtmosphereSpec {
         points: vec![
             pt(0.0, 28.0, 18.0),
             pt(1200.0, 16.2, 13.0),
             pt(2600.0, 7.1, 0.0),
-            pt(2800.0, 12.0, -12.0),
-            pt(8000.0, -21.8, -45.0),
+            pt(2800.0, 14.0, -12.0),
+            pt(8000.0, -19.8, -45.0),
         ],
         ..AtmosphereSpec::default()
     })
@@ -91,7 +91,7 @@ fn raising_the_inversion_raises_the_equilibrium_level() {
     let el0 = ed.el_m().unwrap();
     // Drag the inversion base and top 600 m up, keeping the cloud layer's
     // 6.5 K/km lapse rate below it (top first so the order is kept).
-    pe::move_point(&mut ed, ProfileCurve::Temperature, 3, 3400.0, 8.1).unwrap();
+    pe::move_point(&mut ed, ProfileCurve::Temperature, 3, 3400.0, 10.1).unwrap();
     pe::move_point(&mut ed, ProfileCurve::Temperature, 2, 3200.0, 3.2).unwrap();
     let el1 = ed.el_m().unwrap();
     // The parcel now rises through 600 m more of the unstable layer.
@@ -100,7 +100,7 @@ fn raising_the_inversion_raises_the_equilibrium_level() {
     // Lowering the inversion by 600 m lowers it.
     let mut ed = capped();
     pe::move_point(&mut ed, ProfileCurve::Temperature, 2, 2000.0, 11.0).unwrap();
-    pe::move_point(&mut ed, ProfileCurve::Temperature, 3, 2200.0, 15.9).unwrap();
+    pe::move_point(&mut ed, ProfileCurve::Temperature, 3, 2200.0, 17.9).unwrap();
     let el2 = ed.el_m().unwrap();
     assert!(el2 < el0 - 400.0, "{el2} vs {el0}");
 }

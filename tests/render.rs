@@ -442,6 +442,27 @@ fn timings_name_every_pass() {
         assert!(ms.is_finite() && *ms >= 0.0, "{n}: {ms}");
     }
     assert!(t.upload_ms >= 0.0);
+    // The CPU-clock fallback names the same passes and says so.
+    hl.renderer.set_gpu_timestamps(false);
+    let (_, t) = hl.render(&ctx, &input).unwrap();
+    assert!(!t.gpu_timestamps);
+    let cpu_names: Vec<&str> = t.passes.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(cpu_names, names);
+    // Each pass waited for the queue, so each took measurable time.
+    assert!(t.passes.iter().all(|(_, ms)| *ms > 0.0), "{:?}", t.passes);
+    // Lagged GPU timing: the first frame has nothing finished yet; once the
+    // GPU is idle a later frame reports the earlier frame's passes.
+    if ctx.timestamps {
+        use cumulus::render::renderer::TimingMode;
+        hl.renderer.set_timing_mode(TimingMode::GpuLagged);
+        let (_, first) = hl.render(&ctx, &input).unwrap();
+        assert!(first.passes.is_empty(), "{:?}", first.passes);
+        ctx.wait_idle();
+        let (_, second) = hl.render(&ctx, &input).unwrap();
+        let lagged: Vec<&str> = second.passes.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(lagged, names);
+        assert!(second.gpu_timestamps);
+    }
 }
 
 #[test]
@@ -550,4 +571,40 @@ fn the_most_parcels_the_uniforms_hold_render() {
     };
     let e = hl.render(&ctx, &input).unwrap_err().to_string();
     assert!(e.contains("condensed parcel count"), "{e}");
+}
+
+#[test]
+fn a_target_of_another_size_resizes_the_renderer() {
+    let Some(ctx) = context() else { return };
+    let cfg = RenderConfig::default();
+    let fmt = wgpu::TextureFormat::Rgba8UnormSrgb;
+    let mut r = Renderer::new(&ctx, &cfg, fmt, 64, 48).unwrap();
+    let parcels = standin::default_field(600.0);
+    r.prepare(
+        &ctx,
+        &FrameInput {
+            camera: Camera::from(&CameraConfig::default()),
+            parcels: &parcels,
+            sun: cfg.sun(),
+            time_s: 0.0,
+        },
+    )
+    .unwrap();
+    let tex = ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: None,
+        size: wgpu::Extent3d {
+            width: 80,
+            height: 40,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: fmt,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        view_formats: &[],
+    });
+    let t = r.render(&ctx, &tex.create_view(&Default::default()));
+    assert_eq!(r.size(), (80, 40));
+    assert_eq!(t.passes.len(), 4);
 }

@@ -31,6 +31,48 @@ pub struct PanelState {
     drag: Option<(ProfileCurve, usize)>,
     /// Top of the diagram's height axis. units: m
     plot_top_m: Option<f64>,
+    /// The diagram's plot ↔ screen mapping of the last frame.
+    transform: Option<egui_plot::PlotTransform>,
+}
+
+impl PanelState {
+    /// Where (temperature °C, height m) was drawn on the diagram last frame,
+    /// in egui points: lets tests press and drag a profile point exactly as
+    /// a user would.
+    pub fn diagram_pos(&self, t_c: f64, z_m: f64) -> Option<egui::Pos2> {
+        self.transform
+            .as_ref()
+            .map(|t| t.position_from_point(&PlotPoint::new(t_c, z_m)))
+    }
+}
+
+/// An egui context with fonts registered from `epaint_default_fonts`: the
+/// crate is built without egui's `default_fonts` feature, and we never read
+/// system fonts, so the panel looks the same everywhere.
+pub fn egui_context() -> egui::Context {
+    use egui::{FontData, FontDefinitions, FontFamily};
+    use std::sync::Arc;
+    let ctx = egui::Context::default();
+    let mut fonts = FontDefinitions::empty();
+    for (name, bytes) in [
+        ("Ubuntu-Light", epaint_default_fonts::UBUNTU_LIGHT),
+        ("Hack", epaint_default_fonts::HACK_REGULAR),
+        ("egui-icons", epaint_default_fonts::EGUI_ICONS),
+    ] {
+        fonts
+            .font_data
+            .insert(name.to_owned(), Arc::new(FontData::from_static(bytes)));
+    }
+    fonts.families.insert(
+        FontFamily::Proportional,
+        vec!["Ubuntu-Light".into(), "Hack".into(), "egui-icons".into()],
+    );
+    fonts.families.insert(
+        FontFamily::Monospace,
+        vec!["Hack".into(), "Ubuntu-Light".into(), "egui-icons".into()],
+    );
+    ctx.set_fonts(fonts);
+    ctx
 }
 
 /// Draws the panel into the left of `ui`. Returns what the window must do.
@@ -89,7 +131,7 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
     let mut edit: Option<crate::Result<()>> = None;
     let drag = &mut ps.drag;
     let editor = &mut m.editor;
-    Plot::new("profile")
+    let shown = Plot::new("profile")
         .height(300.0)
         .allow_drag(false)
         .allow_zoom(false)
@@ -99,12 +141,23 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
         .x_axis_label("temperature (°C)")
         .y_axis_label("height (m)")
         .show(ui, |plot_ui| {
-            plot_ui.set_plot_bounds(PlotBounds::from_min_max([xmin, 0.0], [xmax, plot_top]));
+            // A little room below the ground so the surface points are
+            // inside the plot (not on the axis below it) and can be grabbed.
+            let below = -0.04 * plot_top;
+            plot_ui.set_plot_bounds(PlotBounds::from_min_max([xmin, below], [xmax, plot_top]));
             let resp = plot_ui.response().clone();
-            let pointer = plot_ui.pointer_coordinate();
+            // The pointer now (egui_plot's pointer_coordinate lags a frame
+            // behind while dragging).
+            let pointer = resp
+                .interact_pointer_pos()
+                .or(resp.hover_pos())
+                .map(|p| plot_ui.plot_from_screen(p));
+            // A drag starts a few points away from the press: grab what was
+            // under the press.
+            let grab = plot_ui.ctx().input(|i| i.pointer.press_origin());
             let nearest =
                 |plot_ui: &egui_plot::PlotUi<'_>, points: &[crate::atmosphere::AtmospherePoint]| {
-                    let pos = resp.interact_pointer_pos().or(resp.hover_pos())?;
+                    let pos = grab.or(resp.interact_pointer_pos()).or(resp.hover_pos())?;
                     let mut best: Option<(f32, ProfileCurve, usize)> = None;
                     for (i, p) in points.iter().enumerate() {
                         for (c, x) in [
@@ -125,7 +178,7 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
                 *drag = nearest(plot_ui, editor.points());
             }
             if let (Some((c, i)), Some(p)) = (*drag, pointer)
-                && resp.dragged()
+                && (resp.dragged() || resp.drag_stopped())
             {
                 edit = Some(pe::move_point(editor, c, i, p.y, p.x));
             }
@@ -190,6 +243,7 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
                 }
             }
         });
+    ps.transform = Some(shown.transform);
     if let Some(r) = edit {
         report(m, r);
         m.sync_handles();
@@ -321,12 +375,13 @@ fn render_section(ui: &mut egui::Ui, m: &mut Model) -> bool {
         ui.checkbox(&mut r.shadows, "shadows");
         ui.checkbox(&mut r.terrain.enabled, "terrain");
     });
-    ui.horizontal(|ui| {
-        if ui.button("Reset view").clicked() {
-            m.camera = m.default_camera;
-        }
-        ui.label("drag: orbit · right-drag: look · WASD/QE: fly · wheel: zoom");
-    });
+    if ui.button("Reset view").clicked() {
+        m.camera = m.default_camera;
+    }
+    ui.small(
+        "drag: orbit · right-drag: look around · W A S D / Q E: fly · wheel: zoom · \
+         R: reset view · space: play/pause",
+    );
     if m.render_cfg == before {
         return false;
     }
@@ -342,6 +397,9 @@ fn render_section(ui: &mut egui::Ui, m: &mut Model) -> bool {
 fn stats_section(ui: &mut egui::Ui, m: &mut Model) {
     ui.label(RichText::new("Frame time").strong());
     let s = &m.stats;
+    if !s.adapter.is_empty() {
+        ui.small(&s.adapter);
+    }
     let fps = if s.frame_ms > 0.0 {
         1000.0 / s.frame_ms
     } else {

@@ -50,6 +50,9 @@ pub enum ProfileCurve {
 pub struct ProfileEditor {
     spec: AtmosphereSpec,
     env: Environment,
+    /// How the surface parcel is lifted (α, condensate loading): set to the
+    /// simulation's physics so the diagram shows what the parcels feel.
+    lift: LiftOptions,
     curve: ParcelAscent,
     /// Bumped by every successful edit: the window compares it to push the
     /// environment to the simulation once per change.
@@ -95,13 +98,23 @@ impl ProfileEditor {
                 "inline points with a dewpoint each (use ProfileEditor::from_spec)",
             ));
         }
-        let (env, curve) = build(&spec)?;
+        let lift = LiftOptions::default();
+        let (env, curve) = build(&spec, &lift)?;
         Ok(Self {
             spec,
             env,
+            lift,
             curve,
             revision: 0,
         })
+    }
+
+    /// Lifts the parcel with these options from now on (the simulation's
+    /// latent-heat factor and condensate loading).
+    pub fn set_lift_options(&mut self, lift: LiftOptions) -> Result<()> {
+        self.curve = lift_curve(&self.env, &lift)?;
+        self.lift = lift;
+        Ok(())
     }
 
     /// The points, lowest first.
@@ -161,7 +174,7 @@ impl ProfileEditor {
             points,
             ..self.spec.clone()
         };
-        let (env, curve) = build(&spec)?;
+        let (env, curve) = build(&spec, &self.lift)?;
         self.spec = spec;
         self.env = env;
         self.curve = curve;
@@ -171,12 +184,16 @@ impl ProfileEditor {
 }
 
 /// The environment of inline points and its surface parcel's ascent.
-fn build(spec: &AtmosphereSpec) -> Result<(Environment, ParcelAscent)> {
+fn build(spec: &AtmosphereSpec, lift: &LiftOptions) -> Result<(Environment, ParcelAscent)> {
     // Inline points read no file, so the base directory does not matter.
     let env = spec.build(Path::new("."))?;
-    let n = (env.top_m() / CURVE_DZ_M).ceil() as usize + 1;
-    let curve = lifting::surface_parcel_curve(&env, &LiftOptions::default(), n)?;
+    let curve = lift_curve(&env, lift)?;
     Ok((env, curve))
+}
+
+fn lift_curve(env: &Environment, lift: &LiftOptions) -> Result<ParcelAscent> {
+    let n = (env.top_m() / CURVE_DZ_M).ceil() as usize + 1;
+    lifting::surface_parcel_curve(env, lift, n)
 }
 
 fn check_index(points: &[AtmospherePoint], index: usize) -> Result<()> {

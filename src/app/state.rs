@@ -80,6 +80,8 @@ impl WindHandle {
 /// Last frame's timings for the panel. units: ms
 #[derive(Debug, Clone, Default)]
 pub struct FrameStats {
+    /// The GPU adapter, for the panel.
+    pub adapter: String,
     pub frame_ms: f64,
     pub physics_ms: f64,
     /// Physics stages of the last step (from `physics::Counters`).
@@ -124,8 +126,13 @@ pub struct Model {
 impl Model {
     /// A model on a loaded scene.
     pub fn new(profile: SceneProfile, source: SceneSource) -> Result<Self> {
-        let editor = ProfileEditor::from_spec(&profile.atmosphere, &source.base_dir())?;
+        let mut editor = ProfileEditor::from_spec(&profile.atmosphere, &source.base_dir())?;
         let world_cfg = WorldConfig::from_scene(&profile);
+        editor.set_lift_options(crate::atmosphere::lifting::LiftOptions {
+            alpha: world_cfg.physics.latent_heat_alpha,
+            condensate_loading: world_cfg.physics.condensate_loading,
+            ..Default::default()
+        })?;
         let world = ParcelWorld::new(editor.environment().clone(), world_cfg.clone(), SIM_SEED)?;
         let render_cfg = profile.render.clone();
         render_cfg.validate()?;

@@ -64,7 +64,7 @@ pub fn run(mut opts: WatchOptions) -> Result<()> {
         opts,
         model,
         panel: PanelState::default(),
-        egui_ctx: egui_context(),
+        egui_ctx: panel::egui_context(),
         gfx: None,
         input: Input::default(),
         frame: 0,
@@ -78,34 +78,6 @@ pub fn run(mut opts: WatchOptions) -> Result<()> {
         Some(e) => Err(e),
         None => Ok(()),
     }
-}
-
-/// An egui context with fonts registered from `epaint_default_fonts`: the
-/// crate is built without egui's `default_fonts` feature, and we never read
-/// system fonts, so the window looks the same everywhere.
-fn egui_context() -> egui::Context {
-    use egui::{FontData, FontDefinitions, FontFamily};
-    let ctx = egui::Context::default();
-    let mut fonts = FontDefinitions::empty();
-    for (name, bytes) in [
-        ("Ubuntu-Light", epaint_default_fonts::UBUNTU_LIGHT),
-        ("Hack", epaint_default_fonts::HACK_REGULAR),
-        ("egui-icons", epaint_default_fonts::EGUI_ICONS),
-    ] {
-        fonts
-            .font_data
-            .insert(name.to_owned(), Arc::new(FontData::from_static(bytes)));
-    }
-    fonts.families.insert(
-        FontFamily::Proportional,
-        vec!["Ubuntu-Light".into(), "Hack".into(), "egui-icons".into()],
-    );
-    fonts.families.insert(
-        FontFamily::Monospace,
-        vec!["Hack".into(), "Ubuntu-Light".into(), "egui-icons".into()],
-    );
-    ctx.set_fonts(fonts);
-    ctx
 }
 
 /// Camera input state.
@@ -123,6 +95,11 @@ struct Gfx {
     ctx: GpuContext,
     renderer: Renderer,
     config: wgpu::SurfaceConfiguration,
+    /// The surface takes copies (COPY_DST): the 3D view is rendered beside
+    /// the panel and copied in. Otherwise it fills the window under the panel.
+    split: bool,
+    /// Offscreen target of the 3D view when split, sized to it.
+    view3d: Option<(wgpu::Texture, wgpu::TextureView)>,
     egui_state: egui_winit::State,
     egui_renderer: egui_wgpu::Renderer,
 }
@@ -163,6 +140,7 @@ impl App {
         let adapter = &ctx.adapter;
         let device = &ctx.device;
         eprintln!("GPU: {}", ctx.describe());
+        self.model.stats.adapter = ctx.describe();
         let size = window.inner_size();
         let caps = surface.get_capabilities(adapter);
         // egui paints in gamma space and expects a non-sRGB target.
@@ -173,8 +151,14 @@ impl App {
             .find(|f| !f.is_srgb())
             .or(caps.formats.first().copied())
             .ok_or_else(|| Error::Gpu("the surface supports no format".into()))?;
+        let split = caps.usages.contains(wgpu::TextureUsages::COPY_DST);
+        let usage = if split {
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_DST
+        } else {
+            wgpu::TextureUsages::RENDER_ATTACHMENT
+        };
         let config = wgpu::SurfaceConfiguration {
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            usage,
             format,
             color_space: wgpu::SurfaceColorSpace::Auto,
             width: size.width.max(1),
@@ -187,13 +171,8 @@ impl App {
         if size.width > 0 && size.height > 0 {
             surface.configure(device, &config);
         }
-        let renderer = Renderer::new(
-            &ctx,
-            &self.model.resolved_render_config(),
-            format,
-            config.width,
-            config.height,
-        )?;
+        let (_, w3d, h3d) = view3d_rect(split, &window, config.width, config.height);
+        let renderer = Renderer::new(&ctx, &self.model.resolved_render_config(), format, w3d, h3d)?;
         let egui_state = egui_winit::State::new(
             self.egui_ctx.clone(),
             egui::ViewportId::ROOT,
@@ -210,6 +189,8 @@ impl App {
             ctx,
             renderer,
             config,
+            split,
+            view3d: None,
             egui_state,
             egui_renderer,
         });
@@ -226,7 +207,9 @@ impl App {
         // and skip frames until the window comes back.
         if w > 0 && h > 0 {
             g.surface.configure(&g.ctx.device, &g.config);
-            g.renderer.resize(&g.ctx, w, h)?;
+            let (_, w3d, h3d) = view3d_rect(g.split, &g.window, w, h);
+            g.renderer.resize(&g.ctx, w3d, h3d)?;
+            g.view3d = None;
         }
         Ok(())
     }
@@ -335,11 +318,13 @@ impl App {
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
                 format: g.config.format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::COPY_SRC
+                    | wgpu::TextureUsages::COPY_DST,
                 view_formats: &[],
             });
             let view = tex.create_view(&Default::default());
-            let timings = draw_frame(g, &mut encoder, &view, &jobs, &screen);
+            let timings = draw_frame(g, &mut encoder, &tex, &view, &jobs, &screen);
             record(&mut self.model, timings);
             let rgba = read_back(g, encoder, user_cmds, &tex)?;
             crate::output::write_png_atomic(&path, g.config.width, g.config.height, &rgba)?;
@@ -382,7 +367,7 @@ impl App {
                 }
             };
             let view = frame.texture.create_view(&Default::default());
-            let timings = draw_frame(g, &mut encoder, &view, &jobs, &screen);
+            let timings = draw_frame(g, &mut encoder, &frame.texture, &view, &jobs, &screen);
             record(&mut self.model, timings);
             g.ctx
                 .queue
@@ -399,26 +384,32 @@ impl App {
     }
 }
 
-/// The 3D view, then the panel on top, into `view`.
-fn draw_frame(
-    g: &mut Gfx,
+/// Where the 3D view goes in a `w`×`h` window: (left edge, width, height)
+/// in pixels. Split: right of the panel; else the whole window.
+fn view3d_rect(split: bool, window: &Window, w: u32, h: u32) -> (u32, u32, u32) {
+    if !split || w < 2 {
+        return (0, w.max(1), h.max(1));
+    }
+    let panel_px = (panel::PANEL_WIDTH as f64 * window.scale_factor()).ceil() as u32;
+    let x0 = panel_px.min(w - 1);
+    (x0, w - x0, h.max(1))
+}
+
+fn color_pass(
     encoder: &mut wgpu::CommandEncoder,
     view: &wgpu::TextureView,
-    jobs: &[egui::ClippedPrimitive],
-    screen: &egui_wgpu::ScreenDescriptor,
-) -> crate::render::FrameTimings {
-    // The 3D view: the one render path shared with the headless commands.
-    // It submits its own passes (timed) before the panel's pass below.
-    let timings = g.renderer.render(&g.ctx, view);
-    let mut pass = encoder
+    label: &str,
+    load: wgpu::LoadOp<wgpu::Color>,
+) -> wgpu::RenderPass<'static> {
+    encoder
         .begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("egui"),
+            label: Some(label),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                 view,
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
+                    load,
                     store: wgpu::StoreOp::Store,
                 },
             })],
@@ -427,7 +418,68 @@ fn draw_frame(
             occlusion_query_set: None,
             multiview_mask: None,
         })
-        .forget_lifetime();
+        .forget_lifetime()
+}
+
+/// The 3D view, then the panel on top, into `target` (whose view is `view`).
+fn draw_frame(
+    g: &mut Gfx,
+    encoder: &mut wgpu::CommandEncoder,
+    target: &wgpu::Texture,
+    view: &wgpu::TextureView,
+    jobs: &[egui::ClippedPrimitive],
+    screen: &egui_wgpu::ScreenDescriptor,
+) -> crate::render::FrameTimings {
+    // The 3D view: the one render path shared with the headless commands.
+    // It submits its own passes (timed) before the encoder below.
+    let timings = if g.split {
+        let (x0, w, h) = view3d_rect(true, &g.window, g.config.width, g.config.height);
+        let (tex, tex_view) = g.view3d.get_or_insert_with(|| {
+            let tex = g.ctx.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("3D view"),
+                size: wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: g.config.format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            });
+            let v = tex.create_view(&Default::default());
+            (tex, v)
+        });
+        let timings = g.renderer.render(&g.ctx, tex_view);
+        // Clear first so no pixel is left undefined where the panel's
+        // rounded width leaves a gap.
+        drop(color_pass(
+            encoder,
+            view,
+            "clear",
+            wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+        ));
+        encoder.copy_texture_to_texture(
+            tex.as_image_copy(),
+            wgpu::TexelCopyTextureInfo {
+                texture: target,
+                mip_level: 0,
+                origin: wgpu::Origin3d { x: x0, y: 0, z: 0 },
+                aspect: wgpu::TextureAspect::All,
+            },
+            wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+        );
+        timings
+    } else {
+        g.renderer.render(&g.ctx, view)
+    };
+    let mut pass = color_pass(encoder, view, "egui", wgpu::LoadOp::Load);
     g.egui_renderer.render(&mut pass, jobs, screen);
     timings
 }

@@ -390,6 +390,7 @@ impl ParcelWorld {
             atm_force_n: DVec3::ZERO,
             entrain_rate_kg_s: 0.0,
             volume_ref: (p_pa, 0.0),
+            env_at_centre: (p_pa, 0.0),
         };
         p.volume_ref.1 = p.total_mass_kg();
         p.cond_plane_z_m = self.condensation_plane_m(&p);
@@ -580,6 +581,13 @@ impl ParcelWorld {
     /// only refreshes forces (new parcels, new environment).
     fn update(&mut self, dt: f64, clamps: &mut ClampCounts) {
         let t0 = Instant::now();
+        for p in &mut self.parcels {
+            let z = p.position_m.z;
+            let pr = self.env.pressure_pa(z);
+            let t = thermo::temperature_from_theta_k(self.env.theta_k(z), pr);
+            // Same expression as Environment::density_kg_m3, one pressure lookup fewer.
+            p.env_at_centre = (pr, thermo::air_density_kg_m3(pr, t, self.env.qv(z)));
+        }
         self.build_neighbours();
         let t1 = Instant::now();
         self.counters.neighbours += t1 - t0;
@@ -652,27 +660,30 @@ impl ParcelWorld {
             }
             let xi = self.parcels[i].position_m;
             let c = cell(xi);
+            // Keys sort by (x, y, z) cell then index, so the three cells
+            // z − 1, z, z + 1 of one (x, y) column are contiguous: one binary
+            // search per column, and the same order as cell-by-cell scans.
             for dx in -1..=1 {
                 for dy in -1..=1 {
-                    for dz in -1..=1 {
-                        let key = [c[0] + dx, c[1] + dy, c[2] + dz];
-                        let lo = keys.partition_point(|(k, _)| *k < key);
-                        for &(k, j) in &keys[lo..] {
-                            if k != key {
-                                break;
-                            }
-                            if j == i {
-                                continue;
-                            }
-                            let r = xi - self.parcels[j].position_m;
-                            let d2 = r.length_squared();
-                            if d2 < h2 {
-                                self.nbrs.push(Neighbour {
-                                    j,
-                                    r,
-                                    dist: d2.sqrt(),
-                                });
-                            }
+                    let (kx, ky) = (c[0].saturating_add(dx), c[1].saturating_add(dy));
+                    let first = [kx, ky, c[2].saturating_sub(1)];
+                    let last = [kx, ky, c[2].saturating_add(1)];
+                    let lo = keys.partition_point(|(k, _)| *k < first);
+                    for &(k, j) in &keys[lo..] {
+                        if k > last {
+                            break;
+                        }
+                        if j == i {
+                            continue;
+                        }
+                        let r = xi - self.parcels[j].position_m;
+                        let d2 = r.length_squared();
+                        if d2 < h2 {
+                            self.nbrs.push(Neighbour {
+                                j,
+                                r,
+                                dist: d2.sqrt(),
+                            });
                         }
                     }
                 }
@@ -799,8 +810,10 @@ impl ParcelWorld {
             // Bound: the caps cannot lose more than the sphere's whole
             // Archimedes force ρ g V.
             let force = force * weight;
-            let bound =
-                weight * self.env.density_kg_m3(ci.z) * thermo::GRAVITY * self.parcels[i].volume_m3;
+            let bound = weight
+                * self.parcels[i].env_at_centre.1
+                * thermo::GRAVITY
+                * self.parcels[i].volume_m3;
             let force = if force.length() > bound {
                 clamps.atm_force += 1;
                 force * (bound / force.length())
@@ -829,7 +842,7 @@ impl ParcelWorld {
             let dma_e = c.entrainment_surface_factor
                 * (c.entrainment_rate_per_m * r)
                 * area
-                * self.env.density_kg_m3(z)
+                * p.env_at_centre.1
                 * speed
                 * dt;
             // eq 11's ρ_atm is moist air; its dry part is what the mixing ratios count.
@@ -942,7 +955,7 @@ impl ParcelWorld {
                 p.ql_kg_per_kg = 0.0;
                 clamps.negative_humidity += 1;
             }
-            let p2 = self.env.pressure_pa(p.position_m.z);
+            let p2 = p.env_at_centre.0;
             let m2 = p.total_mass_kg();
             let (p1, m1) = p.volume_ref;
             if p1 != p2 || m1 != m2 {
@@ -967,7 +980,7 @@ impl ParcelWorld {
     fn condense(&mut self, clamps: &mut ClampCounts) {
         let alpha = self.cfg.physics.latent_heat_alpha;
         for p in &mut self.parcels {
-            let pr = self.env.pressure_pa(p.position_m.z);
+            let pr = p.env_at_centre.0;
             let ex = thermo::exner(pr);
             let t = p.theta_k * ex;
             let a = thermo::saturation_adjust(t, p.qv_kg_per_kg, p.ql_kg_per_kg, pr, alpha);
@@ -1065,9 +1078,8 @@ impl ParcelWorld {
             let rel = vpred[i] - self.cfg.wind.at(z);
             if c.drag {
                 let area = PI * p.radius_m * p.radius_m;
-                a -= rel
-                    * (0.5 * c.drag_coefficient * self.env.density_kg_m3(z) * rel.length() * area
-                        / mi);
+                a -=
+                    rel * (0.5 * c.drag_coefficient * p.env_at_centre.1 * rel.length() * area / mi);
             }
             if c.mixing {
                 // Entrained air arrives with the wind's velocity.
@@ -1096,15 +1108,34 @@ impl ParcelWorld {
     fn condensation_plane_m(&self, p: &Parcel) -> f64 {
         let qt = p.qv_kg_per_kg + p.ql_kg_per_kg;
         let z_max = self.env.top_m().max(self.cfg.physics.domain_top_m);
-        // Warm start: the plane moves little between frames, so bisect in a
-        // 64 m bracket around the last one when it holds the crossing (same
-        // 1e-4 m resolution in 19 halvings instead of 40).
-        let (lo, hi) = (p.cond_plane_z_m - 32.0, p.cond_plane_z_m + 32.0);
-        if lo > 0.0 && hi < z_max {
-            let excess = |z: f64| saturation_excess(&self.env, p.theta_l_k, qt, z);
-            if excess(lo) > 0.0 && !(excess(hi) > 0.0) {
-                return bisect_plane(&self.env, p.theta_l_k, qt, lo, hi, 19);
+        // Warm start: the plane moves little between frames, so a secant
+        // iteration from the last plane usually converges in 2–4 steps to
+        // 1e-4 m; otherwise bisect in a 64 m bracket around the last plane
+        // (19 halvings to the same resolution), else over the whole column.
+        let excess = |z: f64| saturation_excess(&self.env, p.theta_l_k, qt, z);
+        let (mut z0, mut z1) = (p.cond_plane_z_m, p.cond_plane_z_m + 1.0);
+        if z0 > 1.0 && z1 < z_max - 1.0 {
+            let (mut f0, mut f1) = (excess(z0), excess(z1));
+            for _ in 0..6 {
+                let slope = (f1 - f0) / (z1 - z0);
+                // ω_s falls with height: a non-negative slope means trouble.
+                if !(slope < 0.0) {
+                    break;
+                }
+                let z2 = z1 - f1 / slope;
+                if !(z2 > 0.0 && z2 < z_max) {
+                    break;
+                }
+                if (z2 - z1).abs() < 1e-4 {
+                    return z2;
+                }
+                (z0, f0) = (z1, f1);
+                (z1, f1) = (z2, excess(z2));
             }
+        }
+        let (lo, hi) = (p.cond_plane_z_m - 32.0, p.cond_plane_z_m + 32.0);
+        if lo > 0.0 && hi < z_max && excess(lo) > 0.0 && !(excess(hi) > 0.0) {
+            return bisect_plane(&self.env, p.theta_l_k, qt, lo, hi, 19);
         }
         condensation_level_m(&self.env, p.theta_l_k, qt, z_max)
     }

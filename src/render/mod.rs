@@ -5,6 +5,20 @@
 //! Layers: [`pack`], [`noise`] and [`terrain`] are pure CPU (unit-tested
 //! without a GPU); [`gpu`] opens the device; [`renderer`] owns the passes;
 //! [`headless`] renders to an offscreen texture and reads it back.
+//!
+//! Use (window, bench, tests alike):
+//!
+//! ```text
+//! let ctx = GpuContext::new_headless(None)?;            // or new_for_surface(instance, &surface)
+//! let mut r = Renderer::new(&ctx, &cfg, format, w, h)?;  // cfg: RenderConfig, validated
+//! r.prepare(&ctx, &FrameInput { camera, parcels: &parcels, sun: cfg.sun(), time_s })?;
+//! let timings = r.render(&ctx, &view);                   // FrameTimings per pass
+//! r.set_config(&ctx, &new_cfg)?;  r.resize(&ctx, w2, h2)?;
+//! // headless: headless::render_to_rgba(&ctx, &cfg, &input, w, h)? -> (rgba, w, h)
+//! ```
+//!
+//! The passes and their shaders are described in `shaders/*.wgsl` headers;
+//! the density of the hypertexture (paper eq. 18) in `shaders/density.wgsl`.
 
 pub mod gpu;
 pub mod headless;
@@ -24,7 +38,7 @@ use crate::error::{Error, Result};
 use crate::physics::CloudParcel;
 
 pub use gpu::GpuContext;
-pub use renderer::{FrameTimings, Renderer};
+pub use renderer::{FrameTimings, Renderer, TimingMode};
 
 /// Terrain settings (the `[render.terrain]` table).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -51,7 +65,7 @@ impl Default for TerrainConfig {
         Self {
             enabled: true,
             heightmap: None,
-            height_scale_m: 600.0,
+            height_scale_m: 1800.0,
             extent_m: 40_000.0,
             resolution: 160,
             seed: 7,
@@ -522,6 +536,20 @@ mod tests {
         assert!(cfg.normals);
         assert_eq!(cfg.terrain.heightmap, Some(PathBuf::from("h.png")));
         assert!(toml::from_str::<RenderConfig>("bogus = 1\n").is_err());
+    }
+
+    #[test]
+    fn configs_round_trip_through_toml() {
+        // The window saves scenes with toml::to_string_pretty.
+        let mut cfg = RenderConfig::default();
+        let text = toml::to_string_pretty(&cfg).unwrap();
+        assert_eq!(toml::from_str::<RenderConfig>(&text).unwrap(), cfg);
+        cfg.terrain.heightmap = Some(PathBuf::from("maps/h.png"));
+        let text = toml::to_string_pretty(&cfg).unwrap();
+        assert_eq!(toml::from_str::<RenderConfig>(&text).unwrap(), cfg);
+        let cam = CameraConfig::default();
+        let text = toml::to_string_pretty(&cam).unwrap();
+        assert_eq!(toml::from_str::<CameraConfig>(&text).unwrap(), cam);
     }
 
     #[test]

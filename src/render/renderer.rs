@@ -60,6 +60,25 @@ struct Timestamps {
     set: wgpu::QuerySet,
     resolve: wgpu::Buffer,
     read: wgpu::Buffer,
+    /// Lagged mode: the read buffer is being mapped for these passes;
+    /// the flag turns true when the mapping is done (Err: mapping failed).
+    in_flight: Option<(Vec<Pass>, std::sync::Arc<std::sync::Mutex<Option<bool>>>)>,
+    /// Lagged mode: the latest timings read back.
+    last: Vec<(String, f64)>,
+}
+
+/// How `render` times its passes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TimingMode {
+    /// GPU timestamps read back at the end of each frame (waits for the
+    /// GPU; exact per frame: headless commands, bench, tests). The default.
+    GpuBlocking,
+    /// GPU timestamps read back when ready, without waiting: `render`
+    /// returns the latest finished frame's timings (a frame or more old).
+    /// For the window, so timing does not stall the frame.
+    GpuLagged,
+    /// CPU wall clock with a queue wait after each pass.
+    Cpu,
 }
 
 struct TerrainGpu {
@@ -104,6 +123,8 @@ pub struct Renderer {
     bind_terrain: Option<wgpu::BindGroup>,
     bind_clouds: Option<wgpu::BindGroup>,
     timestamps: Option<Timestamps>,
+    /// How passes are timed (GPU modes fall back to Cpu without timestamps).
+    timing: TimingMode,
     /// Pipelines created so far (tests check that a setting rebuilds only
     /// what depends on it).
     pipelines_built: u32,
@@ -360,6 +381,8 @@ impl Renderer {
                     usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
                     mapped_at_creation: false,
                 }),
+                in_flight: None,
+                last: Vec::new(),
             }
         });
 
@@ -401,6 +424,7 @@ impl Renderer {
             bind_terrain: None,
             bind_clouds: None,
             timestamps,
+            timing: TimingMode::GpuBlocking,
             pipelines_built: 0,
         };
         r.ensure(ctx)?;
@@ -469,6 +493,29 @@ impl Renderer {
             .filter(|p| self.pipelines.contains_key(p))
             .map(|p| p.name())
             .collect()
+    }
+
+    /// Times passes with GPU timestamps (when the device has them; the
+    /// default) or with the CPU clock and a queue sync per pass.
+    pub fn set_gpu_timestamps(&mut self, on: bool) {
+        self.set_timing_mode(if on {
+            TimingMode::GpuBlocking
+        } else {
+            TimingMode::Cpu
+        });
+    }
+
+    /// Chooses how passes are timed; see [`TimingMode`].
+    pub fn set_timing_mode(&mut self, mode: TimingMode) {
+        self.timing = mode;
+    }
+
+    /// The timing actually used: GPU modes need timestamp support.
+    pub fn timing_mode(&self) -> TimingMode {
+        match (self.timing, self.timestamps.is_some()) {
+            (TimingMode::Cpu, _) | (_, false) => TimingMode::Cpu,
+            (mode, true) => mode,
+        }
     }
 
     /// How many pipelines this renderer has created so far.
@@ -819,18 +866,37 @@ impl Renderer {
     }
 
     /// Draws the prepared frame into `target` (a view of a `target_format`
-    /// texture of the renderer's size) and returns per-pass timings.
+    /// texture) and returns per-pass timings. A target of another size than
+    /// the renderer's resizes the renderer first (a window that forgot to
+    /// call `resize` gets a correct frame, not a validation panic); a size
+    /// the device cannot hold draws nothing and returns no pass timings.
     pub fn render(&mut self, ctx: &GpuContext, target: &wgpu::TextureView) -> FrameTimings {
+        let size = target.texture().size();
+        if (size.width, size.height) != (self.width, self.height)
+            && self.resize(ctx, size.width, size.height).is_err()
+        {
+            return FrameTimings {
+                upload_ms: self.upload_ms,
+                ..FrameTimings::default()
+            };
+        }
         let passes: Vec<Pass> = Pass::ALL
             .into_iter()
             .filter(|p| self.pipelines.contains_key(p))
             .collect();
         let mut timings = FrameTimings {
             passes: Vec::new(),
-            gpu_timestamps: self.timestamps.is_some(),
+            gpu_timestamps: self.timing_mode() != TimingMode::Cpu,
             upload_ms: self.upload_ms,
         };
-        if let Some(ts) = &self.timestamps {
+        let mode = self.timing_mode();
+        if mode == TimingMode::GpuLagged {
+            timings.passes = self.render_lagged(ctx, target, &passes);
+        } else if let Some(ts) = self
+            .timestamps
+            .as_ref()
+            .filter(|_| mode == TimingMode::GpuBlocking)
+        {
             let mut enc = ctx.device.create_command_encoder(&Default::default());
             for (i, pass) in passes.iter().enumerate() {
                 let writes = wgpu::RenderPassTimestampWrites {
@@ -868,6 +934,74 @@ impl Renderer {
             }
         }
         timings
+    }
+
+    /// Lagged GPU timing: never waits; returns the latest finished timings.
+    fn render_lagged(
+        &mut self,
+        ctx: &GpuContext,
+        target: &wgpu::TextureView,
+        passes: &[Pass],
+    ) -> Vec<(String, f64)> {
+        let _ = ctx.device.poll(wgpu::PollType::Poll);
+        let period_ns = ctx.queue.get_timestamp_period() as f64;
+        let ts = self
+            .timestamps
+            .as_mut()
+            .expect("lagged mode needs timestamps");
+        // Collect a finished readback.
+        if let Some((done_passes, flag)) = &ts.in_flight {
+            let state = *flag.lock().unwrap_or_else(|e| e.into_inner());
+            if let Some(ok) = state {
+                let n = 2 * done_passes.len() as u64;
+                if ok {
+                    if let Ok(view) = ts.read.get_mapped_range(0..8 * n) {
+                        let ticks = bytemuck::pod_collect_to_vec::<u8, u64>(&view);
+                        ts.last = done_passes
+                            .iter()
+                            .enumerate()
+                            .map(|(i, p)| {
+                                let ms = ticks[2 * i + 1].saturating_sub(ticks[2 * i]) as f64
+                                    * period_ns
+                                    / 1e6;
+                                (p.name().to_string(), ms)
+                            })
+                            .collect();
+                    }
+                    ts.read.unmap();
+                }
+                ts.in_flight = None;
+            }
+        }
+        let measure = ts.in_flight.is_none();
+        let ts = self.timestamps.as_ref().expect("checked above");
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        for (i, pass) in passes.iter().enumerate() {
+            let writes = measure.then(|| wgpu::RenderPassTimestampWrites {
+                query_set: &ts.set,
+                beginning_of_pass_write_index: Some(2 * i as u32),
+                end_of_pass_write_index: Some(2 * i as u32 + 1),
+            });
+            self.encode_pass(&mut enc, *pass, target, writes);
+        }
+        let n = 2 * passes.len() as u32;
+        if measure {
+            enc.resolve_query_set(&ts.set, 0..n, &ts.resolve, 0);
+            enc.copy_buffer_to_buffer(&ts.resolve, 0, &ts.read, 0, 8 * n as u64);
+        }
+        ctx.queue.submit([enc.finish()]);
+        let last = ts.last.clone();
+        if measure {
+            let flag = std::sync::Arc::new(std::sync::Mutex::new(None));
+            let setter = flag.clone();
+            ts.read
+                .map_async(wgpu::MapMode::Read, 0..8 * n as u64, move |r| {
+                    *setter.lock().unwrap_or_else(|e| e.into_inner()) = Some(r.is_ok());
+                });
+            self.timestamps.as_mut().expect("checked above").in_flight =
+                Some((passes.to_vec(), flag));
+        }
+        last
     }
 
     fn encode_pass(

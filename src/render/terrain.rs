@@ -51,8 +51,9 @@ fn value2(x: f32, y: f32, seed: u32) -> f32 {
     top + (bot - top) * sy
 }
 
-/// Procedural height at (x, y): fBm hills, flatter in the middle of the
-/// domain (a valley floor), in [0, height_scale_m]. units: m
+/// Procedural height at (x, y): fBm hills, low in the middle (the valley
+/// floor under the simulated domain, at most a fifth of the scale) rising to
+/// mountains toward the mesh edge, in [0, height_scale_m]. units: m
 pub fn procedural_height(x: f32, y: f32, cfg: &TerrainConfig) -> f32 {
     let mut sum = 0.0;
     let mut amp = 1.0;
@@ -65,9 +66,10 @@ pub fn procedural_height(x: f32, y: f32, cfg: &TerrainConfig) -> f32 {
         freq *= 2.1;
     }
     let h = sum / norm;
-    let r = (x * x + y * y).sqrt() / 9000.0;
-    let valley = 0.5 + 0.5 * (r * r).min(1.0);
-    (h * valley).clamp(0.0, 1.0) * cfg.height_scale_m
+    let r = (x * x + y * y).sqrt();
+    let t = ((r - 7000.0) / 11000.0).clamp(0.0, 1.0);
+    let envelope = 0.2 + 0.8 * t * t * (3.0 - 2.0 * t);
+    (h * envelope).clamp(0.0, 1.0) * cfg.height_scale_m
 }
 
 /// Heights on an `n`×`n` grid (row-major, row 0 at y = −extent/2).

@@ -1,0 +1,186 @@
+//! The window's panel driven by synthetic mouse input, headless (egui needs
+//! no display or GPU): pressing and dragging a point on the profile diagram,
+//! and the condensation-level slider, edit the profile through
+//! `app::profile_edit`, move the lifted parcel's LCL, and reach the running
+//! simulation on the next frame.
+
+use cumulus::app::panel::{self, PanelState};
+use cumulus::app::profile_edit::dewpoint_c;
+use cumulus::app::state::Model;
+use egui::{Event, Modifiers, PointerButton, Pos2, RawInput, Rect, pos2, vec2};
+
+/// One egui frame of the panel with `events`; `t` advances the clock.
+struct Harness {
+    ctx: egui::Context,
+    ps: PanelState,
+    m: Model,
+    t: f64,
+}
+
+impl Harness {
+    fn new() -> Self {
+        let (profile, source) = cumulus::scene::load_scene(None).unwrap();
+        let mut h = Self {
+            ctx: panel::egui_context(),
+            ps: PanelState::default(),
+            m: Model::new(profile, source).unwrap(),
+            t: 0.0,
+        };
+        // Two frames to lay out (fonts, plot bounds).
+        h.frame(vec![]);
+        h.frame(vec![]);
+        h
+    }
+
+    fn frame(&mut self, events: Vec<Event>) {
+        self.t += 0.05;
+        let input = RawInput {
+            screen_rect: Some(Rect::from_min_size(Pos2::ZERO, vec2(1280.0, 760.0))),
+            time: Some(self.t),
+            events,
+            ..Default::default()
+        };
+        let (m, ps) = (&mut self.m, &mut self.ps);
+        let _ = self.ctx.run_ui(input, |ui| {
+            panel::show(ui, m, ps);
+        });
+        // What the window does after the panel each frame.
+        self.m.advance(0.0);
+    }
+
+    /// Press at `from`, move in small steps to `to`, release.
+    fn drag(&mut self, from: Pos2, to: Pos2) {
+        let button = |pos, pressed| Event::PointerButton {
+            pos,
+            button: PointerButton::Primary,
+            pressed,
+            modifiers: Modifiers::default(),
+        };
+        self.frame(vec![Event::PointerMoved(from)]);
+        self.frame(vec![button(from, true)]);
+        for i in 1..=8 {
+            let p = from + (to - from) * (i as f32 / 8.0);
+            self.frame(vec![Event::PointerMoved(p)]);
+        }
+        self.frame(vec![button(to, false)]);
+        self.frame(vec![]);
+    }
+}
+
+#[test]
+fn dragging_the_surface_dewpoint_moves_the_lcl_and_the_world() {
+    let mut h = Harness::new();
+    let p0 = h.m.editor.points()[0];
+    let td0 = dewpoint_c(&p0);
+    let lcl0 = h.m.editor.lcl_m().unwrap();
+    let rev0 = h.m.editor.revision();
+    let from = h.ps.diagram_pos(td0, 0.0).expect("diagram drawn");
+    // Two degrees to the right on the diagram, in screen points.
+    let to_x = h.ps.diagram_pos(td0 + 2.0, 0.0).unwrap().x;
+    h.drag(from, pos2(to_x, from.y - 40.0));
+
+    let p = h.m.editor.points()[0];
+    assert!(h.m.editor.revision() > rev0, "the drag edited the profile");
+    // The surface point stays on the ground however the mouse moves.
+    assert_eq!(p.z_m, 0.0);
+    // The pointer lands within a fraction of a screen point of the target:
+    // 0.1 °C is a few hundredths of the diagram's width.
+    assert!((dewpoint_c(&p) - (td0 + 2.0)).abs() < 0.1, "{p:?}");
+    assert_eq!(p.t_c, p0.t_c, "only the dewpoint was dragged");
+    // 2 K less dewpoint depression: ~250 m lower LCL (Espy, 125 m/K), give
+    // or take 20%.
+    let lcl = h.m.editor.lcl_m().unwrap();
+    assert!((lcl0 - lcl - 250.0).abs() < 50.0, "LCL {lcl0} → {lcl}");
+    // The running world has the edited environment.
+    assert_eq!(
+        h.m.world.environment().qv(0.0),
+        h.m.editor.environment().qv(0.0)
+    );
+}
+
+#[test]
+fn dragging_an_inversion_point_up_raises_the_cloud_top() {
+    let mut h = Harness::new();
+    let el0 = h.m.editor.el_m().unwrap();
+    // The inversion top: the first level warmer than the one below.
+    let pts = h.m.editor.points().to_vec();
+    let i = (1..pts.len())
+        .find(|&i| pts[i].t_c > pts[i - 1].t_c)
+        .unwrap();
+    // The cloud layer's lapse rate below the inversion base (i − 1).
+    let (a, b) = (pts[i - 2], pts[i - 1]);
+    let lapse = (a.t_c - b.t_c) / (b.z_m - a.z_m);
+    // Move the inversion top up 400 m, then its base, continuing the cloud
+    // layer's lapse rate (top first so the heights stay in order).
+    for (j, dt) in [(i, 0.0), (i - 1, -lapse * 400.0)] {
+        let p = h.m.editor.points()[j];
+        let from = h.ps.diagram_pos(p.t_c, p.z_m).unwrap();
+        let to = h.ps.diagram_pos(p.t_c + dt, p.z_m + 400.0).unwrap();
+        h.drag(from, to);
+        let moved = h.m.editor.points()[j];
+        // Pointer placement: a screen point is ~10 m of height and ~0.1 K.
+        assert!(
+            (moved.z_m - (p.z_m + 400.0)).abs() < 15.0,
+            "{p:?} → {moved:?}"
+        );
+        assert!((moved.t_c - (p.t_c + dt)).abs() < 0.2, "{p:?} → {moved:?}");
+    }
+    let el = h.m.editor.el_m().unwrap();
+    // The buoyant cloud layer below the cap is 400 m deeper.
+    assert!(el > el0 + 200.0, "EL {el0} → {el}");
+}
+
+#[test]
+fn clicks_beside_points_do_not_edit() {
+    let mut h = Harness::new();
+    let p = h.m.editor.points()[1];
+    let at = h.ps.diagram_pos(p.t_c, p.z_m).unwrap() + vec2(40.0, 0.0);
+    h.drag(at, at + vec2(30.0, -30.0));
+    assert_eq!(h.m.editor.revision(), 0, "nothing was grabbed");
+}
+
+#[test]
+fn double_click_adds_a_level_and_right_click_removes_it() {
+    let mut h = Harness::new();
+    let n = h.m.editor.points().len();
+    let env0 = h.m.editor.environment().clone();
+    // Double-click on empty diagram space at 3 km.
+    let at = h.ps.diagram_pos(0.0, 3000.0).unwrap();
+    let click = |pressed, button| Event::PointerButton {
+        pos: at,
+        button,
+        pressed,
+        modifiers: Modifiers::default(),
+    };
+    h.frame(vec![Event::PointerMoved(at)]);
+    h.frame(vec![click(true, PointerButton::Primary)]);
+    h.frame(vec![click(false, PointerButton::Primary)]);
+    h.frame(vec![click(true, PointerButton::Primary)]);
+    h.frame(vec![click(false, PointerButton::Primary)]);
+    h.frame(vec![]);
+    let pts = h.m.editor.points().to_vec();
+    assert_eq!(pts.len(), n + 1);
+    let new = pts
+        .iter()
+        .position(|p| (p.z_m - 3000.0).abs() < 15.0)
+        .expect("a level at 3 km");
+    // Interpolated from the profile: the environment is unchanged there
+    // (θ within the T-vs-θ interpolation difference, < 0.05 K).
+    let z = pts[new].z_m;
+    assert!((h.m.editor.environment().theta_k(z) - env0.theta_k(z)).abs() < 0.05);
+
+    // Right-click on its temperature point removes it again.
+    let on = h.ps.diagram_pos(pts[new].t_c, z).unwrap();
+    let rclick = |pressed| Event::PointerButton {
+        pos: on,
+        button: PointerButton::Secondary,
+        pressed,
+        modifiers: Modifiers::default(),
+    };
+    h.frame(vec![Event::PointerMoved(on)]);
+    h.frame(vec![rclick(true)]);
+    h.frame(vec![rclick(false)]);
+    h.frame(vec![]);
+    assert_eq!(h.m.editor.points().len(), n);
+    assert!(h.m.editor.points().iter().all(|p| (p.z_m - z).abs() > 1.0));
+}
