@@ -112,3 +112,54 @@ fn reports_replace_old_ones_whole() {
     assert_eq!(text.lines().count(), 2);
     assert!(Path::new(&md).exists());
 }
+
+/// What fails a case: a NaN/Inf, kinetic energy beyond the bound, a caught
+/// panic, a setup error; escapes and clamps alone do not.
+#[test]
+fn failure_criteria() {
+    let cases: Vec<_> = stability::matrix(Size::Quick)
+        .unwrap()
+        .into_iter()
+        .filter(|c| c.name == "parcels_10")
+        .collect();
+    let ok = stability::run_matrix(&cases, |_, _| {}).remove(0);
+    assert!(ok.passed(), "{:?}", ok.failures());
+
+    let mut r = ok.clone();
+    r.escaped_sides = 5;
+    r.clamps.speed = 100;
+    assert!(r.passed(), "escapes and clamps are reported, not failures");
+
+    let mut r = ok.clone();
+    r.non_finite = 1;
+    assert!(!r.passed());
+    let mut r = ok.clone();
+    r.ke_ratio = KE_RATIO_BOUND * 1.01;
+    assert!(!r.passed());
+    let mut r = ok.clone();
+    r.ke_ratio = f64::NAN;
+    assert!(!r.passed(), "a NaN ratio is not within the bound");
+    let mut r = ok.clone();
+    r.panic = Some("boom".into());
+    r.completed = false;
+    assert!(r.failures()[0].contains("boom"));
+    let mut r = ok.clone();
+    r.error = Some("bad".into());
+    r.completed = false;
+    assert!(!r.passed());
+
+    // The table says so, and so does the CSV.
+    let md = stability::to_markdown(&[ok.clone(), r.clone()], "t");
+    assert!(
+        md.contains("1 failed") && md.contains("**FAIL**: setup error: bad"),
+        "{md}"
+    );
+    let csv = stability::to_csv(&[ok, r]);
+    assert!(
+        csv.lines()
+            .nth(2)
+            .unwrap()
+            .contains(",false,\"setup error: bad\""),
+        "{csv}"
+    );
+}
