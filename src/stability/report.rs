@@ -63,8 +63,9 @@ pub fn to_markdown(results: &[CaseResult], title: &str) -> String {
     );
     let _ = writeln!(
         s,
-        "- **KE ratio**: max over frames of KE(t) / (KE₀ + E_sph,0 + M(t)·e_phys), the kinetic \
-         energy over all the energy the case can supply (initial SPH compression, CAPE of the \
+        "- **KE ratio**: max over frames of KE(t) / (KE₀ + E_sph,0 + E_births + M(t)·e_phys + W_atm), \
+         the kinetic energy over all the energy the case can supply (initial SPH compression, SPH \
+         energy of parcels born overlapping others, CAPE of the \
          hottest and downdraft CAPE of the coldest parcel possible, ½|wind|²); a case fails above \
          {KE_RATIO_BOUND}. `e_phys` is that energy per kg. W_atm, the work of the atmospheric \
          pressure on hidden caps (paper §5.1: overlapping parcels weigh their lens volume), is \
