@@ -20,7 +20,10 @@
 //!   the physics: fixed in the environment (θ is held above the top when the
 //!   top segment's θ falls); kept as a regression test below and in
 //!   bad_input_fuzz.proptest-regressions.
-//! - Second run, after the fix: nothing found.
+//! - Second run, after the fix: nothing found (131 s).
+//! - Third run, after the hydrostatic-step fix in the atmosphere spec
+//!   (found by hand while widening the stability matrix, test below):
+//!   nothing found (91 s).
 //!
 //! (`[physics] stiffness = 0` being accepted was found by the bad-input
 //! fixtures, not by the fuzzer: validate() now asks for K > 0.)
