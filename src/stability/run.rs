@@ -135,7 +135,7 @@ impl CaseResult {
 /// each θ excess drawn in [0, theta_excess_k], from `seed`.
 pub fn cluster_specs(env: &Environment, c: &Cluster, seed: u64) -> Vec<ParcelSpec> {
     let side = (c.count as f64).cbrt().ceil().max(1.0) as usize;
-    let mut rng = SplitMix64::new(seed ^ 0x5eed_c1u64);
+    let mut rng = SplitMix64::new(seed ^ 0x005e_edc1_u64);
     let half = 0.5 * (side as f64 - 1.0) * c.spacing_m;
     (0..c.count)
         .map(|n| {
