@@ -3,10 +3,14 @@
 // (eq. 18) at fixed steps (stretched so `max steps` always cross the box),
 // stopping at the terrain depth written by the terrain pass.
 //
-// Lighting per sample: the sun, attenuated by a short light march toward it
-// (self-shadowing), with a two-lobe Henyey–Greenstein phase function and a
-// cheap multiple-scattering term; plus sky ambient that falls off toward the
-// cloud base, so bases are dark. Energy-conserving step integration:
+// Lighting per sample, tuned so clouds read as cumulus (sunlit domes
+// bright, bases grey-blue): the sun, attenuated by a light march toward it
+// whose steps grow geometrically (so it crosses a whole cloud) with a denser
+// medium than the view rays see, scattered with a two-lobe Henyey–Greenstein
+// phase in three multiple-scattering octaves; plus sky ambient shaded by a
+// cheap look upward and, with the multiple scattering, darkened toward the
+// sample's condensation plane (the flat base); plus a little ground bounce.
+// Energy-conserving step integration:
 // L += T·S·(1 − exp(−σΔt)), T *= exp(−σΔt). Early exit when T drops below
 // the threshold (0 disables it). With GRID_CULLING, empty grid cells are
 // skipped whole (the samples kept are the brute-force march's, same
@@ -31,17 +35,86 @@ fn henyey_greenstein(cos_theta: f32, g: f32) -> f32 {
     return (1.0 - g2) / (4.0 * PI * pow(1.0 + g2 - 2.0 * g * cos_theta, 1.5));
 }
 
-// Optical depth toward the sun over `light steps` samples (dimensionless
-// density sum × step; × extinction gives the exponent).
+// Growth of the light-march steps: step i is `light step`·LIGHT_GROWTH^i
+// long, so a few samples reach across a whole cloud (≈1.4 km with the
+// defaults) while the first ones resolve the crisp sunlit edge.
+const LIGHT_GROWTH: f32 = 1.6;
+
+// Extinction toward the sun over the view rays' extinction: the soft,
+// noise-eroded edges the view rays need would let the sun through too
+// easily; real cumulus is optically thicker (σ ≈ 0.05–0.1 m⁻¹) than what
+// reads well along view rays.
+const LIGHT_DENSITY: f32 = 2.5;
+
+// Height above a cloud's condensation plane over which diffuse light
+// recovers from its darkest (at the base) to full. units: m
+const BASE_FADE_M: f32 = 500.0;
+
+// Optical depth toward the sun (dimensionless density sum × step; ×
+// extinction gives the exponent).
 fn light_density_sum(p: vec3<f32>) -> f32 {
     let steps = u32(frame.march.z);
-    let ds = frame.march.w;
+    var ds = frame.march.w;
     let sun = frame.sun_dir.xyz;
+    var t = 0.0;
     var sum = 0.0;
     for (var i = 0u; i < steps; i++) {
-        sum += cloud_density(p + sun * (ds * (f32(i) + 0.5)));
+        let q = p + sun * (t + 0.5 * ds);
+        // Past the first step the noise detail no longer shows in the
+        // shadow: the parcels alone (no texture fetches) are cheaper.
+        if i < 1u {
+            sum += cloud_density(q) * ds;
+        } else {
+            sum += coarse_density(q) * ds;
+        }
+        t += ds;
+        ds *= LIGHT_GROWTH;
     }
-    return sum * ds;
+    return sum;
+}
+
+// Density of the parcels alone (no noise: no texture fetches), for the
+// coarse look upward that shades the sky ambient.
+fn coarse_density(p: vec3<f32>) -> f32 {
+    return smoothstep(0.0, 1.0, macro_value(p));
+}
+
+// How much of the sky a sample sees: transmittance of a cheap two-sample
+// march straight up (150 m and 600 m), softened because skylight arrives
+// from the whole upper hemisphere, not just the zenith. Cloud bases, with
+// the whole cloud above them, see little sky and turn grey-blue.
+fn sky_visibility(p: vec3<f32>) -> f32 {
+    let up = vec3<f32>(0.0, 0.0, 1.0);
+    let od = coarse_density(p + up * 150.0) * 300.0 + coarse_density(p + up * 600.0) * 600.0;
+    return exp(-0.35 * od * frame.cloud.z);
+}
+
+// Sun light scattered toward the eye at a sample with optical depth `od`
+// toward the sun: a sum of three scattering "octaves" (Wrenninge's
+// multiple-scattering approximation: each octave is dimmer, sees a thinner
+// medium and a more isotropic phase), each with a two-lobe Henyey–Greenstein
+// phase (forward lobe g, a weak back lobe). ×4π: an isotropic phase counts
+// 1, so a lit cloud is about as bright as the sun.
+// Returns (single scattering, multiple scattering).
+fn sun_scattering(mu: f32, od: f32) -> vec2<f32> {
+    let g = frame.noise.z;
+    var a = 1.0;
+    var b = 1.0;
+    var c = 1.0;
+    var sum = vec2<f32>(0.0);
+    for (var j = 0; j < 3; j++) {
+        let phase = mix(henyey_greenstein(mu, g * c), henyey_greenstein(mu, -0.2 * c), 0.25);
+        let term = a * 4.0 * PI * phase * exp(-b * od);
+        if j == 0 {
+            sum.x += term;
+        } else {
+            sum.y += term;
+        }
+        a *= 0.45;
+        b *= 0.3;
+        c *= 0.5;
+    }
+    return sum;
 }
 
 // Outward normal from central differences of ρ.
@@ -82,9 +155,6 @@ fn fs_main(in: FullscreenOut) -> @location(0) vec4<f32> {
     let sigma_max = frame.cloud.z;
     let sun = frame.sun_dir.xyz;
     let mu = dot(rd, sun);
-    let g = frame.noise.z;
-    // ×4π: an isotropic phase counts 1, so a lit cloud is about as bright as the sun.
-    let phase = 4.0 * PI * mix(henyey_greenstein(mu, g), henyey_greenstein(mu, -0.25), 0.3);
     let base_z = frame.grid_min.z;
     let top_z = grid_max.z;
 
@@ -108,21 +178,38 @@ fn fs_main(in: FullscreenOut) -> @location(0) vec4<f32> {
             k = max(ceil((t_exit - t_first) / dt), k + 1.0);
             continue;
         }
-        let rho = cloud_density(p);
+        // The same ρ as cloud_density, with the base plane of the sample's cloud.
+        let vp = macro_value_plane(p);
+        var rho = 0.0;
+        if vp.x + 0.5 * frame.cloud.x > 0.0 {
+            rho = smoothstep(0.0, 1.0, vp.x + frame.cloud.x * noise3(p));
+        }
         if rho > 1e-3 {
             if first_hit < 0.0 {
                 first_hit = t;
             }
             let sigma = rho * sigma_max;
-            let od = light_density_sum(p) * sigma_max;
-            var sun_light = phase * exp(-od) + 0.2 * exp(-0.25 * od);
+            let od = light_density_sum(p) * sigma_max * LIGHT_DENSITY;
+            var sun_light = sun_scattering(mu, od);
             if USE_NORMALS {
                 let n = density_normal(p);
                 sun_light *= 0.55 + 0.45 * max(dot(n, sun), 0.0);
             }
-            let height = clamp((p.z - base_z) / max(top_z - base_z, 1.0), 0.0, 1.0);
-            let ambient = sky_ambient() * mix(0.12, 1.0, height);
-            let source = frame.sun_color.rgb * sun_light + ambient;
+            // Diffuse light (skylight and the multiply scattered part of
+            // the sun) is weaker the deeper the sample sits toward its
+            // cloud's flat base: little of it finds its way down through
+            // the cloud above. The skylight is also shaded by a direct look
+            // upward. A little light bounced off the sunlit ground reaches
+            // the bases from below.
+            let above_base = clamp((p.z - vp.y) / BASE_FADE_M, 0.0, 1.0);
+            // The multiply scattered sun fades more than the skylight, which
+            // also reaches the base sideways from the horizon: bases turn
+            // blue-grey rather than neutral grey.
+            let a2 = above_base * above_base;
+            let sky = 0.8 * sky_ambient() * mix(0.5, 1.0, a2) * mix(0.5, 1.0, sky_visibility(p));
+            let bounce = vec3<f32>(0.03, 0.033, 0.024) * frame.sun_dir.z * frame.sun_color.rgb;
+            let multiple = sun_light.y * mix(0.1, 1.0, a2);
+            let source = frame.sun_color.rgb * (sun_light.x + multiple) + sky + bounce;
             let step_t = exp(-sigma * dt);
             radiance += trans * source * (1.0 - step_t);
             trans *= step_t;

@@ -84,6 +84,34 @@ fn macro_value(p: vec3<f32>) -> f32 {
     return v;
 }
 
+// Like macro_value, plus (in .y) the condensation-plane height of the
+// parcel that gives the value (the lowest plane among saturated ones), so
+// the cloud pass knows how far above its base a sample lies. units: -, m
+fn macro_value_plane(p: vec3<f32>) -> vec2<f32> {
+    var v = -1.0;
+    var plane = p.z;
+    if GRID_CULLING {
+        let list = cell_list(p);
+        for (var j = list.x; j < list.x + list.y; j++) {
+            let i = grid.entries[j / 4u][j % 4u];
+            let vi = parcel_value(i, p);
+            if vi > v || (vi >= 1.0 && parcels.p[i].fill_plane.y < plane) {
+                plane = parcels.p[i].fill_plane.y;
+            }
+            v = max(v, vi);
+        }
+    } else {
+        for (var i = 0u; i < frame.grid_dims.w; i++) {
+            let vi = parcel_value(i, p);
+            if vi > v || (vi >= 1.0 && parcels.p[i].fill_plane.y < plane) {
+                plane = parcels.p[i].fill_plane.y;
+            }
+            v = max(v, vi);
+        }
+    }
+    return vec2<f32>(v, plane);
+}
+
 // Cloud density ρ(P) ∈ [0, 1] (eq. 18).
 fn cloud_density(p: vec3<f32>) -> f32 {
     let v = macro_value(p);

@@ -184,3 +184,39 @@ fn double_click_adds_a_level_and_right_click_removes_it() {
     assert_eq!(h.m.editor.points().len(), n);
     assert!(h.m.editor.points().iter().all(|p| (p.z_m - z).abs() > 1.0));
 }
+
+#[test]
+fn a_point_held_near_the_diagram_edge_stays_under_the_pointer() {
+    let mut h = Harness::new();
+    let p0 = h.m.editor.points()[0];
+    let from = h.ps.diagram_pos(p0.t_c, 0.0).unwrap();
+    // Near the right edge of the temperature axis (which is tmax + 5 °C).
+    let to = h.ps.diagram_pos(p0.t_c + 4.5, 0.0).unwrap();
+    let button = |pos, pressed| Event::PointerButton {
+        pos,
+        button: PointerButton::Primary,
+        pressed,
+        modifiers: Modifiers::default(),
+    };
+    h.frame(vec![Event::PointerMoved(from)]);
+    h.frame(vec![button(from, true)]);
+    for i in 1..=8 {
+        h.frame(vec![Event::PointerMoved(
+            from + (to - from) * (i as f32 / 8.0),
+        )]);
+    }
+    let reached = h.m.editor.points()[0].t_c;
+    // Hold still: the axis must not widen under the pointer and drag the
+    // point further each frame.
+    for _ in 0..20 {
+        h.frame(vec![Event::PointerMoved(to)]);
+    }
+    h.frame(vec![button(to, false)]);
+    let held = h.m.editor.points()[0].t_c;
+    // Pointer placement on the diagram: ~0.1 K per screen point.
+    assert!((reached - (p0.t_c + 4.5)).abs() < 0.1, "{reached}");
+    assert!(
+        (held - reached).abs() < 1e-6,
+        "crept from {reached} to {held}"
+    );
+}

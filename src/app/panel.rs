@@ -33,6 +33,8 @@ pub struct PanelState {
     plot_top_m: Option<f64>,
     /// The diagram's plot ↔ screen mapping of the last frame.
     transform: Option<egui_plot::PlotTransform>,
+    /// The diagram's temperature range of the last frame. units: °C
+    x_range: Option<(f64, f64)>,
 }
 
 impl PanelState {
@@ -92,7 +94,8 @@ pub fn show(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) -> PanelActio
                 ui.separator();
                 stats_section(ui, m);
                 ui.separator();
-                file_section(ui, m);
+                // A loaded scene brings its own render settings.
+                actions.render_changed |= file_section(ui, m);
             });
         });
     actions
@@ -126,7 +129,14 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
             (a.min(pe::dewpoint_c(p)), b.max(p.t_c))
         });
-    let (xmin, xmax) = ((tmin - 5.0).min(-10.0), (tmax + 5.0).max(30.0));
+    // The temperature axis follows the profile, except during a drag: then
+    // it stays put, or a point dragged near the edge would widen the axis
+    // under a still pointer and creep away from it.
+    let (xmin, xmax) = match (ps.drag, ps.x_range) {
+        (Some(_), Some(r)) => r,
+        _ => ((tmin - 5.0).min(-10.0), (tmax + 5.0).max(30.0)),
+    };
+    ps.x_range = Some((xmin, xmax));
 
     let mut edit: Option<crate::Result<()>> = None;
     let drag = &mut ps.drag;
@@ -423,7 +433,9 @@ fn stats_section(ui: &mut egui::Ui, m: &mut Model) {
     ui.monospace(format!("cloud parcels drawn: {}", m.parcels.len()));
 }
 
-fn file_section(ui: &mut egui::Ui, m: &mut Model) {
+/// Returns whether a scene was loaded.
+fn file_section(ui: &mut egui::Ui, m: &mut Model) -> bool {
+    let mut loaded = false;
     ui.label(RichText::new("Scene profile").strong());
     ui.text_edit_singleline(&mut m.path_text);
     ui.horizontal(|ui| {
@@ -436,10 +448,12 @@ fn file_section(ui: &mut egui::Ui, m: &mut Model) {
         }
         if ui.button("Load").clicked() {
             let r = m.path().and_then(|p| m.load(&p));
+            loaded = r.is_ok();
             report(m, r);
         }
     });
     if !m.status.is_empty() {
         ui.colored_label(Color32::from_rgb(200, 120, 0), &m.status);
     }
+    loaded
 }

@@ -136,6 +136,7 @@ impl Model {
         let world = ParcelWorld::new(editor.environment().clone(), world_cfg.clone(), SIM_SEED)?;
         let render_cfg = profile.render.clone();
         render_cfg.validate()?;
+        profile.camera.validate()?;
         let camera = default_camera(&profile);
         let path_text = match &source {
             SceneSource::File(p) => p.display().to_string(),

@@ -265,15 +265,19 @@ impl App {
             g.renderer
                 .set_config(&g.ctx, &self.model.resolved_render_config())?;
         }
-        g.renderer.prepare(
-            &g.ctx,
-            &FrameInput {
-                camera: self.model.render_camera(),
-                parcels: &self.model.parcels,
-                sun: self.model.sun(),
-                time_s: self.model.world.time_s() as f32,
-            },
-        )?;
+        let mut input = FrameInput {
+            camera: self.model.render_camera(),
+            parcels: &self.model.parcels,
+            sun: self.model.sun(),
+            time_s: self.model.world.time_s() as f32,
+        };
+        if let Err(e) = g.renderer.prepare(&g.ctx, &input) {
+            // More cloud than the renderer's buffers hold: say so in the
+            // panel and draw the frame without clouds rather than quit.
+            self.model.status = format!("clouds not drawn: {e}");
+            input.parcels = &[];
+            g.renderer.prepare(&g.ctx, &input)?;
+        }
         g.egui_state
             .handle_platform_output(&g.window, out.platform_output);
         let jobs = self.egui_ctx.tessellate(out.shapes, out.pixels_per_point);

@@ -1,0 +1,699 @@
+//! Writes a bench run: performance.md/.csv, error_vs_runtime.csv/.png,
+//! physics_error_vs_runtime.csv/.png, scaling.csv/.png, pruning.csv,
+//! reference.png and report.md (every section and the targets), each file
+//! atomically. CSV cells left empty mean "not measured / undefined".
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use crate::error::{Error, Result};
+use crate::output::{write_atomic, write_png_atomic};
+use crate::render::shaders::Pass;
+
+use super::accuracy::{PhysicsError, RenderError};
+use super::measure::timing_label;
+use super::perf::{PerfRow, PruningRow, ScalingRow, on_off};
+use super::plots::{Chart, PALETTE, Series, write_chart_png};
+use super::{BenchResults, Mode, RunInfo};
+
+/// Plot size. units: px
+const PLOT_SIZE: (u32, u32) = (900, 600);
+
+/// A number for a CSV cell: empty when not finite.
+fn num(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:.6}")
+    } else {
+        String::new()
+    }
+}
+
+/// A number for a Markdown cell: "–" when not finite.
+fn md(v: f64, decimals: usize) -> String {
+    if v.is_finite() {
+        format!("{v:.decimals$}")
+    } else {
+        "–".into()
+    }
+}
+
+fn csv_bytes(header: &[&str], rows: &[Vec<String>]) -> Result<Vec<u8>> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let err = |e: csv::Error| Error::io("csv", std::io::Error::other(e));
+    w.write_record(header).map_err(err)?;
+    for r in rows {
+        w.write_record(r).map_err(err)?;
+    }
+    w.into_inner()
+        .map_err(|e| Error::io("csv", std::io::Error::other(e.to_string())))
+}
+
+fn pass_names() -> Vec<&'static str> {
+    Pass::ALL.iter().map(|p| p.name()).collect()
+}
+
+/// Header lines shared by the Markdown files.
+fn header(info: &RunInfo) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "| | |\n|---|---|");
+    let _ = writeln!(s, "| adapter | {} |", info.adapter);
+    let _ = writeln!(s, "| driver | {} |", info.driver);
+    let _ = writeln!(s, "| backend | {} |", info.backend);
+    let _ = writeln!(
+        s,
+        "| adapter type | {} |",
+        if info.cpu_adapter {
+            "CPU (software)"
+        } else {
+            "GPU"
+        }
+    );
+    let _ = writeln!(
+        s,
+        "| pass timing | {} |",
+        if info.gpu_timestamps {
+            "GPU timestamps per pass"
+        } else {
+            "CPU wall clock with a queue sync per pass"
+        }
+    );
+    let _ = writeln!(s, "| resolution | {}×{} |", info.width, info.height);
+    let _ = writeln!(s, "| build profile | {} |", info.profile);
+    let _ = writeln!(s, "| commit | {} |", info.commit);
+    let _ = writeln!(
+        s,
+        "| mode | {} (per measurement: a pipeline warm-up frame, up to {} warm-up and {} measured frames within {:.1} s; medians) |",
+        match info.mode {
+            Mode::Full => "full",
+            Mode::Quick => "quick",
+            Mode::Tiny => "tiny",
+        },
+        info.reps.warmup,
+        info.reps.measured,
+        info.reps.budget_ms / 1000.0
+    );
+    s
+}
+
+/// performance.csv.
+pub fn performance_csv(rows: &[PerfRow]) -> Result<Vec<u8>> {
+    let mut head: Vec<String> = [
+        "parcels",
+        "normals",
+        "shadows",
+        "physics_ms",
+        "physics_share",
+        "upload_ms",
+        "upload_share",
+    ]
+    .map(String::from)
+    .to_vec();
+    for p in pass_names() {
+        head.push(format!("{p}_ms"));
+        head.push(format!("{p}_share"));
+    }
+    head.extend(["gpu_ms", "frame_ms", "fps", "frames", "pass_timing"].map(String::from));
+    let body: Vec<Vec<String>> = rows
+        .iter()
+        .map(|r| {
+            let m = &r.m;
+            let share = |v: f64| num(v / m.parts_ms());
+            let mut c = vec![
+                r.parcels.to_string(),
+                on_off(r.normals).into(),
+                on_off(r.shadows).into(),
+                num(m.physics_ms),
+                share(m.physics_ms),
+                num(m.upload_ms),
+                share(m.upload_ms),
+            ];
+            for p in pass_names() {
+                match m.pass_ms(p) {
+                    Some(v) => {
+                        c.push(num(v));
+                        c.push(share(v));
+                    }
+                    None => {
+                        c.push(String::new());
+                        c.push(String::new());
+                    }
+                }
+            }
+            c.push(num(m.gpu_ms));
+            c.push(num(m.frame_ms));
+            c.push(num(m.fps()));
+            c.push(m.frames.to_string());
+            c.push(timing_label(m.gpu_timestamps).into());
+            c
+        })
+        .collect();
+    let head_refs: Vec<&str> = head.iter().map(String::as_str).collect();
+    csv_bytes(&head_refs, &body)
+}
+
+/// The performance table in Markdown.
+pub fn performance_table(rows: &[PerfRow]) -> String {
+    let mut s = String::new();
+    let passes = pass_names();
+    let _ = write!(
+        s,
+        "| parcels | normals | shadows | physics ms (%) | upload ms (%) |"
+    );
+    for p in &passes {
+        let _ = write!(s, " {p} ms (%) |");
+    }
+    let _ = writeln!(s, " frame ms | fps | frames |");
+    let _ = write!(s, "|---:|:---:|:---:|---:|---:|");
+    for _ in &passes {
+        let _ = write!(s, "---:|");
+    }
+    let _ = writeln!(s, "---:|---:|---:|");
+    for r in rows {
+        let m = &r.m;
+        let cell = |v: f64| format!("{} ({:.1})", md(v, 2), 100.0 * v / m.parts_ms());
+        let _ = write!(
+            s,
+            "| {} | {} | {} | {} | {} |",
+            r.parcels,
+            on_off(r.normals),
+            on_off(r.shadows),
+            cell(m.physics_ms),
+            cell(m.upload_ms)
+        );
+        for p in &passes {
+            let _ = write!(
+                s,
+                " {} |",
+                m.pass_ms(p).map_or_else(|| "–".to_string(), cell)
+            );
+        }
+        let _ = writeln!(
+            s,
+            " {} | {} | {} |",
+            md(m.frame_ms, 2),
+            md(m.fps(), 1),
+            m.frames
+        );
+    }
+    s
+}
+
+/// performance.md.
+pub fn performance_md(info: &RunInfo, rows: &[PerfRow]) -> String {
+    format!(
+        "# cumulus performance\n\n{}\n\
+         Scenes hold exactly the listed number of condensed parcels (towers of up to 10 \
+         saturated cloudy parcels on a jittered lattice; the count of `cloud_parcels` is \
+         checked after every frame). A frame is one physics step of {} s (all terms on), \
+         packing + upload, and every render pass, run one after the other; times are medians \
+         over the measured frames; a part's share is its median over the sum of the parts' medians. \"–\": the pass does not run in \
+         that variant. Pass times: {}.\n\n{}",
+        header(info),
+        super::measure::PHYSICS_FRAME_DT_S,
+        timing_label(info.gpu_timestamps),
+        performance_table(rows)
+    )
+}
+
+/// error_vs_runtime.csv (the reference first).
+pub fn render_error_csv(e: &RenderError) -> Result<Vec<u8>> {
+    let mut body = vec![vec![
+        "reference".into(),
+        format!(
+            "step_m={} octaves={} light_steps={} grid_culling={} early_exit=0",
+            e.reference.step_m,
+            e.reference.noise_octaves,
+            e.reference.light_steps,
+            on_off(e.reference.grid_culling)
+        ),
+        e.width.to_string(),
+        e.height.to_string(),
+        num(e.reference_ms),
+        num(1.0),
+        num(0.0),
+        num(0.0),
+        "false".into(),
+    ]];
+    for r in &e.rows {
+        body.push(vec![
+            r.parameter.clone(),
+            r.value.clone(),
+            r.width.to_string(),
+            r.height.to_string(),
+            num(r.time_ms),
+            num(r.time_ms / e.reference_ms),
+            num(r.mean_flip),
+            num(r.rmse),
+            r.pareto.to_string(),
+        ]);
+    }
+    csv_bytes(
+        &[
+            "parameter",
+            "value",
+            "width",
+            "height",
+            "time_ms",
+            "time_over_reference",
+            "mean_flip",
+            "rmse",
+            "pareto",
+        ],
+        &body,
+    )
+}
+
+/// physics_error_vs_runtime.csv.
+pub fn physics_error_csv(e: &PhysicsError) -> Result<Vec<u8>> {
+    let body: Vec<Vec<String>> = e
+        .rows
+        .iter()
+        .map(|r| {
+            vec![
+                num(r.dt_s),
+                r.substeps.to_string(),
+                num(e.duration_s / r.substeps as f64),
+                num(r.time_ms),
+                num(r.position_rms_m),
+                num(r.cloud_top_err_m),
+                num(r.water_rel_err),
+                num(r.order),
+                r.pareto.to_string(),
+            ]
+        })
+        .collect();
+    csv_bytes(
+        &[
+            "dt_s",
+            "substeps",
+            "mean_substep_s",
+            "time_ms",
+            "position_rms_m",
+            "cloud_top_err_m",
+            "water_rel_err",
+            "observed_order",
+            "pareto",
+        ],
+        &body,
+    )
+}
+
+/// scaling.csv.
+pub fn scaling_csv(rows: &[ScalingRow]) -> Result<Vec<u8>> {
+    let body: Vec<Vec<String>> = rows
+        .iter()
+        .map(|r| {
+            vec![
+                r.parcels.to_string(),
+                num(r.grid_ms),
+                r.brute_ms.map_or_else(String::new, num),
+                r.brute_ms.map_or_else(String::new, |b| num(b / r.grid_ms)),
+            ]
+        })
+        .collect();
+    csv_bytes(
+        &[
+            "parcels",
+            "grid_culling_frame_ms",
+            "brute_force_frame_ms",
+            "brute_over_grid",
+        ],
+        &body,
+    )
+}
+
+/// pruning.csv.
+pub fn pruning_csv(rows: &[PruningRow]) -> Result<Vec<u8>> {
+    let all = rows.first().map_or(f64::NAN, |r| r.frame_ms);
+    let body: Vec<Vec<String>> = rows
+        .iter()
+        .map(|r| {
+            vec![
+                r.variant.into(),
+                r.passes.clone(),
+                num(r.frame_ms),
+                num(r.frame_ms / all),
+            ]
+        })
+        .collect();
+    csv_bytes(&["variant", "passes", "frame_ms", "frame_over_all"], &body)
+}
+
+/// One target: what, measured value, limit, verdict.
+#[derive(Debug, Clone)]
+pub struct Target {
+    pub name: String,
+    pub measured: String,
+    pub goal: String,
+    /// None = could not be measured in this run.
+    pub pass: Option<bool>,
+}
+
+fn perf_row(rows: &[PerfRow], n: usize, normals: bool, shadows: bool) -> Option<&PerfRow> {
+    rows.iter()
+        .find(|r| r.parcels == n && r.normals == normals && r.shadows == shadows)
+}
+
+/// The four targets, measured as ratios within this run (default variant:
+/// normals off, shadows on).
+pub fn targets(r: &BenchResults) -> Vec<Target> {
+    let p = &r.performance;
+    let mut out = Vec::new();
+    let (f8, f85) = (perf_row(p, 8, false, true), perf_row(p, 85, false, true));
+    let ratio = f8.zip(f85).map(|(a, b)| b.m.frame_ms / a.m.frame_ms);
+    out.push(Target {
+        name: "frame at 85 parcels / frame at 8 (normals off, shadows on)".into(),
+        measured: ratio.map_or("not measured".into(), |x| format!("{x:.2}×")),
+        goal: "≤ 2× (paper ≈ 11×)".into(),
+        pass: ratio.map(|x| x <= 2.0),
+    });
+    let on = perf_row(p, 85, true, true);
+    let ratio = on.zip(f85).map(|(a, b)| a.m.frame_ms / b.m.frame_ms);
+    out.push(Target {
+        name: "normals cost: frame with / without normals (85 parcels, shadows on)".into(),
+        measured: ratio.map_or("not measured".into(), |x| format!("{x:.2}×")),
+        goal: "≤ 1.3× (paper 1.8–3×)".into(),
+        pass: ratio.map(|x| x <= 1.3),
+    });
+    let share = f85.map(|b| b.m.physics_ms / b.m.parts_ms());
+    out.push(Target {
+        name: "physics share of the frame (85 parcels, normals off, shadows on)".into(),
+        measured: share.map_or("not measured".into(), |x| format!("{:.1} %", 100.0 * x)),
+        goal: "≤ 5 %".into(),
+        pass: share.map(|x| x <= 0.05),
+    });
+    let e = &r.render_error;
+    let d = e.default_row();
+    let frac = d.time_ms / e.reference_ms;
+    out.push(Target {
+        name: "default render settings against the reference".into(),
+        measured: format!(
+            "mean FLIP {:.4} at {:.3} of the reference's run time{}",
+            d.mean_flip,
+            frac,
+            if e.reference.grid_culling {
+                " (reference rendered with exact grid culling on this CPU adapter, so cheaper \
+                 than brute force)"
+            } else {
+                ""
+            }
+        ),
+        goal: "mean FLIP ≤ 0.03 at ≤ 1/8 (0.125) of the reference's run time".into(),
+        pass: Some(d.mean_flip <= 0.03 && frac <= 0.125),
+    });
+    out
+}
+
+fn verdict(p: Option<bool>) -> &'static str {
+    match p {
+        Some(true) => "**pass**",
+        Some(false) => "**FAIL**",
+        None => "not measured",
+    }
+}
+
+/// report.md: every section.
+pub fn report_md(r: &BenchResults) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# cumulus bench report\n\n{}", header(&r.info));
+
+    let _ = writeln!(
+        s,
+        "## Performance\n\nParcel count × normals × shadows (also in performance.md and \
+         performance.csv). A frame = one physics step of {} s + upload + all passes, one after \
+         the other; medians; shares in parentheses are % of the sum of the parts' medians.\n\n{}",
+        super::measure::PHYSICS_FRAME_DT_S,
+        performance_table(&r.performance)
+    );
+
+    let e = &r.render_error;
+    let _ = writeln!(
+        s,
+        "## Error against run time\n\n### Render settings\n\n\
+         One fixed frame ({} condensed parcels, bench camera, terrain and shadows on) at a \
+         sweep of settings, each differing from the default in one parameter, against a \
+         reference rendered with step {} m (1/16 of the default), {} octaves, {} light samples \
+         over the same light-march length, {} and no early exit; the reference took {} ms. Lower resolutions are upscaled \
+         (bilinear) to {}×{} before comparing. Error: mean FLIP (nv-flip, default viewing \
+         conditions) and RMSE of sRGB values on 0..1. Pareto: no other setting is both \
+         faster and more accurate (in mean FLIP). Plot: error_vs_runtime.png (log–log, \
+         Pareto points ringed); reference frame: reference.png.\n",
+        e.parcels,
+        e.reference.step_m,
+        e.reference.noise_octaves,
+        e.reference.light_steps,
+        if e.reference.grid_culling {
+            "with grid culling instead of brute force (this is a CPU adapter: Mesa llvmpipe \
+             drops whole towers from brute-force marches beyond ~2000 steps, while the grid \
+             path takes exactly the brute-force samples; see the exactness line below)"
+        } else {
+            "every parcel at every sample (no grid culling)"
+        },
+        md(e.reference_ms, 1),
+        e.width,
+        e.height
+    );
+    if let Some((flip, err)) = e.culling_vs_brute {
+        let _ = writeln!(
+            s,
+            "Exactness of grid culling: at the default settings, the grid-culled frame against \
+             the brute-force frame has mean FLIP {flip:.5} and RMSE {err:.5} (0 = identical).\n"
+        );
+    }
+    let _ = writeln!(
+        s,
+        "| parameter | value | size | time ms | time / reference | mean FLIP | RMSE | Pareto |\n\
+         |---|---|---|---:|---:|---:|---:|:---:|"
+    );
+    for row in &e.rows {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {}×{} | {} | {} | {} | {} | {} |",
+            row.parameter,
+            row.value,
+            row.width,
+            row.height,
+            md(row.time_ms, 2),
+            md(row.time_ms / e.reference_ms, 3),
+            md(row.mean_flip, 4),
+            md(row.rmse, 4),
+            if row.pareto { "★" } else { "" }
+        );
+    }
+
+    let ph = &r.physics_error;
+    let _ = writeln!(
+        s,
+        "\n### Physics time step\n\n\
+         {} parcels released warm and moist at 500–740 m (all terms on, deaths off) simulated \
+         for {} s with the frame step = largest sub-step dt (the CFL, sound-speed and \
+         acceleration limits may split it: see sub-steps), against a reference at dt = {} s \
+         ({} ms; at the end {} of its parcels are condensed, cloud top {}). Error: RMS distance of the parcels from their reference positions; also \
+         cloud top and total water. Observed order = log2(error at 2·dt / error at dt). \
+         Plot: physics_error_vs_runtime.png.\n\n\
+         | dt s | sub-steps | time ms | position RMS m | cloud top err m | water rel. err | observed order | Pareto |\n\
+         |---:|---:|---:|---:|---:|---:|---:|:---:|",
+        ph.parcels,
+        ph.duration_s,
+        ph.reference_dt_s,
+        md(ph.reference_ms, 1),
+        ph.reference_condensed,
+        ph.reference_cloud_top_m
+            .map_or("none".into(), |z| format!("{z:.0} m"))
+    );
+    for row in &ph.rows {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {} | {} | {} |",
+            row.dt_s,
+            row.substeps,
+            md(row.time_ms, 2),
+            md(row.position_rms_m, 3),
+            md(row.cloud_top_err_m, 2),
+            if row.water_rel_err.is_finite() {
+                format!("{:.2e}", row.water_rel_err)
+            } else {
+                "–".into()
+            },
+            md(row.order, 2),
+            if row.pareto { "★" } else { "" }
+        );
+    }
+
+    let _ = writeln!(
+        s,
+        "\n## Scaling\n\nRender frame time (upload + passes, default settings, no physics) \
+         against the number of condensed parcels, with the culling grid (only the parcels \
+         listed in a sample's cell) and by brute force (every parcel at every sample, as in \
+         the paper). \"–\": brute force not measured at that count in this mode (on a CPU adapter at most \
+         {} parcels: llvmpipe cuts longer brute-force loops short). Plot: \
+         scaling.png.\n\n| parcels | grid culling ms | brute force ms | brute / grid |\n|---:|---:|---:|---:|",
+        super::CPU_BRUTE_MAX
+    );
+    for row in &r.scaling {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} |",
+            row.parcels,
+            md(row.grid_ms, 2),
+            row.brute_ms.map_or("–".into(), |b| md(b, 2)),
+            row.brute_ms.map_or("–".into(), |b| md(b / row.grid_ms, 2)),
+        );
+    }
+
+    let all = r.pruning.first().map_or(f64::NAN, |p| p.frame_ms);
+    let _ = writeln!(
+        s,
+        "\n## Pruning savings\n\nA scene with terrain, cloud shadows and normals against the \
+         same scene with each left out (no terrain also means no shadow pass). Frame = upload \
+         + passes.\n\n| variant | passes | frame ms | / all |\n|---|---|---:|---:|"
+    );
+    for row in &r.pruning {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} |",
+            row.variant,
+            row.passes,
+            md(row.frame_ms, 2),
+            md(row.frame_ms / all, 2)
+        );
+    }
+
+    let _ = writeln!(
+        s,
+        "\n## Targets\n\nRatios measured within this run, so they hold for this adapter \
+         and resolution only.\n\n| target | measured | goal | verdict |\n|---|---|---|---|"
+    );
+    for t in targets(r) {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} |",
+            t.name,
+            t.measured,
+            t.goal,
+            verdict(t.pass)
+        );
+    }
+    s
+}
+
+fn render_error_chart(e: &RenderError) -> Chart<'static> {
+    let mut params: Vec<&str> = Vec::new();
+    for r in &e.rows {
+        if !params.contains(&r.parameter.as_str()) {
+            params.push(&r.parameter);
+        }
+    }
+    let series = params
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let rows: Vec<_> = e.rows.iter().filter(|r| r.parameter == *p).collect();
+            Series {
+                label: p.to_string(),
+                points: rows.iter().map(|r| (r.time_ms, r.mean_flip)).collect(),
+                highlight: rows.iter().map(|r| r.pareto).collect(),
+                line: false,
+                color: PALETTE[i % PALETTE.len()],
+            }
+        })
+        .collect();
+    Chart {
+        title: "Render: mean FLIP against frame time",
+        x_label: "frame time, ms (log)",
+        y_label: "mean FLIP vs reference (log)",
+        series,
+    }
+}
+
+fn physics_error_chart(e: &PhysicsError) -> Chart<'static> {
+    Chart {
+        title: "Physics: position error against run time",
+        x_label: "run time, ms (log)",
+        y_label: "RMS position error, m (log)",
+        series: vec![Series {
+            label: "time-step sweep".into(),
+            points: e
+                .rows
+                .iter()
+                .map(|r| (r.time_ms, r.position_rms_m))
+                .collect(),
+            highlight: e.rows.iter().map(|r| r.pareto).collect(),
+            line: true,
+            color: PALETTE[0],
+        }],
+    }
+}
+
+fn scaling_chart(rows: &[ScalingRow]) -> Chart<'static> {
+    Chart {
+        title: "Frame time against condensed parcels",
+        x_label: "condensed parcels (log)",
+        y_label: "frame time, ms (log)",
+        series: vec![
+            Series {
+                label: "grid culling".into(),
+                points: rows.iter().map(|r| (r.parcels as f64, r.grid_ms)).collect(),
+                highlight: vec![],
+                line: true,
+                color: PALETTE[0],
+            },
+            Series {
+                label: "brute force".into(),
+                points: rows
+                    .iter()
+                    .filter_map(|r| r.brute_ms.map(|b| (r.parcels as f64, b)))
+                    .collect(),
+                highlight: vec![],
+                line: true,
+                color: PALETTE[1],
+            },
+        ],
+    }
+}
+
+/// Writes every file of the run into `dir`.
+pub fn write_all(dir: &Path, r: &BenchResults) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    write_atomic(
+        &dir.join("performance.md"),
+        performance_md(&r.info, &r.performance).as_bytes(),
+    )?;
+    write_atomic(
+        &dir.join("performance.csv"),
+        &performance_csv(&r.performance)?,
+    )?;
+    write_atomic(
+        &dir.join("error_vs_runtime.csv"),
+        &render_error_csv(&r.render_error)?,
+    )?;
+    write_atomic(
+        &dir.join("physics_error_vs_runtime.csv"),
+        &physics_error_csv(&r.physics_error)?,
+    )?;
+    write_atomic(&dir.join("scaling.csv"), &scaling_csv(&r.scaling)?)?;
+    write_atomic(&dir.join("pruning.csv"), &pruning_csv(&r.pruning)?)?;
+    let (w, h) = PLOT_SIZE;
+    write_chart_png(
+        &dir.join("error_vs_runtime.png"),
+        &render_error_chart(&r.render_error),
+        w,
+        h,
+    )?;
+    write_chart_png(
+        &dir.join("physics_error_vs_runtime.png"),
+        &physics_error_chart(&r.physics_error),
+        w,
+        h,
+    )?;
+    write_chart_png(&dir.join("scaling.png"), &scaling_chart(&r.scaling), w, h)?;
+    let e = &r.render_error;
+    write_png_atomic(
+        &dir.join("reference.png"),
+        e.width,
+        e.height,
+        &e.reference_rgba,
+    )?;
+    write_atomic(&dir.join("report.md"), report_md(r).as_bytes())?;
+    Ok(())
+}

@@ -1,0 +1,212 @@
+//! A tiny `cumulus bench` run (library call, `Mode::Tiny`) on the CPU
+//! adapter (lavapipe "llvmpipe"; any adapter when that is absent) into a
+//! temporary directory; checks that every table is well formed: CSV headers,
+//! one row per (count × variant), finite non-negative numbers and positive
+//! times, the Markdown sections, PNGs that decode. Without any adapter it
+//! prints a notice and passes, unless CI=true, where it fails.
+//! Also the binary's `--tiny` flag end to end.
+
+use std::path::Path;
+
+use cumulus::bench::{Mode, Options, Plan, perf::VARIANTS};
+use cumulus::render::GpuContext;
+
+fn context() -> Option<GpuContext> {
+    let ctx =
+        GpuContext::new_headless(Some("llvmpipe")).or_else(|_| GpuContext::new_headless(None));
+    match ctx {
+        Ok(c) => Some(c),
+        Err(e) => {
+            if std::env::var("CI").as_deref() == Ok("true") {
+                panic!("CI=true needs a GPU adapter (lavapipe): {e}");
+            }
+            eprintln!("NOTICE: skipping bench test, no adapter: {e}");
+            None
+        }
+    }
+}
+
+/// (header, rows) of a CSV file.
+fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut r = csv::Reader::from_path(path).unwrap_or_else(|e| panic!("{path:?}: {e}"));
+    let header = r.headers().unwrap().iter().map(String::from).collect();
+    let rows = r
+        .records()
+        .map(|rec| rec.unwrap().iter().map(String::from).collect())
+        .collect();
+    (header, rows)
+}
+
+fn col(header: &[String], name: &str) -> usize {
+    header
+        .iter()
+        .position(|h| h == name)
+        .unwrap_or_else(|| panic!("no column {name} in {header:?}"))
+}
+
+/// Every non-empty cell of the columns ending in `suffixes` is a finite number ≥ 0.
+fn check_numbers(file: &str, header: &[String], rows: &[Vec<String>], suffixes: &[&str]) {
+    for (i, h) in header.iter().enumerate() {
+        if !suffixes.iter().any(|s| h.ends_with(s)) {
+            continue;
+        }
+        for row in rows {
+            let cell = &row[i];
+            if cell.is_empty() {
+                continue;
+            }
+            let v: f64 = cell
+                .parse()
+                .unwrap_or_else(|_| panic!("{file}: {h} = {cell:?} is not a number"));
+            assert!(v.is_finite() && v >= 0.0, "{file}: {h} = {v}");
+        }
+    }
+}
+
+/// The column's cells are all present, finite and > 0.
+fn check_positive(file: &str, header: &[String], rows: &[Vec<String>], name: &str) {
+    let c = col(header, name);
+    for row in rows {
+        let v: f64 = row[c]
+            .parse()
+            .unwrap_or_else(|_| panic!("{file}: {name} = {:?}", row[c]));
+        assert!(v.is_finite() && v > 0.0, "{file}: {name} = {v}");
+    }
+}
+
+fn check_png(path: &Path) {
+    let img = image::open(path).unwrap_or_else(|e| panic!("{path:?} does not decode: {e}"));
+    assert!(img.width() > 0 && img.height() > 0);
+}
+
+fn check_outputs(dir: &Path) {
+    let plan = Plan::for_mode(Mode::Tiny);
+
+    let (h, rows) = read_csv(&dir.join("performance.csv"));
+    for name in [
+        "parcels",
+        "frame_ms",
+        "physics_ms",
+        "normals",
+        "shadows",
+        "fps",
+    ] {
+        col(&h, name);
+    }
+    assert_eq!(rows.len(), plan.counts.len() * VARIANTS.len());
+    let pc = col(&h, "parcels");
+    for &n in &plan.counts {
+        let k = rows.iter().filter(|r| r[pc] == n.to_string()).count();
+        assert_eq!(k, VARIANTS.len(), "rows for {n} parcels");
+    }
+    check_numbers("performance.csv", &h, &rows, &["_ms", "_share", "fps"]);
+    check_positive("performance.csv", &h, &rows, "frame_ms");
+    check_positive("performance.csv", &h, &rows, "clouds_ms");
+
+    let (h, rows) = read_csv(&dir.join("error_vs_runtime.csv"));
+    for name in ["parameter", "time_ms", "mean_flip", "rmse", "pareto"] {
+        col(&h, name);
+    }
+    // Reference + default + one point per swept parameter.
+    assert!(rows.len() >= 3, "{rows:?}");
+    check_numbers(
+        "error_vs_runtime.csv",
+        &h,
+        &rows,
+        &["_ms", "flip", "rmse", "reference"],
+    );
+    check_positive("error_vs_runtime.csv", &h, &rows, "time_ms");
+    let pareto = col(&h, "pareto");
+    assert!(
+        rows.iter().any(|r| r[pareto] == "true"),
+        "a non-empty sweep has a Pareto front"
+    );
+
+    let (h, rows) = read_csv(&dir.join("physics_error_vs_runtime.csv"));
+    assert_eq!(rows.len(), plan.physics_dts.len());
+    check_numbers(
+        "physics_error_vs_runtime.csv",
+        &h,
+        &rows,
+        &["_s", "_ms", "_m", "_err", "order"],
+    );
+    check_positive("physics_error_vs_runtime.csv", &h, &rows, "time_ms");
+
+    let (h, rows) = read_csv(&dir.join("scaling.csv"));
+    col(&h, "parcels");
+    assert_eq!(rows.len(), plan.scaling_counts.len());
+    check_positive("scaling.csv", &h, &rows, "grid_culling_frame_ms");
+    check_numbers("scaling.csv", &h, &rows, &["_ms", "_grid"]);
+
+    let (h, rows) = read_csv(&dir.join("pruning.csv"));
+    assert_eq!(rows.len(), 4);
+    check_positive("pruning.csv", &h, &rows, "frame_ms");
+
+    let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    for section in [
+        "## Performance",
+        "## Error against run time",
+        "### Render settings",
+        "### Physics time step",
+        "## Scaling",
+        "## Pruning savings",
+        "## Targets",
+    ] {
+        assert!(report.contains(section), "report.md lacks {section}");
+    }
+    // Four targets, each with a verdict.
+    let verdicts = report.matches("**pass**").count() + report.matches("**FAIL**").count();
+    assert_eq!(verdicts, 4, "{report}");
+    let perf = std::fs::read_to_string(dir.join("performance.md")).unwrap();
+    for key in [
+        "adapter",
+        "driver",
+        "backend",
+        "resolution",
+        "build profile",
+        "commit",
+    ] {
+        assert!(perf.contains(key), "performance.md header lacks {key}");
+    }
+
+    for png in [
+        "error_vs_runtime.png",
+        "physics_error_vs_runtime.png",
+        "scaling.png",
+        "reference.png",
+    ] {
+        check_png(&dir.join(png));
+    }
+}
+
+#[test]
+fn tiny_bench_writes_well_formed_tables() {
+    let Some(ctx) = context() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let opts = Options {
+        mode: Mode::Tiny,
+        out: dir.path().to_path_buf(),
+        size: None,
+        adapter: None,
+        progress: false,
+    };
+    let results = cumulus::bench::run_with(&ctx, &opts).unwrap();
+    assert!(["debug", "release"].contains(&results.info.profile));
+    check_outputs(dir.path());
+}
+
+#[test]
+fn tiny_bench_binary() {
+    if context().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("report");
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_cumulus"))
+        .args(["bench", "--tiny", "--out"])
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    check_outputs(&out);
+}
