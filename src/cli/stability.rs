@@ -10,7 +10,7 @@ use cumulus::stability::{self, Size};
 /// Arguments of `cumulus stability`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// The same kinds of case, smaller (a minute or two on 2 cores).
+    /// The same kinds of case, smaller (about 10 s; the full matrix takes about 2 minutes).
     #[arg(long)]
     pub quick: bool,
     /// Directory for stability.md and stability.csv.

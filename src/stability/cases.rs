@@ -13,9 +13,9 @@ use crate::physics::WorldConfig;
 /// How big the matrix is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Size {
-    /// The same kinds of case, smaller: a minute or two on 2 cores.
+    /// The same kinds of case, smaller: about 10 s on 2 shared cores.
     Quick,
-    /// The full matrix (developer machine, well under 15 minutes).
+    /// The full matrix: about 2 minutes on 2 shared cores.
     Full,
 }
 
@@ -249,7 +249,7 @@ pub fn matrix(size: Size) -> Result<Vec<Case>> {
     let mut cases = Vec::new();
 
     // SPH stiffness K from 1e2 to 1e6 on an interacting cluster.
-    let (n, secs) = if quick { (64, 60.0) } else { (216, 300.0) };
+    let (n, secs) = if quick { (125, 120.0) } else { (343, 600.0) };
     for k in [1e2, 1e3, 1e4, 1e5, 1e6] {
         let mut cfg = quiet();
         cfg.physics.stiffness = k;
@@ -297,7 +297,7 @@ pub fn matrix(size: Size) -> Result<Vec<Case>> {
     });
 
     // Requested frame step from 0.01 s to 10 s, emission and a cluster.
-    let secs = if quick { 120.0 } else { 600.0 };
+    let secs = if quick { 300.0 } else { 1200.0 };
     let n = if quick { 27 } else { 64 };
     for dt in [0.01, 0.1, 1.0, 10.0] {
         cases.push(Case {
@@ -315,9 +315,9 @@ pub fn matrix(size: Size) -> Result<Vec<Case>> {
 
     // Parcel counts up to 10 000 (the largest only for a few frames).
     let counts: &[(usize, u32)] = if quick {
-        &[(10, 60), (100, 30), (1000, 6), (10_000, 2)]
+        &[(10, 150), (100, 60), (1000, 15), (10_000, 3)]
     } else {
-        &[(10, 300), (100, 200), (1000, 60), (10_000, 10)]
+        &[(10, 600), (100, 300), (1000, 150), (10_000, 30)]
     };
     for &(n, frames) in counts {
         let mut cfg = quiet();
@@ -336,8 +336,8 @@ pub fn matrix(size: Size) -> Result<Vec<Case>> {
     }
 
     // Extreme soundings: emission plus a cluster from the ground.
-    let secs = if quick { 300.0 } else { 1200.0 };
-    let n = if quick { 27 } else { 64 };
+    let secs = if quick { 600.0 } else { 2400.0 };
+    let n = if quick { 27 } else { 125 };
     for name in ENVIRONMENTS.iter().skip(1) {
         let mut cfg = emitting(300.0, 512);
         let mut cl = cluster(n, h);
@@ -386,7 +386,7 @@ pub fn matrix(size: Size) -> Result<Vec<Case>> {
 
     // Emission bursts: the highest rate, hundreds of parcels born at once,
     // overlapping at random, at ordinary and at extreme stiffness.
-    let (max_parcels, secs) = if quick { (400, 60.0) } else { (2000, 300.0) };
+    let (max_parcels, secs) = if quick { (400, 120.0) } else { (2000, 600.0) };
     for k in [1e2, 1e5] {
         let mut cfg = emitting(1.0e5, max_parcels);
         cfg.physics.stiffness = k;
