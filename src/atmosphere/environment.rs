@@ -8,7 +8,8 @@
 //! (eq. 2), kept as an option. Hydrostatic pressure is tabulated once on a
 //! uniform grid so that a lookup costs O(1) on the physics hot path.
 //!
-//! Above the top level θ continues with the top segment's gradient and q_v is
+//! Above the top level θ continues with the top segment's gradient (held
+//! if that gradient is negative, capped at 2000 K) and q_v is
 //! held; below the ground the bottom values are held. Callers that care
 //! (stability diagnostics) compare heights with [`Environment::top_m`].
 
@@ -43,6 +44,9 @@ pub struct EnvLevel {
     pub pressure_pa: Option<f64>,
 }
 
+/// Largest potential temperature of a level; also the cap of θ extrapolated
+/// above the top. units: K
+const THETA_MAX_K: f64 = 2000.0;
 /// Spacing of the tabulated hydrostatic pressure. units: m
 const TABLE_DZ_M: f64 = 10.0;
 /// The pressure table reaches this far above the top level. units: m
@@ -87,7 +91,7 @@ impl Environment {
             let ok = l.z_m.is_finite()
                 && l.theta_k.is_finite()
                 && l.qv_kg_per_kg.is_finite()
-                && (150.0..=2000.0).contains(&l.theta_k)
+                && (150.0..=THETA_MAX_K).contains(&l.theta_k)
                 && (0.0..=0.1).contains(&l.qv_kg_per_kg);
             if !ok {
                 return Err(Error::invalid(
@@ -204,9 +208,16 @@ impl Environment {
     pub fn theta_k(&self, z_m: f64) -> f64 {
         let (i, w) = self.segment(z_m);
         let (a, b) = (&self.levels[i], &self.levels[i + 1]);
-        // Below ground: hold the surface value. Above the top: keep the top gradient.
+        // Below ground: hold the surface value. Above the top: keep the top
+        // gradient, but only a stable one, up to the largest θ a level may
+        // have: a superadiabatic top segment extrapolated without end reaches
+        // 0 K (a sounding whose last two levels are 9 m apart with 49 K of θ
+        // between them gave T = −825 K 1.6 km above its top).
+        if w > 1.0 && b.theta_k < a.theta_k {
+            return b.theta_k;
+        }
         let w = w.max(0.0);
-        a.theta_k + (b.theta_k - a.theta_k) * w
+        (a.theta_k + (b.theta_k - a.theta_k) * w).min(THETA_MAX_K.max(b.theta_k))
     }
 
     /// Environment vapour mixing ratio q_v(z), held constant outside the

@@ -169,7 +169,7 @@ pub fn lift_at(env: &Environment, opts: &LiftOptions, heights: &[f64]) -> Result
             "surface dewpoint (°C)",
             td0 - 273.15,
             format!(
-                "a dewpoint from {} °C up to the surface temperature {:.2} °C",
+                "a dewpoint from {:.2} °C up to the surface temperature {:.2} °C",
                 thermo::T_MIN_SATURATION_K - 273.15,
                 t0 - 273.15
             ),

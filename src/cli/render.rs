@@ -28,15 +28,15 @@ pub struct Args {
     /// Output PNG.
     #[arg(long)]
     pub out: PathBuf,
-    /// Image width in pixels.
-    #[arg(long, default_value_t = 960)]
+    /// Image width in pixels (1 to 16384; the device may allow less).
+    #[arg(long, default_value_t = 960, value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub width: u32,
-    /// Image height in pixels.
-    #[arg(long, default_value_t = 540)]
+    /// Image height in pixels (1 to 16384; the device may allow less).
+    #[arg(long, default_value_t = 540, value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub height: u32,
     /// Simulated time before the (first) frame; half an hour lets the
     /// shipped scenes' cloud fields form. units: s
-    #[arg(long, default_value_t = 1800.0)]
+    #[arg(long, default_value_t = 1800.0, allow_negative_numbers = true)]
     pub time: f64,
     /// Finite-difference normals (overrides the scene's [render] normals).
     #[arg(long, value_enum)]
@@ -45,7 +45,7 @@ pub struct Args {
     #[arg(long, default_value_t = 1)]
     pub frames: u32,
     /// Simulated time between frames. units: s
-    #[arg(long, default_value_t = 60.0)]
+    #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
     pub every: f64,
     /// Physics frame step (sub-stepped as needed). units: s
     #[arg(long, default_value_t = 2.0)]
@@ -146,8 +146,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if let Some(n) = args.normals {
         cfg.normals = n == Switch::On;
     }
-    cfg.validate()?;
-    scene.camera.validate()?;
+    // Validation errors name the field; say which file it is in.
+    let scene_name = args.scene.as_ref().map_or_else(
+        || "<embedded fair_weather.toml>".to_string(),
+        |p| p.display().to_string(),
+    );
+    cfg.validate()
+        .with_context(|| format!("{scene_name}: checking [render]"))?;
+    scene
+        .camera
+        .validate()
+        .with_context(|| format!("{scene_name}: checking [camera]"))?;
     let camera = Camera::from(&scene.camera);
     let mut clouds = if args.stand_in {
         Clouds::StandIn

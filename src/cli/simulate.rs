@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, bail};
+use anyhow::bail;
 use cumulus::physics::{Diagnostics, ParcelWorld, StepReport, WorldConfig};
 use cumulus::scene::load_scene;
 
@@ -14,18 +14,22 @@ pub struct Args {
     /// Scene profile (TOML); the embedded fair-weather scene when omitted.
     pub scene: Option<PathBuf>,
     /// Simulated time. units: s
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub duration: f64,
     /// Output CSV file.
     #[arg(long)]
     pub out: PathBuf,
     /// Frame step (the physics sub-steps it as needed). units: s
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
     pub dt: f64,
     /// Seed of the emission draws.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
 }
+
+/// Most frames one run may ask for: the CSV holds one row per frame in
+/// memory (about 150 bytes each), so 10⁷ frames is ~1.5 GB.
+const MAX_FRAMES: f64 = 1.0e7;
 
 /// CSV header; keep in sync with [`row`].
 const HEADER: &str = "time_s,parcels,condensed_parcels,cloud_base_m,cloud_top_m,total_water_kg,kinetic_energy_j,substeps,dt_s,budget_hit,emitted,escaped,evaporated,grounded,aged,clamps_total";
@@ -70,14 +74,49 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             args.dt
         );
     }
+    let frames = (args.duration / args.dt).ceil();
+    if frames > MAX_FRAMES {
+        bail!(
+            "--duration {} s with --dt {} s makes {frames:.0} frames: at most {MAX_FRAMES:.0} frames are allowed (use a larger --dt)",
+            args.duration,
+            args.dt
+        );
+    }
+    let frames = frames as u64;
     let (profile, source) = load_scene(args.scene.as_deref())?;
-    let env = profile
-        .atmosphere
-        .build(&source.base_dir())
-        .context("building the atmosphere")?;
-    let mut world = ParcelWorld::new(env, WorldConfig::from_scene(&profile), args.seed)?;
+    // Validation errors name the field; say which file (and line) it is in.
+    let scene_text = args
+        .scene
+        .as_ref()
+        .and_then(|p| std::fs::read_to_string(p).ok());
+    let place = |e: &cumulus::Error| -> String {
+        let file = args.scene.as_ref().map_or_else(
+            || "<embedded fair_weather.toml>".to_string(),
+            |p| p.display().to_string(),
+        );
+        match (e, &scene_text) {
+            (cumulus::Error::InvalidParameter { name, .. }, Some(text)) => {
+                match locate_key(text, name) {
+                    Some((line, col)) => format!("{file}:{line}:{col}"),
+                    None => file,
+                }
+            }
+            _ => file,
+        }
+    };
+    // The error stays the source, so `{:#}` prints its own chain (I/O causes).
+    let env = profile.atmosphere.build(&source.base_dir()).map_err(|e| {
+        let at = place(&e);
+        anyhow::Error::new(e).context(format!("{at}: building the atmosphere"))
+    })?;
+    let mut world =
+        ParcelWorld::new(env, WorldConfig::from_scene(&profile), args.seed).map_err(|e| {
+            let at = place(&e);
+            anyhow::Error::new(e).context(format!(
+                "{at}: checking [physics], [ground], [emission], [wind]"
+            ))
+        })?;
 
-    let frames = (args.duration / args.dt).ceil() as u64;
     let bar = indicatif::ProgressBar::new(frames);
     bar.set_style(
         indicatif::ProgressStyle::with_template(
@@ -137,4 +176,38 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         c.integrate
     );
     Ok(())
+}
+
+/// 1-based line and column of the key that a validation error's `name`
+/// ("physics.stiffness", "wind.aloft_m_s[0]", "atmosphere.points[1].t_c")
+/// sets in a profile's TOML text, when it is written there as `key = value`
+/// under its `[table]` or `[[array.of.tables]]` header.
+fn locate_key(text: &str, name: &str) -> Option<(usize, usize)> {
+    let (table, key) = name.rsplit_once('.')?;
+    let key = key.split('[').next()?;
+    // "atmosphere.points[1]" → the second [[atmosphere.points]] table.
+    let (table, index) = match table.split_once('[') {
+        Some((t, rest)) => (t, Some(rest.trim_end_matches(']').parse::<usize>().ok()?)),
+        None => (table, None),
+    };
+    let mut inside = false;
+    let mut seen = 0;
+    for (i, line) in text.lines().enumerate() {
+        let t = line.trim();
+        if let Some(h) = t.strip_prefix("[[") {
+            let h = h.split("]]").next().unwrap_or("").trim();
+            inside = h == table && index == Some(seen);
+            if h == table {
+                seen += 1;
+            }
+        } else if let Some(h) = t.strip_prefix('[') {
+            inside = index.is_none() && h.split(']').next().unwrap_or("").trim() == table;
+        } else if inside
+            && let Some((k, _)) = t.split_once('=')
+            && k.trim() == key
+        {
+            return Some((i + 1, line.len() - line.trim_start().len() + 1));
+        }
+    }
+    None
 }

@@ -149,7 +149,15 @@ impl PhysicsConfig {
             1.0,
             10_000.0,
         )?;
-        check("physics.stiffness", self.stiffness, 0.0, 1.0e6)?;
+        // K = 0 would silently disable the pressure the `sph` switch says is
+        // on (and K < 0 pulls parcels together): switch SPH off with `sph`.
+        if !(self.stiffness.is_finite() && self.stiffness > 0.0 && self.stiffness <= 1.0e6) {
+            return Err(Error::invalid(
+                "physics.stiffness",
+                self.stiffness,
+                "a finite number above 0 and up to 1000000 (to turn SPH pressure off, set sph = false)",
+            ));
+        }
         check("physics.viscosity_mu", self.viscosity_mu, 0.0, 1.0e6)?;
         check(
             "physics.atm_pressure_weight",

@@ -1,0 +1,165 @@
+//! The quick stability matrix through the real binary, and the kinetic-energy
+//! bound it is judged by against a CAPE worked out by hand.
+
+use std::path::Path;
+use std::process::Command;
+
+use cumulus::atmosphere::{EnvLevel, Environment, PressureModel, thermo};
+use cumulus::physics::WorldConfig;
+use cumulus::stability::{self, KE_RATIO_BOUND, Size};
+
+/// `cumulus stability --quick` runs every case to the end without NaN/Inf,
+/// panic or kinetic energy beyond the bound, exits 0 and writes both reports.
+#[test]
+fn quick_matrix_is_stable() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_cumulus"))
+        .args(["stability", "--quick", "--out"])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(
+        stdout.contains("| stiffness_1e6 |"),
+        "table printed: {stdout}"
+    );
+
+    let md = std::fs::read_to_string(dir.path().join("stability.md")).unwrap();
+    assert!(md.contains("failed") && md.contains("| case |"), "{md}");
+    let mut rdr = csv::Reader::from_path(dir.path().join("stability.csv")).unwrap();
+    let headers = rdr.headers().unwrap().clone();
+    let col = |name: &str| headers.iter().position(|h| h == name).unwrap();
+    let (case, completed, non_finite, ke_ratio, passed) = (
+        col("case"),
+        col("completed"),
+        col("non_finite"),
+        col("ke_ratio"),
+        col("passed"),
+    );
+    let expected = stability::matrix(Size::Quick).unwrap();
+    let mut rows = 0;
+    for (rec, want) in rdr.records().map(Result::unwrap).zip(&expected) {
+        rows += 1;
+        assert_eq!(&rec[case], want.name);
+        assert_eq!(&rec[completed], "true", "{}", &rec[case]);
+        assert_eq!(&rec[non_finite], "0", "{}", &rec[case]);
+        let r: f64 = rec[ke_ratio].parse().unwrap();
+        assert!(r <= KE_RATIO_BOUND, "{}: KE ratio {r}", &rec[case]);
+        assert_eq!(&rec[passed], "true", "{}", &rec[case]);
+    }
+    assert_eq!(rows, expected.len());
+    // The matrix covers every kind of extreme the issue asks for.
+    for group in ["stiffness", "dt", "count", "sounding", "wind", "emission"] {
+        assert!(expected.iter().any(|c| c.group == group), "{group}");
+    }
+    for env in stability::ENVIRONMENTS {
+        assert!(stability::environment(env).is_ok(), "{env}");
+    }
+}
+
+/// For a dry parcel 2 K warmer than an isentropic dry atmosphere the bound is
+/// exactly its CAPE, g·Δθ/θ·H (no wind, no downdraft, no water).
+#[test]
+fn energy_bound_is_the_cape_of_the_hottest_parcel() {
+    let lv = |z_m| EnvLevel {
+        z_m,
+        theta_k: 300.0,
+        qv_kg_per_kg: 0.0,
+        pressure_pa: None,
+    };
+    let env = Environment::new(
+        vec![lv(0.0), lv(10_000.0)],
+        100_000.0,
+        PressureModel::Hydrostatic,
+    )
+    .unwrap();
+    let cfg = WorldConfig::default();
+    let e = stability::specific_energy_bound(&env, &cfg, (300.0, 302.0), 0.0, 0.0);
+    let cape = thermo::GRAVITY * 2.0 / 300.0 * 10_000.0;
+    // The midpoint sum over 10 m cells of a constant integrand is exact to
+    // rounding; 1e-9 relative allows for the summation order.
+    assert!((e - cape).abs() < 1e-9 * cape, "{e} vs {cape}");
+
+    // Wind adds ½|w|² and a cold start above the ground adds its fall.
+    let mut windy = cfg.clone();
+    windy.wind.aloft_m_s = [30.0, 40.0];
+    let e_wind = stability::specific_energy_bound(&env, &windy, (300.0, 302.0), 0.0, 0.0);
+    assert!((e_wind - cape - 0.5 * 50.0 * 50.0).abs() < 1e-6 * cape);
+    let e_cold = stability::specific_energy_bound(&env, &cfg, (297.0, 302.0), 0.0, 1000.0);
+    let fall = thermo::GRAVITY * 3.0 / 300.0 * 1000.0;
+    assert!((e_cold - cape - fall).abs() < 1e-6 * cape, "{e_cold}");
+}
+
+/// The reports are written whole: a report from an earlier run is replaced
+/// atomically, never left half-written (write_atomic renames a complete file).
+#[test]
+fn reports_replace_old_ones_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("stability.csv"), "old").unwrap();
+    let cases: Vec<_> = stability::matrix(Size::Quick)
+        .unwrap()
+        .into_iter()
+        .filter(|c| c.name == "parcels_10")
+        .collect();
+    let results = stability::run_matrix(&cases, |_, _| {});
+    assert!(results[0].passed(), "{:?}", results[0].failures());
+    let [md, csv] = stability::write_reports(dir.path(), &results, "t").unwrap();
+    let text = std::fs::read_to_string(csv).unwrap();
+    assert!(text.starts_with("case,group,"), "{text}");
+    assert_eq!(text.lines().count(), 2);
+    assert!(Path::new(&md).exists());
+}
+
+/// What fails a case: a NaN/Inf, kinetic energy beyond the bound, a caught
+/// panic, a setup error; escapes and clamps alone do not.
+#[test]
+fn failure_criteria() {
+    let cases: Vec<_> = stability::matrix(Size::Quick)
+        .unwrap()
+        .into_iter()
+        .filter(|c| c.name == "parcels_10")
+        .collect();
+    let ok = stability::run_matrix(&cases, |_, _| {}).remove(0);
+    assert!(ok.passed(), "{:?}", ok.failures());
+
+    let mut r = ok.clone();
+    r.escaped_sides = 5;
+    r.clamps.speed = 100;
+    assert!(r.passed(), "escapes and clamps are reported, not failures");
+
+    let mut r = ok.clone();
+    r.non_finite = 1;
+    assert!(!r.passed());
+    let mut r = ok.clone();
+    r.ke_ratio = KE_RATIO_BOUND * 1.01;
+    assert!(!r.passed());
+    let mut r = ok.clone();
+    r.ke_ratio = f64::NAN;
+    assert!(!r.passed(), "a NaN ratio is not within the bound");
+    let mut r = ok.clone();
+    r.panic = Some("boom".into());
+    r.completed = false;
+    assert!(r.failures()[0].contains("boom"));
+    let mut r = ok.clone();
+    r.error = Some("bad".into());
+    r.completed = false;
+    assert!(!r.passed());
+
+    // The table says so, and so does the CSV.
+    let md = stability::to_markdown(&[ok.clone(), r.clone()], "t");
+    assert!(
+        md.contains("1 failed") && md.contains("**FAIL**: setup error: bad"),
+        "{md}"
+    );
+    let csv = stability::to_csv(&[ok, r]);
+    assert!(
+        csv.lines()
+            .nth(2)
+            .unwrap()
+            .contains(",false,\"setup error: bad\""),
+        "{csv}"
+    );
+}
