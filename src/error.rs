@@ -8,7 +8,7 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     /// A text input (sounding, profile) could not be read at a given place.
-    #[error("{path}:{line}:{column}: {message}")]
+    #[error("{}: {message}", place(path, *line, *column))]
     Parse {
         path: PathBuf,
         /// 1-based line; 0 when the error concerns the whole file.
@@ -77,6 +77,15 @@ impl Error {
             path: path.into(),
             source,
         }
+    }
+}
+
+/// `file:line:column`, or `file:line`, or `file` when they are unknown (0).
+fn place(path: &std::path::Path, line: usize, column: usize) -> String {
+    match (line, column) {
+        (0, _) => path.display().to_string(),
+        (l, 0) => format!("{}:{l}", path.display()),
+        (l, c) => format!("{}:{l}:{c}", path.display()),
     }
 }
 

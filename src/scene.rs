@@ -63,7 +63,8 @@ impl SceneProfile {
         })
     }
 
-    /// Reads and parses a profile file.
+    /// Reads, parses and validates a profile file. Errors name the file and,
+    /// for a bad value, the line and column of its key.
     pub fn load(path: &Path) -> Result<Self> {
         let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
         let text = String::from_utf8(bytes).map_err(|e| {
@@ -77,7 +78,18 @@ impl SceneProfile {
                 ),
             )
         })?;
-        Self::from_toml(&text, path)
+        let profile = Self::from_toml(&text, path)?;
+        profile.validate().map_err(|e| locate(e, &text, path))?;
+        Ok(profile)
+    }
+
+    /// Checks every table against what the model accepts: the atmosphere
+    /// points, physics, ground, emission, wind, render and camera.
+    pub fn validate(&self) -> Result<()> {
+        self.atmosphere.validate()?;
+        crate::physics::WorldConfig::from_scene(self).validate()?;
+        self.render.validate()?;
+        self.camera.validate()
     }
 
     /// The embedded default scene.
@@ -93,6 +105,62 @@ impl SceneProfile {
     pub fn to_toml(&self) -> Result<String> {
         toml::to_string_pretty(self).map_err(|e| Error::invalid("scene", &self.name, e.to_string()))
     }
+}
+
+/// Turns a parameter error into one that names the profile file and the
+/// line and column where the parameter is set (or just the file when the
+/// value comes from a default).
+fn locate(e: Error, text: &str, path: &Path) -> Error {
+    match e {
+        Error::InvalidParameter {
+            name,
+            value,
+            allowed,
+        } => {
+            let (line, column) = locate_key(text, &name).unwrap_or((0, 0));
+            Error::parse(
+                path,
+                line,
+                column,
+                format!("invalid {name} = {value}: {allowed}"),
+            )
+        }
+        other => other,
+    }
+}
+
+/// 1-based (line, column) of the key a dotted parameter name
+/// ("physics.stiffness", "wind.aloft_m_s[0]", "atmosphere.points[1].t_c")
+/// sets in a profile's TOML text, when it is written there as `key = value`
+/// under its `[table]` or `[[array.of.tables]]` header.
+pub fn locate_key(text: &str, name: &str) -> Option<(usize, usize)> {
+    let (table, key) = name.rsplit_once('.')?;
+    let key = key.split('[').next()?;
+    // "atmosphere.points[1]" → the second [[atmosphere.points]] table.
+    let (table, index) = match table.split_once('[') {
+        Some((t, rest)) => (t, Some(rest.trim_end_matches(']').parse::<usize>().ok()?)),
+        None => (table, None),
+    };
+    let mut inside = false;
+    let mut seen = 0;
+    for (i, line) in text.lines().enumerate() {
+        let t = line.trim();
+        if let Some(h) = t.strip_prefix("[[") {
+            let h = h.split("]]").next().unwrap_or("").trim();
+            inside = h == table && index == Some(seen);
+            if h == table {
+                seen += 1;
+            }
+        } else if let Some(h) = t.strip_prefix('[') {
+            inside = index.is_none() && h.split(']').next().unwrap_or("").trim() == table;
+        } else if inside
+            && let Some((k, _)) = t.split_once('=')
+            && k.trim() == key
+        {
+            return Some((i + 1, line.len() - line.trim_start().len() + 1));
+        }
+    }
+    None
 }
 
 /// Where a scene came from, for resolving relative paths (sounding files).
@@ -128,6 +196,37 @@ mod tests {
     fn embedded_default_parses() {
         let s = SceneProfile::embedded_default();
         assert!(!s.name.is_empty());
+    }
+
+    #[test]
+    fn bad_values_name_the_line_and_column_of_their_key() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("bad.toml");
+        std::fs::write(
+            &path,
+            "name = \"x\"\n\n[physics]\nmixing = true\n  stiffness = -3.0\n",
+        )
+        .unwrap();
+        let msg = SceneProfile::load(&path).unwrap_err().to_string();
+        assert!(
+            msg.starts_with(&format!(
+                "{}:5:3: invalid physics.stiffness",
+                path.display()
+            )),
+            "{msg}"
+        );
+    }
+
+    #[test]
+    fn every_shipped_profile_validates() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles");
+        for e in std::fs::read_dir(dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.extension().is_some_and(|x| x == "toml") {
+                SceneProfile::load(&p).unwrap_or_else(|e| panic!("{e}"));
+            }
+        }
+        SceneProfile::embedded_default().validate().unwrap();
     }
 
     #[test]

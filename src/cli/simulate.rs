@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use anyhow::bail;
 use cumulus::physics::{Diagnostics, ParcelWorld, StepReport, WorldConfig};
-use cumulus::scene::load_scene;
+use cumulus::scene::{load_scene, locate_key};
 
 /// Arguments of `cumulus simulate`.
 #[derive(Debug, clap::Args)]
@@ -176,38 +176,4 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         c.integrate
     );
     Ok(())
-}
-
-/// 1-based line and column of the key that a validation error's `name`
-/// ("physics.stiffness", "wind.aloft_m_s[0]", "atmosphere.points[1].t_c")
-/// sets in a profile's TOML text, when it is written there as `key = value`
-/// under its `[table]` or `[[array.of.tables]]` header.
-fn locate_key(text: &str, name: &str) -> Option<(usize, usize)> {
-    let (table, key) = name.rsplit_once('.')?;
-    let key = key.split('[').next()?;
-    // "atmosphere.points[1]" → the second [[atmosphere.points]] table.
-    let (table, index) = match table.split_once('[') {
-        Some((t, rest)) => (t, Some(rest.trim_end_matches(']').parse::<usize>().ok()?)),
-        None => (table, None),
-    };
-    let mut inside = false;
-    let mut seen = 0;
-    for (i, line) in text.lines().enumerate() {
-        let t = line.trim();
-        if let Some(h) = t.strip_prefix("[[") {
-            let h = h.split("]]").next().unwrap_or("").trim();
-            inside = h == table && index == Some(seen);
-            if h == table {
-                seen += 1;
-            }
-        } else if let Some(h) = t.strip_prefix('[') {
-            inside = index.is_none() && h.split(']').next().unwrap_or("").trim() == table;
-        } else if inside
-            && let Some((k, _)) = t.split_once('=')
-            && k.trim() == key
-        {
-            return Some((i + 1, line.len() - line.trim_start().len() + 1));
-        }
-    }
-    None
 }
