@@ -182,16 +182,20 @@ fn fs_main(in: FullscreenOut) -> @location(0) vec4<f32> {
             break;
         }
         let p = ro + rd * t;
-        if GRID_CULLING && cell_list(p).y == 0u {
-            // Empty cell: no density until the ray leaves it. Jump to the
-            // first sample past its exit, on the same dt lattice, so the
-            // samples taken are exactly the brute-force march's.
-            let t_exit = t + cell_exit(p, rd);
-            k = max(ceil((t_exit - t_first) / dt), k + 1.0);
-            continue;
+        var list = vec2<u32>(0u);
+        if GRID_CULLING {
+            list = cell_list(p);
+            if list.y == 0u {
+                // Empty cell: no density until the ray leaves it. Jump to the
+                // first sample past its exit, on the same dt lattice, so the
+                // samples taken are exactly the brute-force march's.
+                let t_exit = t + cell_exit(p, rd);
+                k = max(ceil((t_exit - t_first) / dt), k + 1.0);
+                continue;
+            }
         }
         // The same ρ as cloud_density, with the base plane of the sample's cloud.
-        let vp = macro_value_plane(p);
+        let vp = macro_value_plane(p, list);
         var rho = 0.0;
         if vp.x + 0.5 * frame.cloud.x > 0.0 {
             rho = smoothstep(0.0, 1.0, vp.x + frame.cloud.x * noise3(p));
