@@ -95,24 +95,35 @@ fn sky_visibility(p: vec3<f32>) -> f32 {
 // medium and a more isotropic phase), each with a two-lobe Henyey–Greenstein
 // phase (forward lobe g, a weak back lobe). ×4π: an isotropic phase counts
 // 1, so a lit cloud is about as bright as the sun.
-// Returns (single scattering, multiple scattering).
-fn sun_scattering(mu: f32, od: f32) -> vec2<f32> {
+// The phases depend only on the ray (mu), so `sun_octave_weights` gives each
+// octave's brightness × phase once per ray and `sun_scattering` only adds
+// the per-sample attenuation.
+fn sun_octave_weights(mu: f32) -> vec3<f32> {
     let g = frame.noise.z;
     var a = 1.0;
-    var b = 1.0;
     var c = 1.0;
-    var sum = vec2<f32>(0.0);
+    var w = vec3<f32>(0.0);
     for (var j = 0; j < 3; j++) {
         let phase = mix(henyey_greenstein(mu, g * c), henyey_greenstein(mu, -0.2 * c), 0.25);
-        let term = a * 4.0 * PI * phase * exp(-b * od);
+        w[j] = a * 4.0 * PI * phase;
+        a *= 0.45;
+        c *= 0.5;
+    }
+    return w;
+}
+
+// Returns (single scattering, multiple scattering) for octave weights `w`.
+fn sun_scattering(w: vec3<f32>, od: f32) -> vec2<f32> {
+    var b = 1.0;
+    var sum = vec2<f32>(0.0);
+    for (var j = 0; j < 3; j++) {
+        let term = w[j] * exp(-b * od);
         if j == 0 {
             sum.x += term;
         } else {
             sum.y += term;
         }
-        a *= 0.45;
         b *= 0.3;
-        c *= 0.5;
     }
     return sum;
 }
@@ -154,9 +165,10 @@ fn fs_main(in: FullscreenOut) -> @location(0) vec4<f32> {
     let dt = max(frame.march.x, (t1 - t0) / f32(max_steps));
     let sigma_max = frame.cloud.z;
     let sun = frame.sun_dir.xyz;
-    let mu = dot(rd, sun);
-    let base_z = frame.grid_min.z;
-    let top_z = grid_max.z;
+    let octave_weights = sun_octave_weights(dot(rd, sun));
+    // Light that does not depend on the sample, hoisted out of the march.
+    let sky_base = 0.8 * sky_ambient();
+    let bounce = vec3<f32>(0.03, 0.033, 0.024) * frame.sun_dir.z * frame.sun_color.rgb;
 
     // Samples sit at t_first + k·dt, k = 0, 1, …
     let t_first = t0 + dt * hash2(in.pos.xy);
@@ -170,16 +182,20 @@ fn fs_main(in: FullscreenOut) -> @location(0) vec4<f32> {
             break;
         }
         let p = ro + rd * t;
-        if GRID_CULLING && cell_list(p).y == 0u {
-            // Empty cell: no density until the ray leaves it. Jump to the
-            // first sample past its exit, on the same dt lattice, so the
-            // samples taken are exactly the brute-force march's.
-            let t_exit = t + cell_exit(p, rd);
-            k = max(ceil((t_exit - t_first) / dt), k + 1.0);
-            continue;
+        var list = vec2<u32>(0u);
+        if GRID_CULLING {
+            list = cell_list(p);
+            if list.y == 0u {
+                // Empty cell: no density until the ray leaves it. Jump to the
+                // first sample past its exit, on the same dt lattice, so the
+                // samples taken are exactly the brute-force march's.
+                let t_exit = t + cell_exit(p, rd);
+                k = max(ceil((t_exit - t_first) / dt), k + 1.0);
+                continue;
+            }
         }
         // The same ρ as cloud_density, with the base plane of the sample's cloud.
-        let vp = macro_value_plane(p);
+        let vp = macro_value_plane(p, list);
         var rho = 0.0;
         if vp.x + 0.5 * frame.cloud.x > 0.0 {
             rho = smoothstep(0.0, 1.0, vp.x + frame.cloud.x * noise3(p));
@@ -190,7 +206,7 @@ fn fs_main(in: FullscreenOut) -> @location(0) vec4<f32> {
             }
             let sigma = rho * sigma_max;
             let od = light_density_sum(p) * sigma_max * LIGHT_DENSITY;
-            var sun_light = sun_scattering(mu, od);
+            var sun_light = sun_scattering(octave_weights, od);
             if USE_NORMALS {
                 let n = density_normal(p);
                 sun_light *= 0.55 + 0.45 * max(dot(n, sun), 0.0);
@@ -206,8 +222,7 @@ fn fs_main(in: FullscreenOut) -> @location(0) vec4<f32> {
             // also reaches the base sideways from the horizon: bases turn
             // blue-grey rather than neutral grey.
             let a2 = above_base * above_base;
-            let sky = 0.8 * sky_ambient() * mix(0.5, 1.0, a2) * mix(0.5, 1.0, sky_visibility(p));
-            let bounce = vec3<f32>(0.03, 0.033, 0.024) * frame.sun_dir.z * frame.sun_color.rgb;
+            let sky = sky_base * mix(0.5, 1.0, a2) * mix(0.5, 1.0, sky_visibility(p));
             let multiple = sun_light.y * mix(0.1, 1.0, a2);
             let source = frame.sun_color.rgb * (sun_light.x + multiple) + sky + bounce;
             let step_t = exp(-sigma * dt);

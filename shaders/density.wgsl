@@ -86,12 +86,13 @@ fn macro_value(p: vec3<f32>) -> f32 {
 
 // Like macro_value, plus (in .y) the condensation-plane height of the
 // parcel that gives the value (the lowest plane among saturated ones), so
-// the cloud pass knows how far above its base a sample lies. units: -, m
-fn macro_value_plane(p: vec3<f32>) -> vec2<f32> {
+// the cloud pass knows how far above its base a sample lies. `list` is
+// cell_list(p), which the caller has already looked up to skip empty cells
+// (unused without GRID_CULLING). units: -, m
+fn macro_value_plane(p: vec3<f32>, list: vec2<u32>) -> vec2<f32> {
     var v = -1.0;
     var plane = p.z;
     if GRID_CULLING {
-        let list = cell_list(p);
         for (var j = list.x; j < list.x + list.y; j++) {
             let i = grid.entries[j / 4u][j % 4u];
             let vi = parcel_value(i, p);

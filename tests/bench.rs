@@ -6,24 +6,15 @@
 //! prints a notice and passes, unless CI=true, where it fails.
 //! Also the binary's `--tiny` flag end to end.
 
+mod common;
+
 use std::path::Path;
 
 use cumulus::bench::{Mode, Options, Plan, perf::VARIANTS};
 use cumulus::render::GpuContext;
 
 fn context() -> Option<GpuContext> {
-    let ctx =
-        GpuContext::new_headless(Some("llvmpipe")).or_else(|_| GpuContext::new_headless(None));
-    match ctx {
-        Ok(c) => Some(c),
-        Err(e) => {
-            if std::env::var("CI").as_deref() == Ok("true") {
-                panic!("CI=true needs a GPU adapter (lavapipe): {e}");
-            }
-            eprintln!("NOTICE: skipping bench test, no adapter: {e}");
-            None
-        }
-    }
+    common::context("bench test")
 }
 
 /// (header, rows) of a CSV file.

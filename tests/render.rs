@@ -7,6 +7,8 @@
 //! On failure `NAME.actual.png` and `NAME.difference.png` are written beside
 //! the reference.
 
+mod common;
+
 use std::path::PathBuf;
 
 use cumulus::physics::CloudParcel;
@@ -23,18 +25,7 @@ use glam::Vec3;
 const MEAN_FLIP_TOLERANCE: f32 = 0.02;
 
 fn context() -> Option<GpuContext> {
-    let ctx =
-        GpuContext::new_headless(Some("llvmpipe")).or_else(|_| GpuContext::new_headless(None));
-    match ctx {
-        Ok(c) => Some(c),
-        Err(e) => {
-            if std::env::var("CI").as_deref() == Ok("true") {
-                panic!("CI=true needs a GPU adapter (lavapipe): {e}");
-            }
-            eprintln!("NOTICE: skipping GPU render test, no adapter: {e}");
-            None
-        }
-    }
+    common::context("GPU render test")
 }
 
 fn render(

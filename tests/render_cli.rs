@@ -3,28 +3,17 @@
 //! clear message before any GPU work. Renders need an adapter: without one
 //! the rendering tests print a notice and pass, unless CI=true.
 
+mod common;
+
 use std::process::Command;
 
 fn cumulus() -> Command {
     Command::new(env!("CARGO_BIN_EXE_cumulus"))
 }
 
-fn have_adapter() -> bool {
-    match cumulus::render::GpuContext::new_headless(None) {
-        Ok(_) => true,
-        Err(e) => {
-            if std::env::var("CI").as_deref() == Ok("true") {
-                panic!("CI=true needs a GPU adapter (lavapipe): {e}");
-            }
-            eprintln!("NOTICE: skipping GPU render test, no adapter: {e}");
-            false
-        }
-    }
-}
-
 #[test]
 fn render_simulates_and_writes_a_png() {
-    if !have_adapter() {
+    if common::context("GPU render test").is_none() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -47,7 +36,7 @@ fn render_simulates_and_writes_a_png() {
 
 #[test]
 fn several_frames_are_numbered() {
-    if !have_adapter() {
+    if common::context("GPU render test").is_none() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();

@@ -17,6 +17,7 @@ use winit::window::{Window, WindowId};
 use super::panel::{self, PanelState};
 use super::state::{FIXED_FRAME_DT_S, Model};
 use crate::error::{Error, Result};
+use crate::render::renderer::texture_2d;
 use crate::render::{FrameInput, GpuContext, Renderer};
 
 /// What `cumulus watch` was asked to do.
@@ -311,22 +312,16 @@ impl App {
 
         let result = if capture_now {
             let path = self.opts.screenshot.clone().expect("capture set");
-            let tex = g.ctx.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("screenshot"),
-                size: wgpu::Extent3d {
-                    width: g.config.width,
-                    height: g.config.height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: g.config.format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            let tex = texture_2d(
+                &g.ctx.device,
+                "screenshot",
+                g.config.width,
+                g.config.height,
+                g.config.format,
+                wgpu::TextureUsages::RENDER_ATTACHMENT
                     | wgpu::TextureUsages::COPY_SRC
                     | wgpu::TextureUsages::COPY_DST,
-                view_formats: &[],
-            });
+            );
             let view = tex.create_view(&Default::default());
             let timings = draw_frame(g, &mut encoder, &tex, &view, &jobs, &screen);
             record(&mut self.model, timings);
@@ -439,20 +434,14 @@ fn draw_frame(
     let timings = if g.split {
         let (x0, w, h) = view3d_rect(true, &g.window, g.config.width, g.config.height);
         let (tex, tex_view) = g.view3d.get_or_insert_with(|| {
-            let tex = g.ctx.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("3D view"),
-                size: wgpu::Extent3d {
-                    width: w,
-                    height: h,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: g.config.format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-                view_formats: &[],
-            });
+            let tex = texture_2d(
+                &g.ctx.device,
+                "3D view",
+                w,
+                h,
+                g.config.format,
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            );
             let v = tex.create_view(&Default::default());
             (tex, v)
         });

@@ -6,8 +6,7 @@ use std::path::Path;
 use plotters::coord::combinators::{BindKeyPoints, IntoLogRange};
 use plotters::prelude::*;
 
-use crate::error::{Error, Result};
-use crate::plots::register_fonts;
+use crate::error::Result;
 
 /// One data series.
 pub struct Series {
@@ -179,19 +178,7 @@ fn draw(chart: &Chart, buf: &mut [u8], w: u32, h: u32) -> std::result::Result<()
 
 /// Draws `chart` and writes it atomically as a `w`×`h` PNG.
 pub fn write_chart_png(path: &Path, chart: &Chart, w: u32, h: u32) -> Result<()> {
-    register_fonts();
-    let mut rgb = vec![0u8; (w * h * 3) as usize];
-    draw(chart, &mut rgb, w, h).map_err(|m| {
-        Error::io(
-            path,
-            std::io::Error::other(format!("drawing {}: {m}", chart.title)),
-        )
-    })?;
-    let rgba: Vec<u8> = rgb
-        .chunks_exact(3)
-        .flat_map(|c| [c[0], c[1], c[2], 255])
-        .collect();
-    crate::output::write_png_atomic(path, w, h, &rgba)
+    crate::plots::write_rgb_png(path, chart.title, w, h, |rgb| draw(chart, rgb, w, h))
 }
 
 #[cfg(test)]

@@ -14,10 +14,9 @@ use std::path::Path;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::register_fonts;
 use crate::atmosphere::lifting::{LevelMark, ParcelAscent, ParcelLevel};
 use crate::atmosphere::{Environment, thermo};
-use crate::error::{Error, Result};
+use crate::error::Result;
 
 /// Bottom edge of the diagram. units: hPa
 const P_BOTTOM_HPA: f64 = 1050.0;
@@ -449,17 +448,7 @@ fn draw(
 
 /// Draws the diagram and writes it atomically as a PNG of `width`×`height`.
 pub fn write_skew_t_png(path: &Path, chart: &SkewT, width: u32, height: u32) -> Result<()> {
-    register_fonts();
-    let mut rgb = vec![0u8; (width * height * 3) as usize];
-    draw(chart, &mut rgb, width, height).map_err(|m| {
-        Error::io(
-            path,
-            std::io::Error::other(format!("drawing the Skew-T: {m}")),
-        )
-    })?;
-    let rgba: Vec<u8> = rgb
-        .chunks_exact(3)
-        .flat_map(|c| [c[0], c[1], c[2], 255])
-        .collect();
-    crate::output::write_png_atomic(path, width, height, &rgba)
+    super::write_rgb_png(path, "the Skew-T", width, height, |rgb| {
+        draw(chart, rgb, width, height)
+    })
 }

@@ -9,7 +9,9 @@ const BASE_PERIOD: u32 = 4;
 /// Octaves baked into the texture (the shader sums a few more at run time).
 const OCTAVES: u32 = 4;
 
-fn hash(x: u32, y: u32, z: u32, seed: u32) -> f32 {
+/// Integer lattice hash to [0, 1]; also the terrain's 2D hills
+/// (`terrain::value2`, with z = seed and seed = 0).
+pub(crate) fn hash(x: u32, y: u32, z: u32, seed: u32) -> f32 {
     let mut h = x.wrapping_mul(0x8da6_b343)
         ^ y.wrapping_mul(0xd816_3841)
         ^ z.wrapping_mul(0xcb1a_b31f)
@@ -22,7 +24,8 @@ fn hash(x: u32, y: u32, z: u32, seed: u32) -> f32 {
     (h & 0xff_ffff) as f32 / 0xff_ffff as f32
 }
 
-fn fade(t: f32) -> f32 {
+/// Smooth-step interpolation weight of value noise.
+pub(crate) fn fade(t: f32) -> f32 {
     t * t * (3.0 - 2.0 * t)
 }
 

@@ -169,7 +169,9 @@ fn sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
-fn texture_2d(
+/// A single-sample, single-mip 2D texture (also the headless target and the
+/// window's 3D view and screenshot).
+pub(crate) fn texture_2d(
     device: &wgpu::Device,
     label: &str,
     w: u32,

@@ -8,7 +8,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
 use crate::error::{Error, Result};
-use crate::render::TerrainConfig;
+use crate::render::{TerrainConfig, noise};
 
 /// One mesh vertex. Matches `VertexIn` in shaders/terrain.wgsl.
 #[repr(C)]
@@ -25,22 +25,16 @@ pub struct TerrainMesh {
     pub indices: Vec<u32>,
 }
 
+/// The noise texture's lattice hash: with the seed in the z slot and a zero
+/// seed it mixes exactly the words this 2D hash always mixed.
 fn hash2(x: i32, y: i32, seed: u32) -> f32 {
-    let mut h = (x as u32).wrapping_mul(0x8da6_b343)
-        ^ (y as u32).wrapping_mul(0xd816_3841)
-        ^ seed.wrapping_mul(0xcb1a_b31f);
-    h ^= h >> 15;
-    h = h.wrapping_mul(0x2c1b_3c6d);
-    h ^= h >> 12;
-    h = h.wrapping_mul(0x297a_2d39);
-    h ^= h >> 15;
-    (h & 0xff_ffff) as f32 / 0xff_ffff as f32
+    noise::hash(x as u32, y as u32, seed, 0)
 }
 
 fn value2(x: f32, y: f32, seed: u32) -> f32 {
     let (ix, iy) = (x.floor(), y.floor());
     let (fx, fy) = (x - ix, y - iy);
-    let (sx, sy) = (fx * fx * (3.0 - 2.0 * fx), fy * fy * (3.0 - 2.0 * fy));
+    let (sx, sy) = (noise::fade(fx), noise::fade(fy));
     let (ix, iy) = (ix as i32, iy as i32);
     let a = hash2(ix, iy, seed);
     let b = hash2(ix + 1, iy, seed);
