@@ -35,11 +35,16 @@ fn table(extra: &str) -> String {
 }
 
 /// Parses `text` as "bad.txt" and returns the error message, which must
-/// start with `bad.txt:line:column:`.
+/// start with `bad.txt:line:column:` (just `bad.txt:` for an error about the
+/// whole file, line 0).
 fn error_at(text: &str, line: usize, column: usize) -> String {
     let err = Sounding::parse(text, Path::new("bad.txt")).expect_err("must be rejected");
     let msg = err.to_string();
-    let prefix = format!("bad.txt:{line}:{column}:");
+    let prefix = if line == 0 {
+        "bad.txt: ".to_string()
+    } else {
+        format!("bad.txt:{line}:{column}:")
+    };
     assert!(msg.starts_with(&prefix), "expected {prefix} in: {msg}");
     msg
 }
