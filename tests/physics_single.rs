@@ -2,34 +2,13 @@
 //! oscillation, the integrator's convergence order, and decay by mixing
 //! (paper §7.1, figs 3–4).
 
-use cumulus::atmosphere::{EnvLevel, Environment, PressureModel, thermo};
+use cumulus::atmosphere::{Environment, PressureModel, thermo};
 use cumulus::physics::single::{self, SingleRelease};
 use cumulus::physics::{EmissionConfig, ParcelSpec, ParcelWorld, PhysicsConfig, WorldConfig};
 use glam::DVec3;
 
-fn level(z_m: f64, theta_k: f64, qv_g: f64) -> EnvLevel {
-    EnvLevel {
-        z_m,
-        theta_k,
-        qv_kg_per_kg: qv_g / 1000.0,
-        pressure_pa: None,
-    }
-}
-
-/// Fair weather: well-mixed layer to 1.2 km, inversion to 1.5 km, stable above.
-fn fair_weather() -> Environment {
-    Environment::new(
-        vec![
-            level(0.0, 300.0, 12.0),
-            level(1200.0, 300.5, 10.0),
-            level(1500.0, 306.0, 5.0),
-            level(12_000.0, 345.0, 0.1),
-        ],
-        100_000.0,
-        PressureModel::Hydrostatic,
-    )
-    .unwrap()
-}
+mod common;
+use common::{fair_weather, level};
 
 /// Dry layer with a constant θ gradient. units: K m⁻¹
 fn dry_stable(gradient: f64) -> Environment {

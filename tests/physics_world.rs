@@ -1,35 +1,14 @@
 //! The parcel world: clusters, determinism, switched-off terms, the
 //! fair-weather scene's cloud base, guards against bad input.
 
-use cumulus::atmosphere::{EnvLevel, Environment, PressureModel, thermo};
+use cumulus::atmosphere::{Environment, PressureModel, thermo};
 use cumulus::physics::{
     CloudParcel, EmissionConfig, Parcel, ParcelSpec, ParcelWorld, PhysicsConfig, WorldConfig,
 };
 use glam::DVec3;
 
-fn level(z_m: f64, theta_k: f64, qv_g: f64) -> EnvLevel {
-    EnvLevel {
-        z_m,
-        theta_k,
-        qv_kg_per_kg: qv_g / 1000.0,
-        pressure_pa: None,
-    }
-}
-
-/// Fair weather: well-mixed layer to 1.2 km, inversion to 1.5 km, stable above.
-fn fair_weather() -> Environment {
-    Environment::new(
-        vec![
-            level(0.0, 300.0, 12.0),
-            level(1200.0, 300.5, 10.0),
-            level(1500.0, 306.0, 5.0),
-            level(12_000.0, 345.0, 0.1),
-        ],
-        100_000.0,
-        PressureModel::Hydrostatic,
-    )
-    .unwrap()
-}
+mod common;
+use common::{fair_weather, level};
 
 /// Dry, isentropic: every dry parcel of θ = 300 K is neutral at every height.
 fn neutral() -> Environment {

@@ -1,7 +1,9 @@
-//! Helpers shared by the integration tests that need a GPU adapter.
+//! Helpers shared by the integration tests: the GPU adapter of the render
+//! tests and the environments of the physics tests.
 
 #![allow(dead_code)] // each test binary uses its own subset
 
+use cumulus::atmosphere::{EnvLevel, Environment, PressureModel};
 use cumulus::render::GpuContext;
 
 /// The CPU Vulkan adapter (lavapipe "llvmpipe"), or any adapter when that is
@@ -20,4 +22,28 @@ pub fn context(what: &str) -> Option<GpuContext> {
             None
         }
     }
+}
+
+pub fn level(z_m: f64, theta_k: f64, qv_g: f64) -> EnvLevel {
+    EnvLevel {
+        z_m,
+        theta_k,
+        qv_kg_per_kg: qv_g / 1000.0,
+        pressure_pa: None,
+    }
+}
+
+/// Fair weather: well-mixed layer to 1.2 km, inversion to 1.5 km, stable above.
+pub fn fair_weather() -> Environment {
+    Environment::new(
+        vec![
+            level(0.0, 300.0, 12.0),
+            level(1200.0, 300.5, 10.0),
+            level(1500.0, 306.0, 5.0),
+            level(12_000.0, 345.0, 0.1),
+        ],
+        100_000.0,
+        PressureModel::Hydrostatic,
+    )
+    .unwrap()
 }
