@@ -10,6 +10,7 @@
 
 pub mod app;
 pub mod atmosphere;
+pub mod authored;
 pub mod bench;
 pub mod error;
 pub mod output;
@@ -17,6 +18,7 @@ pub mod physics;
 pub mod plots;
 pub mod render;
 pub mod scene;
+pub mod scene_set;
 pub mod stability;
 
 pub use error::{Error, Result};

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use crate::atmosphere::AtmosphereSpec;
+use crate::authored::{Ellipsoid, ParticleConfig};
 use crate::error::{Error, Result};
 use crate::physics::{EmissionConfig, GroundConfig, PhysicsConfig, WindConfig};
 use crate::render::{CameraConfig, RenderConfig};
@@ -39,6 +40,10 @@ pub struct SceneProfile {
     pub camera: CameraConfig,
     /// Render settings and feature switches.
     pub render: RenderConfig,
+    /// Authored implicit ellipsoids (Schpok 2003), with their keyframes.
+    pub ellipsoids: Vec<Ellipsoid>,
+    /// Particle dynamics of the ellipsoids (the uniform wind).
+    pub particles: ParticleConfig,
 }
 
 /// Byte offset → 1-based (line, column).
@@ -66,18 +71,7 @@ impl SceneProfile {
     /// Reads, parses and validates a profile file. Errors name the file and,
     /// for a bad value, the line and column of its key.
     pub fn load(path: &Path) -> Result<Self> {
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-        let text = String::from_utf8(bytes).map_err(|e| {
-            Error::parse(
-                path,
-                0,
-                0,
-                format!(
-                    "not UTF-8 text (byte {}): a profile is a TOML file",
-                    e.utf8_error().valid_up_to()
-                ),
-            )
-        })?;
+        let text = read_text(path)?;
         let profile = Self::from_toml(&text, path)?;
         profile.validate().map_err(|e| locate(e, &text, path))?;
         Ok(profile)
@@ -89,6 +83,9 @@ impl SceneProfile {
         self.atmosphere.validate()?;
         crate::physics::WorldConfig::from_scene(self).validate()?;
         self.render.validate()?;
+        self.render.slices.validate()?;
+        crate::authored::ellipsoid::validate_all(&self.ellipsoids)?;
+        self.particles.validate()?;
         self.camera.validate()
     }
 
@@ -107,17 +104,33 @@ impl SceneProfile {
     }
 }
 
+/// Reads a profile file as UTF-8 text.
+pub(crate) fn read_text(path: &Path) -> Result<String> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    String::from_utf8(bytes).map_err(|e| {
+        Error::parse(
+            path,
+            0,
+            0,
+            format!(
+                "not UTF-8 text (byte {}): a profile is a TOML file",
+                e.utf8_error().valid_up_to()
+            ),
+        )
+    })
+}
+
 /// Turns a parameter error into one that names the profile file and the
 /// line and column where the parameter is set (or just the file when the
 /// value comes from a default).
-fn locate(e: Error, text: &str, path: &Path) -> Error {
+pub(crate) fn locate(e: Error, text: &str, path: &Path) -> Error {
     match e {
         Error::InvalidParameter {
             name,
             value,
             allowed,
         } => {
-            let (line, column) = locate_key(text, &name).unwrap_or((0, 0));
+            let (line, column) = locate_nearest(text, &name).unwrap_or((0, 0));
             Error::parse(
                 path,
                 line,
@@ -163,6 +176,23 @@ pub fn locate_key(text: &str, name: &str) -> Option<(usize, usize)> {
     None
 }
 
+/// Like [`locate_key`], but when the key itself cannot be found (a value
+/// inside an inline table or array, "ellipsoids[0].keyframes[2].time_s"),
+/// the place of the nearest enclosing key that can ("ellipsoids[0].keyframes").
+fn locate_nearest(text: &str, name: &str) -> Option<(usize, usize)> {
+    let mut name = name;
+    loop {
+        if let Some(at) = locate_key(text, name) {
+            return Some(at);
+        }
+        name = name.rsplit_once('.')?.0;
+        name = name
+            .strip_suffix(']')
+            .and_then(|n| n.rsplit_once('['))
+            .map_or(name, |(n, _)| n);
+    }
+}
+
 /// Where a scene came from, for resolving relative paths (sounding files).
 #[derive(Debug, Clone, PartialEq)]
 pub enum SceneSource {
@@ -185,6 +215,28 @@ pub fn load_scene(path: Option<&Path>) -> Result<(SceneProfile, SceneSource)> {
     match path {
         None => Ok((SceneProfile::embedded_default(), SceneSource::Embedded)),
         Some(p) => Ok((SceneProfile::load(p)?, SceneSource::File(p.to_path_buf()))),
+    }
+}
+
+/// [`load_scene`] with `--set TABLE.KEY=VALUE` overrides applied to the
+/// TOML before validation (see [`crate::scene_set`]).
+pub fn load_scene_with(
+    path: Option<&Path>,
+    overrides: &[String],
+) -> Result<(SceneProfile, SceneSource)> {
+    match path {
+        None => Ok((
+            crate::scene_set::load_with_overrides(
+                DEFAULT_SCENE_TOML,
+                Path::new("<embedded fair_weather.toml>"),
+                overrides,
+            )?,
+            SceneSource::Embedded,
+        )),
+        Some(p) => Ok((
+            crate::scene_set::load_with_overrides(&read_text(p)?, p, overrides)?,
+            SceneSource::File(p.to_path_buf()),
+        )),
     }
 }
 

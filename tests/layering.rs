@@ -27,7 +27,7 @@ fn atmosphere_and_physics_import_no_gpu_or_window_code() {
         "crate::app",
     ];
     let mut files = Vec::new();
-    for layer in ["atmosphere", "physics"] {
+    for layer in ["atmosphere", "physics", "authored"] {
         rust_files(&root.join(layer), &mut files);
     }
     assert!(files.len() >= 8, "found only {files:?}");

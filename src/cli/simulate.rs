@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use anyhow::bail;
 use cumulus::physics::{Diagnostics, ParcelWorld, StepReport, WorldConfig};
-use cumulus::scene::{load_scene, locate_key};
+use cumulus::scene::{load_scene_with, locate_key};
 
 /// Arguments of `cumulus simulate`.
 #[derive(Debug, clap::Args)]
@@ -25,6 +25,10 @@ pub struct Args {
     /// Seed of the emission draws.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Override a scene value, validated like the file (repeatable), e.g.
+    /// `--set physics.mixing=false --set wind.aloft_m_s=[4.0,0.0]`.
+    #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
+    pub set: Vec<String>,
 }
 
 /// Most frames one run may ask for: the CSV holds one row per frame in
@@ -83,7 +87,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     let frames = frames as u64;
-    let (profile, source) = load_scene(args.scene.as_deref())?;
+    let (profile, source) = load_scene_with(args.scene.as_deref(), &args.set)?;
     // Validation errors name the field; say which file (and line) it is in.
     let scene_text = args
         .scene

@@ -124,6 +124,8 @@ pub struct RenderConfig {
     pub shadow_texels: u32,
     /// Terrain settings.
     pub terrain: TerrainConfig,
+    /// The `slices` method's qualitative controls and noise tiers.
+    pub slices: crate::authored::SlicesConfig,
 }
 
 impl Default for RenderConfig {
@@ -150,6 +152,7 @@ impl Default for RenderConfig {
             noise_texels: 64,
             shadow_texels: 256,
             terrain: TerrainConfig::default(),
+            slices: Default::default(),
         }
     }
 }

@@ -1,0 +1,182 @@
+//! Implicit ellipsoids (Schpok et al. 2003 §3.1): the artist's coarse shape
+//! of a cloud. Each `[[ellipsoids]]` of a scene is one soft primitive; the
+//! cloud's density skeleton is the sum of Wyvill's cubic soft-object
+//! blending of every primitive, evaluated on the CPU at slice vertices.
+
+use glam::{EulerRot, Mat3, Vec3};
+use serde::{Deserialize, Serialize};
+
+use super::animation::{Keyframe, Motion};
+use super::finite_in;
+use crate::error::{Error, Result};
+
+/// Most ellipsoids one scene may hold: every slice vertex evaluates all of
+/// them on the CPU, and 256 already costs seconds per frame at Quality 128.
+pub const MAX_ELLIPSOIDS: usize = 256;
+
+/// One implicit ellipsoid as written in a scene's `[[ellipsoids]]` table.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Ellipsoid {
+    /// Centre at time 0 (z up). units: m
+    pub centre_m: [f32; 3],
+    /// Semi-axes along the ellipsoid's own x, y, z before rotation. units: m
+    pub radii_m: [f32; 3],
+    /// Rotation of the axes: yaw about z, then pitch about y, then roll
+    /// about x (intrinsic z-y-x). units: degrees
+    pub rotation_deg: [f32; 3],
+    /// Field value at the centre (the blend's weight), 0 to 4.
+    pub strength: f32,
+    /// Particle dynamics preset applied on top of the keyframes.
+    pub motion: Motion,
+    /// Keyframes of centre, radii and strength over time (may be empty:
+    /// the fields above then hold for all time).
+    pub keyframes: Vec<Keyframe>,
+}
+
+impl Default for Ellipsoid {
+    fn default() -> Self {
+        Self {
+            centre_m: [0.0, 0.0, 1500.0],
+            radii_m: [600.0, 600.0, 400.0],
+            rotation_deg: [0.0; 3],
+            strength: 1.0,
+            motion: Motion::Still,
+            keyframes: Vec::new(),
+        }
+    }
+}
+
+/// An ellipsoid at one instant, ready to evaluate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EllipsoidState {
+    /// units: m
+    pub centre_m: Vec3,
+    /// units: m
+    pub radii_m: Vec3,
+    /// world_from_local rotation.
+    pub rotation: Mat3,
+    /// Field value at the centre.
+    pub strength: f32,
+}
+
+/// Wyvill, McPheeters & Wyvill's soft-object blending ("Data structure for
+/// soft objects", The Visual Computer 2(4), 1986), the paper's ref. 22:
+/// with s = r/R,
+///   C(s) = 1 − 4/9·s⁶ + 17/9·s⁴ − 22/9·s²   for s ≤ 1, and 0 beyond.
+/// It is a cubic in s² (no square root needed), C(0) = 1, C(1) = 0,
+/// C(½) = ½, and its slope is 0 at both ends, so summed primitives blend
+/// smoothly and end without a crease. Takes s².
+pub fn wyvill(s2: f32) -> f32 {
+    if s2 >= 1.0 {
+        return 0.0;
+    }
+    let s4 = s2 * s2;
+    1.0 - (4.0 / 9.0) * s4 * s2 + (17.0 / 9.0) * s4 - (22.0 / 9.0) * s2
+}
+
+impl EllipsoidState {
+    /// The rotation of `rotation_deg` (intrinsic z-y-x: yaw, pitch, roll).
+    pub fn rotation_from_deg(rotation_deg: [f32; 3]) -> Mat3 {
+        let [roll, pitch, yaw] = rotation_deg.map(f32::to_radians);
+        Mat3::from_euler(EulerRot::ZYX, yaw, pitch, roll)
+    }
+
+    /// Squared ellipsoidal distance s² of `p`: 1 on the surface, 0 at the centre.
+    pub fn s2(&self, p: Vec3) -> f32 {
+        let local = self.rotation.transpose() * (p - self.centre_m);
+        (local / self.radii_m).length_squared()
+    }
+
+    /// This primitive's contribution to the field at `p`.
+    pub fn field(&self, p: Vec3) -> f32 {
+        self.strength * wyvill(self.s2(p))
+    }
+
+    /// Half-extent of the world-axis-aligned box around the ellipsoid: along
+    /// world axis k it is sqrt(Σ_j (R_kj·r_j)²) (exact for an ellipsoid).
+    pub fn half_extent_m(&self) -> Vec3 {
+        let m = self.rotation;
+        let r = self.radii_m;
+        let row = |k: usize| {
+            let v = Vec3::new(m.x_axis[k] * r.x, m.y_axis[k] * r.y, m.z_axis[k] * r.z);
+            v.length()
+        };
+        Vec3::new(row(0), row(1), row(2))
+    }
+}
+
+/// The implicit field at `p`: Σ strength_i · C(s_i) over every primitive
+/// (paper eq. 1 before the plane opacity). Not clamped: overlapping
+/// primitives add, as the paper's sum does.
+pub fn field_at(states: &[EllipsoidState], p: Vec3) -> f32 {
+    states.iter().map(|e| e.field(p)).sum()
+}
+
+/// World-axis-aligned bounds (min, max) of every primitive with a non-zero
+/// strength, or `None` when there is none. units: m
+pub fn bounds_m(states: &[EllipsoidState]) -> Option<(Vec3, Vec3)> {
+    states
+        .iter()
+        .filter(|e| e.strength > 0.0)
+        .map(|e| {
+            (
+                e.centre_m - e.half_extent_m(),
+                e.centre_m + e.half_extent_m(),
+            )
+        })
+        .reduce(|(a0, a1), (b0, b1)| (a0.min(b0), a1.max(b1)))
+}
+
+/// Checks one `[[ellipsoids]]` entry; `name` is its place ("ellipsoids[2]").
+pub fn validate(e: &Ellipsoid, name: &str) -> Result<()> {
+    for (k, v) in e.centre_m.iter().enumerate() {
+        finite_in(
+            &format!("{name}.centre_m[{k}]"),
+            *v,
+            -1.0e6,
+            1.0e6,
+            "-1e6 to 1e6 m",
+        )?;
+    }
+    validate_shape(e.radii_m, e.strength, name)?;
+    for (k, v) in e.rotation_deg.iter().enumerate() {
+        finite_in(
+            &format!("{name}.rotation_deg[{k}]"),
+            *v,
+            -360.0,
+            360.0,
+            "-360 to 360 degrees",
+        )?;
+    }
+    super::animation::validate_keyframes(&e.keyframes, name)
+}
+
+/// Radii and strength, shared by an ellipsoid and its keyframes.
+pub(super) fn validate_shape(radii_m: [f32; 3], strength: f32, name: &str) -> Result<()> {
+    for (k, v) in radii_m.iter().enumerate() {
+        finite_in(
+            &format!("{name}.radii_m[{k}]"),
+            *v,
+            1.0,
+            1.0e5,
+            "1 to 1e5 m",
+        )?;
+    }
+    finite_in(&format!("{name}.strength"), strength, 0.0, 4.0, "0 to 4")
+}
+
+/// Checks a scene's whole `[[ellipsoids]]` list.
+pub fn validate_all(ellipsoids: &[Ellipsoid]) -> Result<()> {
+    if ellipsoids.len() > MAX_ELLIPSOIDS {
+        return Err(Error::invalid(
+            "ellipsoids",
+            format!("{} entries", ellipsoids.len()),
+            format!("at most {MAX_ELLIPSOIDS} ellipsoids"),
+        ));
+    }
+    for (i, e) in ellipsoids.iter().enumerate() {
+        validate(e, &format!("ellipsoids[{i}]"))?;
+    }
+    Ok(())
+}

@@ -1,0 +1,238 @@
+//! The CPU half of the slice renderer (Schpok et al. 2003 §4.1, Table 1,
+//! Figure 1): slicing planes parallel or orthogonal to the light, oriented
+//! closest to the view direction, tessellated over the cloud's bounds; the
+//! implicit field sampled at every vertex; the shadow accumulated along
+//! vertices colinear with the light ray (eq. 2); planes emitted back to
+//! front for the painter's algorithm. The output is vertex and index
+//! arrays a GPU pass draws as they are.
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+
+use super::controls::SlicesConfig;
+use super::ellipsoid::{EllipsoidState, bounds_m, field_at};
+use crate::error::{Error, Result};
+
+/// Most vertices one slicing may produce (planes × (tessellation + 1)²):
+/// 2²³ vertices are 168 MB of vertices and about as much of indices.
+pub const MAX_SLICE_VERTICES: u64 = 1 << 23;
+
+/// How the planes sit relative to the light.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SliceOrientation {
+    /// Plane normal along the light: light rays cross the planes, and the
+    /// colinear vertices are the same grid vertex on successive planes.
+    OrthogonalToLight,
+    /// Light direction inside the planes: the colinear vertices are a grid
+    /// row within each plane.
+    ParallelToLight,
+}
+
+/// One vertex of the slicing geometry, as the GPU pass takes it.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct SliceVertex {
+    /// units: m
+    pub position_m: [f32; 3],
+    /// Σ implicits at the vertex (eq. 1 before the plane opacity).
+    pub density: f32,
+    /// Shadow depth accumulated toward the light (eq. 2), 0 = fully lit.
+    pub shadow: f32,
+}
+
+const _: () = assert!(std::mem::size_of::<SliceVertex>() == 20);
+
+/// Slicing planes ready to draw.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SliceGeometry {
+    /// Unit plane normal, pointing away from the viewer (normal · view ≥ 0).
+    pub normal: Vec3,
+    /// `None` when there is nothing to slice (no primitive with strength).
+    pub orientation: Option<SliceOrientation>,
+    /// Plane offsets along `normal` in draw order (back to front: decreasing).
+    /// units: m
+    pub plane_offsets_m: Vec<f32>,
+    /// Vertices, plane after plane in draw order, (tessellation + 1)² each.
+    pub vertices: Vec<SliceVertex>,
+    /// Triangle list, plane after plane in draw order.
+    pub indices: Vec<u32>,
+}
+
+/// The slicing rule of §4.1: the candidates are the light direction itself
+/// (planes orthogonal to the light) and the direction perpendicular to the
+/// light closest to the view (planes parallel to the light); the normal is
+/// the candidate closest to the view direction, i.e. orthogonal when
+/// |view · light| ≥ |view − (view · light)·light|. The normal is returned
+/// with normal · view ≥ 0. Both arguments must be non-zero.
+pub fn slice_normal(to_light: Vec3, view_dir: Vec3) -> (SliceOrientation, Vec3) {
+    let l = to_light.normalize();
+    let v = view_dir.normalize();
+    let along = v.dot(l);
+    let across = v - along * l;
+    if along.abs() >= across.length() {
+        (
+            SliceOrientation::OrthogonalToLight,
+            if along >= 0.0 { l } else { -l },
+        )
+    } else {
+        (SliceOrientation::ParallelToLight, across.normalize())
+    }
+}
+
+fn unit(name: &str, v: Vec3) -> Result<Vec3> {
+    v.try_normalize()
+        .filter(|_| v.is_finite())
+        .ok_or_else(|| Error::invalid(name, format!("{v:?}"), "a finite, non-zero direction"))
+}
+
+/// Builds the slicing planes of `states` for the light toward `to_light`
+/// and a viewer looking along `view_dir`, with the planes, tessellation,
+/// plane opacity and shadow magnitude of `cfg`.
+pub fn build_slices(
+    states: &[EllipsoidState],
+    cfg: &SlicesConfig,
+    to_light: Vec3,
+    view_dir: Vec3,
+) -> Result<SliceGeometry> {
+    let l = unit("to_light", to_light)?;
+    let v = unit("view_dir", view_dir)?;
+    let (orientation, n) = slice_normal(l, v);
+    let Some((lo, hi)) = bounds_m(states) else {
+        return Ok(SliceGeometry {
+            normal: n,
+            ..SliceGeometry::default()
+        });
+    };
+    let planes = cfg.planes() as usize;
+    let t = cfg.tessellation as usize;
+    let side = t + 1;
+    let count = planes as u64 * (side * side) as u64;
+    if count > MAX_SLICE_VERTICES {
+        return Err(Error::invalid(
+            "render.slices.tessellation",
+            cfg.tessellation,
+            format!(
+                "quality × (tessellation + 1)² at most {MAX_SLICE_VERTICES} vertices (it is {count})"
+            ),
+        ));
+    }
+    // In-plane axes: for planes parallel to the light, u is the light itself
+    // so each grid row along u is one light ray.
+    let (u, w) = match orientation {
+        SliceOrientation::ParallelToLight => (l, n.cross(l)),
+        SliceOrientation::OrthogonalToLight => n.any_orthonormal_pair(),
+    };
+    let corners = (0..8).map(|c| {
+        Vec3::new(
+            if c & 1 == 0 { lo.x } else { hi.x },
+            if c & 2 == 0 { lo.y } else { hi.y },
+            if c & 4 == 0 { lo.z } else { hi.z },
+        )
+    });
+    let range = |axis: Vec3| {
+        corners
+            .clone()
+            .map(|p| axis.dot(p))
+            .fold((f32::MAX, f32::MIN), |(a, b), x| (a.min(x), b.max(x)))
+    };
+    let ((u0, u1), (w0, w1), (n0, n1)) = (range(u), range(w), range(n));
+    // Back to front: the viewer looks along +n, so the largest offset is
+    // the farthest plane. Plane k sits mid-way in its slab.
+    let plane_offsets_m: Vec<f32> = (0..planes)
+        .rev()
+        .map(|k| n0 + (k as f32 + 0.5) * (n1 - n0) / planes as f32)
+        .collect();
+    let lattice =
+        |i: usize, extent: (f32, f32)| extent.0 + i as f32 * (extent.1 - extent.0) / t as f32;
+    let mut vertices = Vec::with_capacity(count as usize);
+    for &d in &plane_offsets_m {
+        for j in 0..side {
+            for i in 0..side {
+                let p = u * lattice(i, (u0, u1)) + w * lattice(j, (w0, w1)) + n * d;
+                vertices.push(SliceVertex {
+                    position_m: p.into(),
+                    density: field_at(states, p),
+                    shadow: 0.0,
+                });
+            }
+        }
+    }
+    accumulate_shadows(
+        &mut vertices,
+        orientation,
+        n.dot(l) > 0.0,
+        planes,
+        side,
+        cfg,
+    );
+    let indices = plane_indices(planes, side);
+    Ok(SliceGeometry {
+        normal: n,
+        orientation: Some(orientation),
+        plane_offsets_m,
+        vertices,
+        indices,
+    })
+}
+
+/// Eq. 2 along every light ray, starting at the vertex nearest the light:
+///   shadow_i = shadow_{i−1} + shadow magnitude × opacity_i,
+/// with opacity_i = plane opacity × density_i (eq. 1). A vertex's own
+/// opacity counts toward its shadow, as the printed recurrence has it.
+/// `light_along_normal`: whether the light lies on the +normal side.
+fn accumulate_shadows(
+    vertices: &mut [SliceVertex],
+    orientation: SliceOrientation,
+    light_along_normal: bool,
+    planes: usize,
+    side: usize,
+    cfg: &SlicesConfig,
+) {
+    let step = cfg.shadow_magnitude() * cfg.plane_opacity();
+    let per_plane = side * side;
+    let mut walk = |ray: &mut dyn Iterator<Item = usize>| {
+        let mut shadow = 0.0;
+        for i in ray {
+            shadow += step * vertices[i].density;
+            vertices[i].shadow = shadow;
+        }
+    };
+    match orientation {
+        // Planes are in draw order of decreasing offset: plane 0 is nearest
+        // the light when the light is on the +normal side.
+        SliceOrientation::OrthogonalToLight => {
+            for v in 0..per_plane {
+                if light_along_normal {
+                    walk(&mut (0..planes).map(|k| k * per_plane + v));
+                } else {
+                    walk(&mut (0..planes).rev().map(|k| k * per_plane + v));
+                }
+            }
+        }
+        // u = light: the vertex with the largest i in a row is nearest it.
+        SliceOrientation::ParallelToLight => {
+            for k in 0..planes {
+                for j in 0..side {
+                    walk(&mut (0..side).rev().map(|i| k * per_plane + j * side + i));
+                }
+            }
+        }
+    }
+}
+
+/// Two triangles per grid cell, plane after plane.
+fn plane_indices(planes: usize, side: usize) -> Vec<u32> {
+    let cells = side - 1;
+    let mut out = Vec::with_capacity(planes * cells * cells * 6);
+    for k in 0..planes {
+        let base = (k * side * side) as u32;
+        for j in 0..cells as u32 {
+            for i in 0..cells as u32 {
+                let a = base + j * side as u32 + i;
+                let b = a + side as u32;
+                out.extend_from_slice(&[a, a + 1, b + 1, a, b + 1, b]);
+            }
+        }
+    }
+    out
+}
