@@ -170,15 +170,15 @@ fn shadow_accumulates_along_the_light_as_eq_2() {
         z,
         [-875.0, -625.0, -375.0, -125.0, 125.0, 375.0, 625.0, 875.0]
     );
-    // shadow_i = shadow_(i−1) + (Dirtiness ÷ plane opacity) × plane opacity × C_i,
-    // from the top down.
+    // shadow_i = shadow_(i−1) + (Dirtiness ÷ plane opacity) × plane opacity
+    // × C_i ÷ 8 (the 8 vertices along each light ray), from the top down.
     let c = [
         C_0875, C_0625, C_0375, C_0125, C_0125, C_0375, C_0625, C_0875,
     ];
     let mut expect = [0.0f32; 8];
     let mut sum = 0.0;
     for k in (0..8).rev() {
-        sum += d * c[k];
+        sum += d * c[k] / 8.0;
         expect[k] = sum;
     }
     for k in 0..8 {
@@ -190,7 +190,7 @@ fn shadow_accumulates_along_the_light_as_eq_2() {
             expect[k]
         );
     }
-    assert!((centre[0].shadow - d * 2.0 * (C_0125 + C_0375 + C_0625 + C_0875)).abs() < 1e-5);
+    assert!((centre[0].shadow - d / 4.0 * (C_0125 + C_0375 + C_0625 + C_0875)).abs() < 1e-5);
     // Every other grid vertex is 1 km or more off the axis: outside the
     // sphere, no density and no shadow.
     assert!(
@@ -202,7 +202,8 @@ fn shadow_accumulates_along_the_light_as_eq_2() {
     );
 
     // Sun in the east, viewer looking north: planes contain the light; each
-    // grid row runs along x, and the shadow grows westward from x = +1 km.
+    // grid row of 3 vertices runs along x, and the shadow grows westward
+    // from x = +1 km.
     let g = build_slices(&[sphere(1000.0)], &cfg(8, 2, d), Vec3::X, Vec3::Y).unwrap();
     assert_eq!(g.orientation, Some(SliceOrientation::ParallelToLight));
     // Plane 3 of the draw order is at y = +125 m; its middle row is z = 0.
@@ -213,11 +214,57 @@ fn shadow_accumulates_along_the_light_as_eq_2() {
     );
     assert_eq!(row[1].position_m[1], 125.0);
     assert_eq!(row[2].shadow, 0.0, "nearest the sun, outside the sphere");
-    assert!((row[1].shadow - d * C_0125).abs() < 1e-6);
+    assert!((row[1].shadow - d * C_0125 / 3.0).abs() < 1e-6);
     assert!(
-        (row[0].shadow - d * C_0125).abs() < 1e-6,
+        (row[0].shadow - d * C_0125 / 3.0).abs() < 1e-6,
         "nothing more west of the centre"
     );
+}
+
+#[test]
+fn quality_does_not_darken_the_shadow() {
+    // Behind a 1 km sphere lit from above: the shadow at the bottom of its
+    // axis is Dirtiness × the mean of C along a diameter, whatever the
+    // number of planes (or, with planes containing the light, of vertices
+    // per row).
+    let bottom = |quality: u32, tessellation: u32, to_light: Vec3, view: Vec3| {
+        let g = build_slices(
+            &[sphere(1000.0)],
+            &cfg(quality, tessellation, 0.5),
+            to_light,
+            view,
+        )
+        .unwrap();
+        let side = tessellation as usize + 1;
+        let centre = (side / 2) * side + side / 2;
+        match g.orientation.unwrap() {
+            // Draw order starts at the bottom plane (farthest from a viewer above).
+            SliceOrientation::OrthogonalToLight => g.vertices[centre].shadow,
+            // Planes contain the light (+x): the row's first vertex is its west end.
+            SliceOrientation::ParallelToLight => {
+                let plane = quality as usize / 2;
+                g.vertices[plane * side * side + (side / 2) * side].shadow
+            }
+        }
+    };
+    let coarse = bottom(32, 8, Vec3::Z, -Vec3::Z);
+    let fine = bottom(128, 8, Vec3::Z, -Vec3::Z);
+    // Midpoint sums of a smooth integrand differ by O(1/N²): 1e-3 at N = 32.
+    assert!((coarse / fine - 1.0).abs() < 0.01, "{coarse} vs {fine}");
+    // The exact mean of C over s in [−1, 1] is 1 − 4/63 + 17/45 − 22/27.
+    let mean = 1.0 - 4.0 / 63.0 + 17.0 / 45.0 - 22.0 / 27.0;
+    assert!(
+        (fine - 0.5 * mean).abs() < 0.005 * mean,
+        "{fine} vs {}",
+        0.5 * mean
+    );
+    let rows = [
+        bottom(16, 32, Vec3::X, Vec3::Y),
+        bottom(16, 128, Vec3::X, Vec3::Y),
+    ];
+    // A row's grid includes both ends (N + 1 points divided by N + 1): a
+    // 1/N bias, 3 % at N = 32.
+    assert!((rows[0] / rows[1] - 1.0).abs() < 0.04, "{rows:?}");
 }
 
 #[test]

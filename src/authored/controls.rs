@@ -85,7 +85,8 @@ impl SlicesConfig {
 
     /// Shadow added per unit of vertex opacity in eq. 2: Dirtiness ÷ plane
     /// opacity (Table 2), so a vertex's shadow step is Dirtiness × field
-    /// whatever the Opacity.
+    /// whatever the Opacity (the slicing also divides it by the vertices
+    /// along the light ray, §5.2: see `slicing::accumulate_shadows`).
     pub fn shadow_magnitude(&self) -> f32 {
         self.dirtiness / self.plane_opacity()
     }

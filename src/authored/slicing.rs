@@ -176,9 +176,17 @@ pub fn build_slices(
 }
 
 /// Eq. 2 along every light ray, starting at the vertex nearest the light:
-///   shadow_i = shadow_{i−1} + shadow magnitude × opacity_i,
-/// with opacity_i = plane opacity × density_i (eq. 1). A vertex's own
-/// opacity counts toward its shadow, as the printed recurrence has it.
+///   shadow_i = shadow_{i−1} + shadow magnitude × opacity_i ÷ N,
+/// with opacity_i = plane opacity × density_i (eq. 1) and shadow magnitude
+/// = Dirtiness ÷ plane opacity (Table 2), so each step is Dirtiness ×
+/// density_i ÷ N. N is the number of vertices along the light ray: §5.2
+/// says that "as slicing planes increase, the accumulated shadow grows, so
+/// this term is divided by the number of slicing planes", which is N when
+/// the planes cross the light; when they contain it, N is the row length
+/// (tessellation + 1). Either way the shadow is a Riemann sum of the
+/// density across the cloud's bounds, and Quality does not darken it:
+/// behind a full-strength block as deep as the bounds it is Dirtiness.
+/// A vertex's own opacity counts toward its shadow, as eq. 2 has it.
 /// `light_along_normal`: whether the light lies on the +normal side.
 fn accumulate_shadows(
     vertices: &mut [SliceVertex],
@@ -188,8 +196,12 @@ fn accumulate_shadows(
     side: usize,
     cfg: &SlicesConfig,
 ) {
-    let step = cfg.shadow_magnitude() * cfg.plane_opacity();
     let per_plane = side * side;
+    let along_ray = match orientation {
+        SliceOrientation::OrthogonalToLight => planes,
+        SliceOrientation::ParallelToLight => side,
+    };
+    let step = cfg.shadow_magnitude() * cfg.plane_opacity() / along_ray as f32;
     let mut walk = |ray: &mut dyn Iterator<Item = usize>| {
         let mut shadow = 0.0;
         for i in ray {
