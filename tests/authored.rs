@@ -400,9 +400,9 @@ fn octave_rotation_follows_the_torque() {
     let m = t.transforms(&base, lac, 3, pivot, 4.0);
     // Octave 0: Base torque 1 °/s × 4 s; octave o ≥ 1: 3 °/s × f × 4 s.
     assert!((rotation_angle_deg(m[0], 1.0 / 1000.0) - 4.0).abs() < 0.01);
-    for o in 1..3 {
+    for (o, &mo) in m.iter().enumerate().skip(1) {
         let f = octave_factor(lac, o);
-        let angle = rotation_angle_deg(m[o], f / 1000.0);
+        let angle = rotation_angle_deg(mo, f / 1000.0);
         assert!((angle - 12.0 * f).abs() < 0.01, "octave {o}: {angle}");
     }
     // Double the torque, double the angle.
@@ -453,11 +453,8 @@ fn octave_uniform_packs_every_tier_for_the_shaders() {
     assert_eq!(u.tiers[1].media[0], MediaFilter::Wispy.gpu_id());
     assert_eq!(u.tiers[1].bottom_m[0], 5000.0);
     let expect = tiers[1].transforms(&base, 2.0, 4, Vec3::ZERO, 30.0);
-    for o in 0..4 {
-        assert_eq!(
-            u.tiers[1].texture_from_world[o],
-            expect[o].to_cols_array_2d()
-        );
+    for (o, e) in expect.iter().enumerate() {
+        assert_eq!(u.tiers[1].texture_from_world[o], e.to_cols_array_2d());
     }
     assert_eq!(
         u.tiers[1].texture_from_world[4], [[0.0; 4]; 4],
@@ -560,4 +557,32 @@ fn bad_ellipsoids_name_the_file_line_and_key() {
         msg.contains(":2:1: invalid particles.wind_m_s[1] = 500"),
         "{msg}"
     );
+}
+
+#[test]
+fn authored_frame_gathers_geometry_and_octaves_for_the_renderer() {
+    let p = SceneProfile::load(&profile_path()).unwrap_or_else(|e| panic!("{e}"));
+    let view = Vec3::from(p.camera.target_m) - Vec3::from(p.camera.position_m);
+    let sun = p.render.sun_direction();
+    let s = &p.render.slices;
+    let at = |t| authored_frame(&p.ellipsoids, &p.particles, s, t, sun, view).unwrap();
+    let f = at(600.0);
+    assert_eq!(f.states.len(), 7);
+    assert_eq!(f.geometry.vertices.len(), 128 * 33 * 33);
+    assert!(
+        f.geometry.vertices.iter().any(|v| v.density > 0.5),
+        "the planes cross the clouds"
+    );
+    assert!(
+        f.geometry.vertices.iter().any(|v| v.shadow > 0.01),
+        "and shade them"
+    );
+    assert_eq!(f.octaves.counts, [3, 4, 0, 0]);
+    // The noise pivots on the centre of the clouds' bounds at time 0: at
+    // t = 0 every tier's first octave maps it to the texture origin.
+    let (lo, hi) = ellipsoid::bounds_m(&at(0.0).states).unwrap();
+    for tier in &at(0.0).octaves.tiers[..3] {
+        let m = Mat4::from_cols_array_2d(&tier.texture_from_world[0]);
+        assert!(m.transform_point3((lo + hi) * 0.5).length() < 1e-4);
+    }
 }

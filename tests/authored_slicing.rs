@@ -150,7 +150,7 @@ fn planes_come_back_to_front_and_carry_the_field() {
 /// C(s) of the Wyvill function at the four plane offsets ±125, ±375, ±625,
 /// ±875 m of 8 planes through a 1 km sphere, worked out by hand from
 /// 1 − 4/9·s⁶ + 17/9·s⁴ − 22/9·s².
-const C_0125: f32 = 0.962_265_0;
+const C_0125: f32 = 0.962_265;
 const C_0375: f32 = 0.692_367_6;
 const C_0625: f32 = 0.306_869_5;
 const C_0875: f32 = 0.036_239_6;
