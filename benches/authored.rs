@@ -38,6 +38,16 @@ fn slicing(c: &mut Criterion) {
             },
         );
     }
+    // The paper's split: planes stay on the GPU, only the values refresh.
+    let cfg = &scene.render.slices;
+    let mut geometry = build_slices(&states, cfg, to_light, view).expect("slices build");
+    group.bench_function("refresh/q128_t32", |b| {
+        b.iter(|| {
+            geometry
+                .refresh(black_box(&states), cfg, to_light)
+                .expect("refreshes")
+        })
+    });
     let s = &scene.render.slices;
     group.bench_function("octave_uniform", |b| {
         b.iter(|| {

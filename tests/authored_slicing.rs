@@ -326,3 +326,32 @@ fn the_same_scene_slices_bit_identically() {
         bytemuck::cast_slice::<_, u8>(&b.vertices)
     );
 }
+
+#[test]
+fn refreshing_values_on_static_planes_matches_a_rebuild() {
+    let a = [
+        sphere(900.0),
+        EllipsoidState {
+            centre_m: Vec3::new(400.0, 0.0, 200.0),
+            ..sphere(500.0)
+        },
+    ];
+    // Same bounds, new strengths: the positions stay, the values change.
+    let b = [
+        EllipsoidState {
+            strength: 0.3,
+            ..a[0]
+        },
+        EllipsoidState {
+            strength: 2.0,
+            ..a[1]
+        },
+    ];
+    let (l, v) = (Vec3::new(0.4, -1.0, 0.8), Vec3::Y);
+    let c = cfg(24, 12, 0.6);
+    let mut g = build_slices(&a, &c, l, v).unwrap();
+    let fresh = build_slices(&b, &c, l, v).unwrap();
+    assert_ne!(g.vertices, fresh.vertices);
+    g.refresh(&b, &c, l).unwrap();
+    assert_eq!(g, fresh);
+}

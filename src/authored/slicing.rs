@@ -175,6 +175,43 @@ pub fn build_slices(
     })
 }
 
+impl SliceGeometry {
+    /// Re-evaluates density and shadow at the existing vertices for new
+    /// ellipsoid states, keeping the positions: the paper's split (§4.1)
+    /// where the tessellated planes stay on the GPU as static geometry and
+    /// only the per-vertex values are refreshed. Valid while the light and
+    /// view keep the same slicing (orientation and normal) and the new
+    /// states fit in the old bounds; otherwise rebuild with [`build_slices`].
+    pub fn refresh(
+        &mut self,
+        states: &[EllipsoidState],
+        cfg: &SlicesConfig,
+        to_light: Vec3,
+    ) -> Result<()> {
+        let Some(orientation) = self.orientation else {
+            return Ok(());
+        };
+        let l = unit("to_light", to_light)?;
+        let planes = self.plane_offsets_m.len();
+        if planes == 0 {
+            return Ok(());
+        }
+        let side = ((self.vertices.len() / planes) as f64).sqrt().round() as usize;
+        for v in &mut self.vertices {
+            v.density = field_at(states, Vec3::from(v.position_m));
+        }
+        accumulate_shadows(
+            &mut self.vertices,
+            orientation,
+            self.normal.dot(l) > 0.0,
+            planes,
+            side,
+            cfg,
+        );
+        Ok(())
+    }
+}
+
 /// Eq. 2 along every light ray, starting at the vertex nearest the light:
 ///   shadow_i = shadow_{i−1} + shadow magnitude × opacity_i ÷ N,
 /// with opacity_i = plane opacity × density_i (eq. 1) and shadow magnitude
