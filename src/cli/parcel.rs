@@ -18,14 +18,17 @@ use cumulus::plots::skewt::{SkewT, write_skew_t_png};
 /// Arguments of `cumulus parcel`.
 #[derive(Debug, clap::Args)]
 #[command(
-    long_about = "Lift the surface parcel of a radiosonde sounding and report its lifting \
-condensation level (LCL), level of free convection (LFC) and equilibrium level (EL).\n\n\
+    long_about = "Lift the surface-based, mixed-layer (lowest 100 hPa) and most-unstable (lowest \
+300 hPa) parcels of a radiosonde sounding and report their lifting condensation level (LCL), \
+level of free convection (LFC), equilibrium level (EL), CAPE and CIN (J/kg, virtual-temperature \
+corrected as MetPy's cape_cin).\n\n\
 The parcel conserves potential temperature and total water and is brought to saturation \
 equilibrium at every height with the same saturation adjustment the cloud simulation uses \
 (latent-heat factor 1); LFC and EL are where the parcel's virtual temperature crosses the \
 environment's (without the condensate's weight unless --condensate-loading). Heights are above the sounding's first usable level.",
     after_help = "Examples:\n  cumulus parcel --sounding profiles/soundings/oun-2011-05-22-12z.txt\n  \
 cumulus parcel --sounding profiles/soundings/oun-1999-05-04-00z.txt --json\n  \
+cumulus parcel --sounding profiles/soundings/oun-2011-05-22-12z.txt --parcel mu --plot mu.png\n  \
 cumulus parcel --sounding profiles/soundings/oun-2011-05-22-12z.txt --surface-temp 30 --plot skewt.png"
 )]
 pub struct Args {
@@ -476,7 +479,8 @@ fn write_table(
     }
     writeln!(
         out,
-        "parcel                            start: hPa   T(°C) Td(°C)  LCL hPa  LFC hPa   EL hPa  CAPE J/kg  CIN J/kg"
+        "{:<38} {:>6} {:>7} {:>6} {:>8} {:>8} {:>8} {:>10} {:>9}",
+        "parcel", "hPa", "T(°C)", "Td(°C)", "LCL hPa", "LFC hPa", "EL hPa", "CAPE J/kg", "CIN J/kg"
     )?;
     let hpa = |m: Option<LevelMark>| match m {
         Some(m) => format!("{:8.1}", m.p_pa / 100.0),
