@@ -104,10 +104,19 @@ fn a_sounding_without_wind_columns_has_no_wind() {
 
 /// A neutral dry environment (θ constant) with a uniform wind profile.
 fn windy_neutral(wind: [f64; 2]) -> Environment {
-    let lv = |z_m| WindLevel {
-        z_m,
-        u_m_s: wind[0],
-        v_m_s: wind[1],
+    sheared_neutral(wind, wind)
+}
+
+/// A neutral dry environment with wind linear from `ground` at 0 m to
+/// `top` at 10 km.
+fn sheared_neutral(ground: [f64; 2], top: [f64; 2]) -> Environment {
+    let lv = |z_m: f64| {
+        let f = z_m / 10_000.0;
+        WindLevel {
+            z_m,
+            u_m_s: ground[0] + (top[0] - ground[0]) * f,
+            v_m_s: ground[1] + (top[1] - ground[1]) * f,
+        }
     };
     Environment::new(
         vec![
@@ -121,8 +130,13 @@ fn windy_neutral(wind: [f64; 2]) -> Environment {
     .with_wind(Some(WindProfile::new(vec![lv(0.0), lv(10_000.0)]).unwrap()))
 }
 
-/// Horizontal velocity of a neutral parcel released at rest after 30 min.
+/// Horizontal velocity of a neutral parcel released at rest at 1500 m
+/// after 30 min.
 fn drift(env: Environment, wind: WindConfig) -> DVec3 {
+    drift_at(env, wind, 1500.0)
+}
+
+fn drift_at(env: Environment, wind: WindConfig, z_m: f64) -> DVec3 {
     let cfg = WorldConfig {
         physics: PhysicsConfig {
             mixing: false,
@@ -139,13 +153,8 @@ fn drift(env: Environment, wind: WindConfig) -> DVec3 {
         },
     };
     let mut w = ParcelWorld::new(env, cfg, 1).unwrap();
-    let spec = ParcelSpec::from_environment(
-        w.environment(),
-        DVec3::new(0.0, 0.0, 1500.0),
-        0.0,
-        0.0,
-        150.0,
-    );
+    let spec =
+        ParcelSpec::from_environment(w.environment(), DVec3::new(0.0, 0.0, z_m), 0.0, 0.0, 150.0);
     w.spawn_parcel(spec).unwrap();
     for _ in 0..900 {
         w.step(2.0);
@@ -174,4 +183,23 @@ fn sounding_wind_drives_the_drag_unless_the_scene_sets_wind() {
         (v.x + 4.0).abs() < 1.0 && (v.y - 2.0).abs() < 1.0,
         "[wind] overrides: {v}"
     );
+}
+
+#[test]
+fn sounding_shear_carries_high_parcels_faster() {
+    // u from 0 at the ground to 20 m/s at 10 km: a neutral parcel at 1 km
+    // drifts with 2 m/s, one at 6 km with 12 m/s (within 1 m/s, as above),
+    // so a tower's top runs ahead of its base.
+    let v_low = drift_at(
+        sheared_neutral([0.0, 0.0], [20.0, 0.0]),
+        WindConfig::default(),
+        1000.0,
+    );
+    let v_high = drift_at(
+        sheared_neutral([0.0, 0.0], [20.0, 0.0]),
+        WindConfig::default(),
+        6000.0,
+    );
+    assert!((v_low.x - 2.0).abs() < 1.0, "{v_low}");
+    assert!((v_high.x - 12.0).abs() < 1.0, "{v_high}");
 }
