@@ -272,3 +272,58 @@ fn dynamic_flags_need_dynamic() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--dynamic"));
 }
+
+#[test]
+fn bad_wind_fails_and_missing_wind_is_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    let good =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(OUN_2011)).unwrap();
+    // Line 10 is the 936.9 hPa row, wind 190° 28 kn: make the direction 390°.
+    let bad = dir.path().join("bad_wind.txt");
+    let text: String = good
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            let l = if i == 9 {
+                format!("{}    390{}", &l[..42], &l[49..])
+            } else {
+                l.to_string()
+            };
+            l + "\n"
+        })
+        .collect();
+    std::fs::write(&bad, text).unwrap();
+    let out = cumulus()
+        .args(["parcel", "--sounding"])
+        .arg(&bad)
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains(&format!("{}:10:47:", bad.display())), "{err}");
+    assert!(
+        err.contains("DRCT 390") && err.contains("0 to 360"),
+        "{err}"
+    );
+
+    // The same sounding cut after DWPT: no wind columns at all is not an
+    // error, and the output says there is no wind.
+    let calm = dir.path().join("calm.txt");
+    let text: String = good
+        .lines()
+        .map(|l| l.chars().take(28).collect::<String>() + "\n")
+        .collect();
+    std::fs::write(&calm, text).unwrap();
+    let out = cumulus()
+        .args(["parcel", "--sounding"])
+        .arg(&calm)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("wind: none in the sounding"), "{text}");
+}
