@@ -15,6 +15,11 @@ use crate::atmosphere::{Environment, WindProfile, thermo};
 /// ~70 °C against a y span of ~1.6 e-folds to 200 hPa).
 pub const SKEW_C: f64 = 35.0;
 
+/// Isobars drawn and labelled on the panel's Skew-T. units: hPa
+const ISOBARS_HPA: [f64; 9] = [
+    1000.0, 925.0, 850.0, 700.0, 500.0, 400.0, 300.0, 200.0, 100.0,
+];
+
 /// Which coordinates the profile diagram uses.
 #[derive(Debug, Default, Clone, Copy, PartialEq, Eq)]
 pub enum ProfileView {
@@ -69,6 +74,18 @@ pub fn configure(plot: Plot<'_>, view: ProfileView, surface_pressure_pa: f64) ->
         ProfileView::SkewT => plot
             .x_axis_label("temperature (°C), isotherms skewed")
             .y_axis_label("pressure (hPa)")
+            // Grid lines on the standard isobars, labelled in hPa.
+            .y_grid_spacer(move |input| {
+                ISOBARS_HPA
+                    .iter()
+                    .map(|p| (surface_pressure_pa / (p * 100.0)).ln())
+                    .filter(|&y| y >= input.bounds.0 && y <= input.bounds.1)
+                    .map(|value| egui_plot::GridMark {
+                        value,
+                        step_size: 0.2,
+                    })
+                    .collect()
+            })
             .y_axis_formatter(move |mark, _| {
                 format!("{:.0}", surface_pressure_pa * (-mark.value).exp() / 100.0)
             }),
