@@ -1,4 +1,5 @@
-//! `cumulus parcel` end to end: JSON keys and values, the Skew-T PNG, and a
+//! `cumulus parcel` end to end: JSON keys and values (CAPE/CIN of the sb,
+//! ml and mu parcels), `--parcel`, the Skew-T PNG with its hodograph, and a
 //! bad sounding's error message and exit status.
 
 use std::path::Path;
@@ -82,7 +83,8 @@ fn plot_writes_a_png() {
     let bytes = std::fs::read(&png).unwrap();
     assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n"), "not a PNG");
     let img = image::load_from_memory(&bytes).unwrap();
-    assert_eq!((img.width(), img.height()), (900, 1000));
+    // 900 px of diagram and the 400 px side panel with the hodograph.
+    assert_eq!((img.width(), img.height()), (1300, 1000));
     // Something is drawn: many non-white pixels, and the red environment curve.
     let rgb = img.to_rgb8();
     let ink = rgb.pixels().filter(|p| p.0 != [255, 255, 255]).count();
@@ -90,6 +92,100 @@ fn plot_writes_a_png() {
     assert!(
         rgb.pixels().any(|p| p.0 == [210, 20, 20]),
         "environment temperature curve"
+    );
+    // The hodograph's 0–1 km trace (its red) is in the side panel only.
+    let side_has = |c: [u8; 3]| rgb.enumerate_pixels().any(|(x, _, p)| x >= 900 && p.0 == c);
+    assert!(side_has([220, 30, 30]), "0–1 km hodograph trace");
+    assert!(side_has([30, 160, 40]), "1–3 km hodograph trace");
+}
+
+/// Runs `cumulus parcel --json` with extra arguments and parses the object.
+fn parcel_json(extra: &[&str]) -> serde_json::Value {
+    let out = cumulus()
+        .args(["parcel", "--sounding", OUN_2011, "--json"])
+        .args(extra)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("exactly one JSON object")
+}
+
+#[test]
+fn json_has_cape_and_cin_of_the_three_parcels() {
+    let v = parcel_json(&[]);
+    // Top level: the surface parcel (MetPy: 3297 J/kg, −129 J/kg; the 5 %
+    // agreement is tests/atmosphere_cape.rs, here only plausibility).
+    let cape = v["cape_j_per_kg"].as_f64().unwrap();
+    let cin = v["cin_j_per_kg"].as_f64().unwrap();
+    assert!(
+        (3000.0..3600.0).contains(&cape) && (-200.0..-50.0).contains(&cin),
+        "{cape} {cin}"
+    );
+    assert_eq!(v["lifted_parcel"], "sb");
+    let parcels = v["parcels"].as_object().unwrap();
+    assert_eq!(parcels.len(), 3);
+    for key in ["sb", "ml", "mu"] {
+        let p = parcels[key]
+            .as_object()
+            .unwrap_or_else(|| panic!("parcels.{key}"));
+        for k in [
+            "lcl_hpa",
+            "lcl_m",
+            "lfc_hpa",
+            "lfc_m",
+            "el_hpa",
+            "el_m",
+            "cape_j_per_kg",
+            "cin_j_per_kg",
+            "start_hpa",
+            "start_m",
+            "start_t_c",
+            "start_td_c",
+        ] {
+            assert!(p[k].is_number(), "parcels.{key}.{k} = {}", p[k]);
+        }
+    }
+    // The top level repeats the surface parcel.
+    assert_eq!(v["parcels"]["sb"]["cape_j_per_kg"], v["cape_j_per_kg"]);
+    assert_eq!(v["parcels"]["sb"]["lcl_hpa"], v["lcl_hpa"]);
+    // MetPy's MU parcel starts at 886 hPa, above the nocturnal surface layer.
+    // (1e-9: the pressure comes back through exp(ln P) interpolation.)
+    assert!((v["parcels"]["mu"]["start_hpa"].as_f64().unwrap() - 886.0).abs() < 1e-9);
+}
+
+#[test]
+fn parcel_option_chooses_the_lifted_parcel() {
+    let v = parcel_json(&["--parcel", "mu"]);
+    assert_eq!(v["lifted_parcel"], "mu");
+    // Its levels start at its own start, 886 hPa; the top level stays sb.
+    let first = &v["levels"][0];
+    assert!((first["p_hpa"].as_f64().unwrap() - 886.0).abs() < 1e-9);
+    assert_eq!(v["parcels"]["sb"]["cape_j_per_kg"], v["cape_j_per_kg"]);
+    let out = cumulus()
+        .args([
+            "parcel",
+            "--sounding",
+            OUN_2011,
+            "--parcel",
+            "mu",
+            "--dynamic",
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--parcel sb or ml"));
+    let out = cumulus()
+        .args(["parcel", "--sounding", OUN_2011, "--parcel", "xx"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("sb"),
+        "lists the allowed values"
     );
 }
 
@@ -175,4 +271,59 @@ fn dynamic_flags_need_dynamic() {
         .unwrap();
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--dynamic"));
+}
+
+#[test]
+fn bad_wind_fails_and_missing_wind_is_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    let good =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(OUN_2011)).unwrap();
+    // Line 10 is the 936.9 hPa row, wind 190° 28 kn: make the direction 390°.
+    let bad = dir.path().join("bad_wind.txt");
+    let text: String = good
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            let l = if i == 9 {
+                format!("{}    390{}", &l[..42], &l[49..])
+            } else {
+                l.to_string()
+            };
+            l + "\n"
+        })
+        .collect();
+    std::fs::write(&bad, text).unwrap();
+    let out = cumulus()
+        .args(["parcel", "--sounding"])
+        .arg(&bad)
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains(&format!("{}:10:47:", bad.display())), "{err}");
+    assert!(
+        err.contains("DRCT 390") && err.contains("0 to 360"),
+        "{err}"
+    );
+
+    // The same sounding cut after DWPT: no wind columns at all is not an
+    // error, and the output says there is no wind.
+    let calm = dir.path().join("calm.txt");
+    let text: String = good
+        .lines()
+        .map(|l| l.chars().take(28).collect::<String>() + "\n")
+        .collect();
+    std::fs::write(&calm, text).unwrap();
+    let out = cumulus()
+        .args(["parcel", "--sounding"])
+        .arg(&calm)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("wind: none in the sounding"), "{text}");
 }

@@ -271,3 +271,72 @@ fn saved_scene_loads_back_with_the_edits() {
     assert!(err.contains("bad.toml:3:1"), "{err}");
     assert_eq!(loaded.editor.points(), &before[..]);
 }
+
+#[test]
+fn cape_and_cin_follow_every_edit() {
+    // The panel shows the editor's CAPE/CIN: `cumulus parcel`'s surface-based
+    // values of the edited environment, recomputed by each edit.
+    let fresh = |ed: &ProfileEditor| {
+        let r = cumulus::atmosphere::cape::parcel_report(
+            ed.environment(),
+            cumulus::atmosphere::cape::ParcelKind::Surface,
+            &Default::default(),
+        )
+        .unwrap();
+        (r.cape_j_per_kg, r.cin_j_per_kg)
+    };
+    let mut ed = capped();
+    let before = ed.cape_cin_j_per_kg();
+    assert_eq!(before, fresh(&ed));
+    assert!(before.0 > 0.0, "the cloud layer is conditionally unstable");
+    // A 1 K moister surface (dewpoint 18 → 19 °C) gives the parcel more
+    // latent heat: more CAPE, less CIN.
+    let td0 = dewpoint_c(&ed.points()[0]);
+    pe::move_point(&mut ed, ProfileCurve::Dewpoint, 0, 0.0, td0 + 1.0).unwrap();
+    let after = ed.cape_cin_j_per_kg();
+    assert_eq!(after, fresh(&ed));
+    assert!(after.0 > before.0, "CAPE {before:?} → {after:?}");
+}
+
+#[test]
+fn editor_keeps_the_soundings_wind_through_edits() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles/soundings");
+    let spec = AtmosphereSpec {
+        sounding: Some(dir.join("oun-2011-05-22-12z.txt")),
+        points: Vec::new(),
+        ..AtmosphereSpec::default()
+    };
+    let mut ed = ProfileEditor::from_spec(&spec, &dir).unwrap();
+    let w0 = ed
+        .environment()
+        .wind()
+        .expect("the sounding has DRCT/SKNT")
+        .clone();
+    let p = ed.points()[1];
+    pe::move_point(&mut ed, ProfileCurve::Temperature, 1, p.z_m, p.t_c + 1.0).unwrap();
+    assert_eq!(ed.environment().wind(), Some(&w0));
+}
+
+#[test]
+fn skew_t_view_maps_back_to_the_same_point() {
+    use cumulus::app::skewt_panel::{ProfileView, from_plot, to_plot};
+    let ed = capped();
+    let env = ed.environment();
+    for (t, z) in [(28.0, 0.0), (10.0, 1500.0), (-20.0, 7900.0)] {
+        let [x, y] = to_plot(ProfileView::SkewT, env, t, z);
+        let (t2, z2) = from_plot(ProfileView::SkewT, env, x, y);
+        // Bisection of P(z) to far below a centimetre.
+        assert!(
+            (t2 - t).abs() < 1e-6 && (z2 - z).abs() < 0.01,
+            "{t} {z} → {t2} {z2}"
+        );
+        // Isotherms lean right: the same T higher up is further right.
+        if z > 0.0 {
+            assert!(x > t);
+        }
+    }
+    assert_eq!(
+        to_plot(ProfileView::HeightTemperature, env, 5.0, 900.0),
+        [5.0, 900.0]
+    );
+}

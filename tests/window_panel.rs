@@ -220,3 +220,48 @@ fn a_point_held_near_the_diagram_edge_stays_under_the_pointer() {
         "crept from {reached} to {held}"
     );
 }
+
+#[test]
+fn skew_t_view_drags_points_and_updates_cape_live() {
+    use cumulus::app::skewt_panel::ProfileView;
+    let mut h = Harness::new();
+    h.ps.view = ProfileView::SkewT;
+    h.frame(vec![]);
+    h.frame(vec![]);
+    let (cape0, _) = h.m.editor.cape_cin_j_per_kg();
+    let p0 = h.m.editor.points()[0];
+    // Warm the surface 2 K by dragging its temperature point along the
+    // Skew-T's ground line: in this view x is skewed, so the target comes
+    // from the view's own mapping.
+    let from = h.ps.diagram_pos(p0.t_c, 0.0).expect("diagram drawn");
+    let to = h.ps.diagram_pos(p0.t_c + 2.0, 0.0).unwrap();
+    assert!((to.x - from.x) > 2.0, "2 K is a visible distance");
+    h.drag(from, to);
+    let p = h.m.editor.points()[0];
+    // Same placement tolerance as the height view (0.1 K ≈ a screen point).
+    assert!((p.t_c - (p0.t_c + 2.0)).abs() < 0.1, "{p0:?} → {p:?}");
+    // The panel's CAPE/CIN are the edited environment's, at once.
+    let (cape, cin) = h.m.editor.cape_cin_j_per_kg();
+    let fresh = cumulus::atmosphere::cape::parcel_report(
+        h.m.editor.environment(),
+        cumulus::atmosphere::cape::ParcelKind::Surface,
+        &Default::default(),
+    )
+    .unwrap();
+    assert_eq!((cape, cin), (fresh.cape_j_per_kg, fresh.cin_j_per_kg));
+    assert_ne!(cape, cape0, "the edit changed CAPE");
+
+    // A point above the ground dragged up in the Skew-T lands at the height
+    // whose pressure is under the pointer.
+    let q = h.m.editor.points()[2];
+    let from = h.ps.diagram_pos(q.t_c, q.z_m).unwrap();
+    let to = h.ps.diagram_pos(q.t_c, q.z_m + 300.0).unwrap();
+    h.drag(from, to);
+    let moved = h.m.editor.points()[2];
+    // A screen point is ~10–15 m of height in this view.
+    assert!(
+        (moved.z_m - (q.z_m + 300.0)).abs() < 25.0,
+        "{q:?} → {moved:?}"
+    );
+    assert!((moved.t_c - q.t_c).abs() < 0.2, "{q:?} → {moved:?}");
+}

@@ -6,11 +6,14 @@
 //! - [`state`]: the model the panel edits (scene, editor, simulation,
 //!   playback, settings), free of window and GPU types;
 //! - [`panel`]: the egui side panel;
+//! - [`skewt_panel`]: the profile diagram's height–T and Skew-T views, the
+//!   panel's hodograph;
 //! - [`window`]: winit event loop, surface, frame loop and screenshot.
 
 pub mod camera;
 pub mod panel;
 pub mod profile_edit;
+pub mod skewt_panel;
 pub mod state;
 pub mod window;
 

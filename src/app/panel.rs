@@ -7,6 +7,7 @@ use egui::{Color32, RichText};
 use egui_plot::{Line, LineStyle, MarkerShape, Plot, PlotBounds, PlotPoint, Points, Text};
 
 use super::profile_edit::{self as pe, ProfileCurve};
+use super::skewt_panel::{self as sk, ProfileView};
 use super::state::Model;
 
 const T_COLOR: Color32 = Color32::from_rgb(220, 60, 50);
@@ -35,6 +36,11 @@ pub struct PanelState {
     transform: Option<egui_plot::PlotTransform>,
     /// The diagram's temperature range of the last frame. units: °C
     x_range: Option<(f64, f64)>,
+    /// Height–temperature or Skew-T log-p diagram.
+    pub view: ProfileView,
+    /// The environment the diagram was drawn on last frame (its P(z) maps
+    /// heights in the Skew-T view).
+    view_env: Option<crate::atmosphere::Environment>,
 }
 
 impl PanelState {
@@ -42,9 +48,13 @@ impl PanelState {
     /// in egui points: lets tests press and drag a profile point exactly as
     /// a user would.
     pub fn diagram_pos(&self, t_c: f64, z_m: f64) -> Option<egui::Pos2> {
+        let [x, y] = match &self.view_env {
+            Some(env) => sk::to_plot(self.view, env, t_c, z_m),
+            None => [t_c, z_m],
+        };
         self.transform
             .as_ref()
-            .map(|t| t.position_from_point(&PlotPoint::new(t_c, z_m)))
+            .map(|t| t.position_from_point(&PlotPoint::new(x, y)))
     }
 }
 
@@ -114,6 +124,12 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
         "Drag points: temperature (red), dewpoint (green). Double-click adds a level, \
          right-click removes one. Orange: the lifted surface parcel.",
     );
+    ui.horizontal(|ui| {
+        ui.selectable_value(&mut ps.view, ProfileView::HeightTemperature, "height–T");
+        ui.selectable_value(&mut ps.view, ProfileView::SkewT, "Skew-T log-p");
+    });
+    let view = ps.view;
+    ps.view_env = Some(m.editor.environment().clone());
     let top_default = m
         .editor
         .el_m()
@@ -134,6 +150,7 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
     // under a still pointer and creep away from it.
     let (xmin, xmax) = match (ps.drag, ps.x_range) {
         (Some(_), Some(r)) => r,
+        _ if view == ProfileView::SkewT => (-30.0, 45.0),
         _ => ((tmin - 5.0).min(-10.0), (tmax + 5.0).max(30.0)),
     };
     ps.x_range = Some((xmin, xmax));
@@ -141,27 +158,35 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
     let mut edit: Option<crate::Result<()>> = None;
     let drag = &mut ps.drag;
     let editor = &mut m.editor;
-    let shown = Plot::new("profile")
+    let env_now = editor.environment().clone();
+    let ps_pa = env_now.surface_pressure_pa();
+    let to_plot = |t: f64, z: f64| sk::to_plot(view, &env_now, t, z);
+    let shown = sk::configure(Plot::new("profile"), view, ps_pa)
         .height(300.0)
         .allow_drag(false)
         .allow_zoom(false)
         .allow_scroll(false)
         .allow_boxed_zoom(false)
         .allow_double_click_reset(false)
-        .x_axis_label("temperature (°C)")
-        .y_axis_label("height (m)")
         .show(ui, |plot_ui| {
             // A little room below the ground so the surface points are
             // inside the plot (not on the axis below it) and can be grabbed.
-            let below = -0.04 * plot_top;
-            plot_ui.set_plot_bounds(PlotBounds::from_min_max([xmin, below], [xmax, plot_top]));
+            let ytop = to_plot(0.0, plot_top)[1];
+            let below = -0.04 * ytop;
+            let bounds = PlotBounds::from_min_max([xmin, below], [xmax, ytop]);
+            plot_ui.set_plot_bounds(bounds);
+            sk::background(plot_ui, view, ps_pa, bounds);
             let resp = plot_ui.response().clone();
             // The pointer now (egui_plot's pointer_coordinate lags a frame
             // behind while dragging).
             let pointer = resp
                 .interact_pointer_pos()
                 .or(resp.hover_pos())
-                .map(|p| plot_ui.plot_from_screen(p));
+                .map(|p| plot_ui.plot_from_screen(p))
+                .map(|p| {
+                    let (t, z) = sk::from_plot(view, &env_now, p.x, p.y);
+                    PlotPoint::new(t, z)
+                });
             // A drag starts a few points away from the press: grab what was
             // under the press.
             let grab = plot_ui.ctx().input(|i| i.pointer.press_origin());
@@ -174,8 +199,9 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
                             (ProfileCurve::Temperature, p.t_c),
                             (ProfileCurve::Dewpoint, pe::dewpoint_c(p)),
                         ] {
+                            let [px, py] = to_plot(x, p.z_m);
                             let d = plot_ui
-                                .screen_from_plot(PlotPoint::new(x, p.z_m))
+                                .screen_from_plot(PlotPoint::new(px, py))
                                 .distance(pos);
                             if d < GRAB_RADIUS && best.is_none_or(|b| d < b.0) {
                                 best = Some((d, c, i));
@@ -207,13 +233,16 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
             }
 
             let pts = editor.points();
-            let t: Vec<[f64; 2]> = pts.iter().map(|p| [p.t_c, p.z_m]).collect();
-            let td: Vec<[f64; 2]> = pts.iter().map(|p| [pe::dewpoint_c(p), p.z_m]).collect();
+            let t: Vec<[f64; 2]> = pts.iter().map(|p| to_plot(p.t_c, p.z_m)).collect();
+            let td: Vec<[f64; 2]> = pts
+                .iter()
+                .map(|p| to_plot(pe::dewpoint_c(p), p.z_m))
+                .collect();
             let curve = editor.curve();
             let parcel: Vec<[f64; 2]> = curve
                 .levels
                 .iter()
-                .map(|c| [c.t_k - 273.15, c.z_m])
+                .map(|c| to_plot(c.t_k - 273.15, c.z_m))
                 .collect();
             plot_ui.line(Line::new("parcel", parcel).color(PARCEL_COLOR).width(2.0));
             plot_ui.line(
@@ -240,6 +269,7 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
                 .map(|(l, mark)| (l, mark.map(|m| m.z_m)))
             {
                 if let Some(z) = z {
+                    let z = to_plot(0.0, z)[1];
                     let level = vec![[xmin, z], [xmax, z]];
                     plot_ui.line(
                         Line::new(label, level)
@@ -265,6 +295,11 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
         show_z(m.editor.lfc_m()),
         show_z(m.editor.el_m())
     ));
+    let (cape, cin) = m.editor.cape_cin_j_per_kg();
+    ui.label(format!(
+        "surface parcel: CAPE {cape:.0} J/kg   CIN {cin:.0} J/kg"
+    ));
+    sk::hodograph(ui, m.editor.environment().wind());
     ui.add(
         egui::Slider::new(
             ps.plot_top_m.as_mut().expect("set above"),

@@ -14,8 +14,9 @@
 
 use std::path::Path;
 
+use crate::atmosphere::cape::{self, ParcelKind};
 use crate::atmosphere::lifting::{self, LiftOptions, ParcelAscent};
-use crate::atmosphere::{AtmospherePoint, AtmosphereSpec, Environment, thermo};
+use crate::atmosphere::{AtmospherePoint, AtmosphereSpec, Environment, WindProfile, thermo};
 use crate::error::{Error, Result};
 
 /// 0 °C in kelvin.
@@ -54,6 +55,12 @@ pub struct ProfileEditor {
     /// simulation's physics so the diagram shows what the parcels feel.
     lift: LiftOptions,
     curve: ParcelAscent,
+    /// CAPE and CIN of the surface-based parcel (as `cumulus parcel`),
+    /// recomputed with every edit. units: J/kg
+    energies: (f64, f64),
+    /// The source's wind profile (a sounding's DRCT/SKNT), kept through
+    /// edits: the points edit temperature and humidity only.
+    wind: Option<WindProfile>,
     /// Bumped by every successful edit: the window compares it to push the
     /// environment to the simulation once per change.
     revision: u64,
@@ -86,7 +93,10 @@ impl ProfileEditor {
             p.t_c = p.t_c.max(MIN_SAMPLED_C);
             p.td_c = Some(dewpoint_c(p).clamp(MIN_SAMPLED_C, p.t_c));
         }
-        Self::new(spec)
+        let mut ed = Self::new(spec)?;
+        ed.wind = env.wind().cloned();
+        ed.env = ed.env.with_wind(ed.wind.clone());
+        Ok(ed)
     }
 
     /// An editor on inline points, each with `td_c`.
@@ -99,12 +109,14 @@ impl ProfileEditor {
             ));
         }
         let lift = LiftOptions::default();
-        let (env, curve) = build(&spec, &lift)?;
+        let (env, curve, energies) = build(&spec, &lift, None)?;
         Ok(Self {
             spec,
             env,
             lift,
             curve,
+            energies,
+            wind: None,
             revision: 0,
         })
     }
@@ -113,6 +125,7 @@ impl ProfileEditor {
     /// latent-heat factor and condensate loading).
     pub fn set_lift_options(&mut self, lift: LiftOptions) -> Result<()> {
         self.curve = lift_curve(&self.env, &lift)?;
+        self.energies = surface_energies(&self.env, &lift)?;
         self.lift = lift;
         Ok(())
     }
@@ -135,6 +148,11 @@ impl ProfileEditor {
     /// The lifted surface parcel: its curve and LCL, LFC, EL.
     pub fn curve(&self) -> &ParcelAscent {
         &self.curve
+    }
+
+    /// CAPE (≥ 0) and CIN (≤ 0) of the surface-based parcel. units: J/kg
+    pub fn cape_cin_j_per_kg(&self) -> (f64, f64) {
+        self.energies
     }
 
     /// Lifting condensation level. units: m
@@ -174,21 +192,34 @@ impl ProfileEditor {
             points,
             ..self.spec.clone()
         };
-        let (env, curve) = build(&spec, &self.lift)?;
+        let (env, curve, energies) = build(&spec, &self.lift, self.wind.clone())?;
         self.spec = spec;
         self.env = env;
         self.curve = curve;
+        self.energies = energies;
         self.revision += 1;
         Ok(())
     }
 }
 
-/// The environment of inline points and its surface parcel's ascent.
-fn build(spec: &AtmosphereSpec, lift: &LiftOptions) -> Result<(Environment, ParcelAscent)> {
+/// The environment of inline points (with `wind`), its surface parcel's
+/// ascent and that parcel's CAPE and CIN.
+fn build(
+    spec: &AtmosphereSpec,
+    lift: &LiftOptions,
+    wind: Option<WindProfile>,
+) -> Result<(Environment, ParcelAscent, (f64, f64))> {
     // Inline points read no file, so the base directory does not matter.
-    let env = spec.build(Path::new("."))?;
+    let env = spec.build(Path::new("."))?.with_wind(wind);
     let curve = lift_curve(&env, lift)?;
-    Ok((env, curve))
+    let energies = surface_energies(&env, lift)?;
+    Ok((env, curve, energies))
+}
+
+/// CAPE and CIN of the surface-based parcel. units: J/kg
+fn surface_energies(env: &Environment, lift: &LiftOptions) -> Result<(f64, f64)> {
+    let r = cape::parcel_report(env, ParcelKind::Surface, lift)?;
+    Ok((r.cape_j_per_kg, r.cin_j_per_kg))
 }
 
 fn lift_curve(env: &Environment, lift: &LiftOptions) -> Result<ParcelAscent> {

@@ -16,6 +16,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::thermo;
+use super::wind::WindProfile;
 use crate::error::{Error, Result};
 
 /// How pressure varies with height.
@@ -60,6 +61,8 @@ pub struct Environment {
     model: PressureModel,
     /// Exner function Π at z = i·TABLE_DZ_M (hydrostatic model only).
     exner_table: Vec<f64>,
+    /// Wind profile (a sounding's DRCT/SKNT), if the source has one.
+    wind: Option<WindProfile>,
 }
 
 impl Environment {
@@ -143,6 +146,7 @@ impl Environment {
             surface_pressure_pa,
             model,
             exner_table: Vec::new(),
+            wind: None,
         };
         if model == PressureModel::Hydrostatic {
             env.exner_table = env.integrate_exner();
@@ -170,6 +174,23 @@ impl Environment {
             prev = next;
         }
         table
+    }
+
+    /// The same environment with this wind profile (None: no wind data).
+    pub fn with_wind(mut self, wind: Option<WindProfile>) -> Self {
+        self.wind = wind;
+        self
+    }
+
+    /// The wind profile, if the source gave one.
+    pub fn wind(&self) -> Option<&WindProfile> {
+        self.wind.as_ref()
+    }
+
+    /// Horizontal wind (u east, v north) at `z_m`, if the environment has a
+    /// wind profile. units: m → m s⁻¹
+    pub fn wind_m_s(&self, z_m: f64) -> Option<[f64; 2]> {
+        self.wind.as_ref().map(|w| w.at(z_m))
     }
 
     /// The profile levels, lowest first.

@@ -135,9 +135,77 @@ pub fn surface_parcel_curve(
     lift_at(env, opts, &heights)
 }
 
+/// Where a lifted parcel starts: its height, temperature and dewpoint.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ParcelStart {
+    /// Starting height above the ground. units: m
+    pub z_m: f64,
+    /// Starting temperature. units: K
+    pub t_k: f64,
+    /// Starting dewpoint (at most `t_k`). units: K
+    pub td_k: f64,
+}
+
+impl ParcelStart {
+    /// The surface parcel of `env`, or the temperature and dewpoint that
+    /// `opts` sets for it.
+    pub fn surface(env: &Environment, opts: &LiftOptions) -> Self {
+        ParcelStart {
+            z_m: 0.0,
+            t_k: opts.surface_t_k.unwrap_or_else(|| env.temperature_k(0.0)),
+            td_k: opts.surface_td_k.unwrap_or_else(|| env.dewpoint_k(0.0)),
+        }
+    }
+}
+
 /// Lifts the surface parcel to the environment's top, recording it at
 /// `heights` (non-decreasing, ≥ 0); heights above the top are not reported.
 pub fn lift_at(env: &Environment, opts: &LiftOptions, heights: &[f64]) -> Result<ParcelAscent> {
+    lift_from(env, opts, &ParcelStart::surface(env, opts), heights)
+}
+
+/// Height in [`lo_m`, `hi_m`] at which air of potential temperature
+/// `theta_k` and total water `qt` (kg/kg), lifted dry-adiabatically through
+/// `env`, reaches saturation (ω_s(θ Π(P(z)), P(z)) = q_t; ω_s falls with
+/// height): `Some(lo_m)` if it is saturated there already, None if it is
+/// still unsaturated at `hi_m`. The one lifting-condensation-level routine
+/// of the program; bisection to 0.1 mm. units: m
+pub fn lcl_height_m(env: &Environment, theta_k: f64, qt: f64, lo_m: f64, hi_m: f64) -> Option<f64> {
+    let excess = |z: f64| {
+        let p = env.pressure_pa(z);
+        qt - thermo::saturation_mixing_ratio(theta_k * thermo::exner(p), p)
+    };
+    if excess(lo_m) >= 0.0 {
+        return Some(lo_m);
+    }
+    if !(excess(hi_m) >= 0.0) {
+        return None;
+    }
+    let (mut lo, mut hi) = (lo_m, hi_m);
+    // 60 halvings bound the work; 1e-4 m is far below any use of the LCL.
+    for _ in 0..60 {
+        if hi - lo < 1e-4 {
+            break;
+        }
+        let mid = 0.5 * (lo + hi);
+        if excess(mid) >= 0.0 {
+            hi = mid
+        } else {
+            lo = mid
+        }
+    }
+    Some(0.5 * (lo + hi))
+}
+
+/// Lifts a parcel from `start` to the environment's top, recording it at
+/// `heights` (non-decreasing, ≥ 0); heights below the start or above the top
+/// are not reported.
+pub fn lift_from(
+    env: &Environment,
+    opts: &LiftOptions,
+    start: &ParcelStart,
+    heights: &[f64],
+) -> Result<ParcelAscent> {
     if let Some(i) = (0..heights.len()).find(|&i| {
         !(heights[i] >= 0.0 && heights[i].is_finite() && (i == 0 || heights[i] >= heights[i - 1]))
     }) {
@@ -154,35 +222,43 @@ pub fn lift_at(env: &Environment, opts: &LiftOptions, heights: &[f64]) -> Result
             "between 0 and 2 (1 is physical)",
         ));
     }
-    let p0 = env.pressure_pa(0.0);
-    let t0 = opts.surface_t_k.unwrap_or_else(|| env.temperature_k(0.0));
-    let td0 = opts.surface_td_k.unwrap_or_else(|| env.dewpoint_k(0.0));
+    let top = env.top_m();
+    let z_start = start.z_m;
+    if !(z_start.is_finite() && (0.0..top).contains(&z_start)) {
+        return Err(Error::invalid(
+            "parcel starting height (m)",
+            z_start,
+            format!("from the ground up to below the profile top, {top} m"),
+        ));
+    }
+    // The surface parcel keeps its established wording in messages.
+    let at = if z_start == 0.0 {
+        "surface".to_string()
+    } else {
+        format!("parcel (starting at {z_start:.0} m)")
+    };
+    let p0 = env.pressure_pa(z_start);
+    let (t0, td0) = (start.t_k, start.td_k);
     if !(t0.is_finite() && (173.15..=343.15).contains(&t0)) {
         return Err(Error::invalid(
-            "surface temperature (°C)",
+            format!("{at} temperature (°C)"),
             t0 - 273.15,
             "between -100 and 70 °C",
         ));
     }
     if !(td0.is_finite() && td0 >= thermo::T_MIN_SATURATION_K && td0 <= t0 + 1e-9) {
         return Err(Error::invalid(
-            "surface dewpoint (°C)",
+            format!("{at} dewpoint (°C)"),
             td0 - 273.15,
             format!(
-                "a dewpoint from {:.2} °C up to the surface temperature {:.2} °C",
+                "a dewpoint from {:.2} °C up to the {at} temperature {:.2} °C",
                 thermo::T_MIN_SATURATION_K - 273.15,
                 t0 - 273.15
             ),
         ));
     }
-    let top = env.top_m();
     let qt = thermo::mixing_ratio_from_dewpoint(td0, p0);
     let theta_s = thermo::potential_temperature_k(t0, p0);
-    // Saturation deficit of the unsaturated parcel at z (negative below the LCL).
-    let excess = |z: f64| {
-        let p = env.pressure_pa(z);
-        qt - thermo::saturation_mixing_ratio(theta_s * thermo::exner(p), p)
-    };
 
     let loading = opts.condensate_loading;
     let record = |z: f64, theta: f64, qv: f64, ql: f64| {
@@ -203,11 +279,11 @@ pub fn lift_at(env: &Environment, opts: &LiftOptions, heights: &[f64]) -> Result
     };
 
     let (mut theta, mut qv, mut ql) = (theta_s, qt, 0.0);
-    let mut z = 0.0;
-    let mut lcl: Option<f64> = if excess(0.0) >= 0.0 { Some(0.0) } else { None };
+    let mut z = z_start;
+    let mut lcl = lcl_height_m(env, theta_s, qt, z_start, z_start);
     let mut out = Vec::with_capacity(heights.len());
-    let mut next = 0;
-    let first = record(0.0, theta, qv, ql);
+    let mut next = heights.partition_point(|&h| h < z_start);
+    let first = record(z_start, theta, qv, ql);
     let mut prev_b = first.tv_k - first.env_tv_k;
     let mut lfc: Option<f64> = None;
     let mut el: Option<f64> = None;
@@ -215,9 +291,9 @@ pub fn lift_at(env: &Environment, opts: &LiftOptions, heights: &[f64]) -> Result
     // layer makes the dry parcel buoyant, but that is not free convection.
     let mut buoyant_above_lcl = lcl.is_some() && prev_b > 0.0;
     if buoyant_above_lcl {
-        lfc = Some(0.0);
+        lfc = Some(z_start);
     }
-    while next < heights.len() && heights[next] <= 0.0 {
+    while next < heights.len() && heights[next] <= z_start {
         out.push(first);
         next += 1;
     }
@@ -231,17 +307,8 @@ pub fn lift_at(env: &Environment, opts: &LiftOptions, heights: &[f64]) -> Result
         let p1 = env.pressure_pa(z1);
         let adj = thermo::saturation_adjust(theta * thermo::exner(p1), qv, ql, p1, opts.alpha);
         if lcl.is_none() && adj.condensed > 0.0 {
-            // Bisect for q_v = ωs along the dry adiabat between z and z1.
-            let (mut lo, mut hi) = (z, z1);
-            for _ in 0..50 {
-                let mid = 0.5 * (lo + hi);
-                if excess(mid) >= 0.0 {
-                    hi = mid
-                } else {
-                    lo = mid
-                }
-            }
-            lcl = Some(0.5 * (lo + hi));
+            // q_v = ωs along the dry adiabat somewhere between z and z1.
+            lcl = Some(lcl_height_m(env, theta_s, qt, z, z1).unwrap_or(z1));
         }
         theta = adj.t_k / thermo::exner(p1);
         qv = adj.qv;

@@ -2,12 +2,15 @@
 //! readers that build it from real soundings or scene profiles. Nothing here
 //! knows about the GPU or a window.
 
+pub mod cape;
 pub mod environment;
 pub mod lifting;
 pub mod sounding;
 mod spec;
 pub mod thermo;
+pub mod wind;
 
 pub use environment::{EnvLevel, Environment, PressureModel};
 pub use sounding::{Sounding, SoundingLevel};
 pub use spec::{AtmospherePoint, AtmosphereSpec};
+pub use wind::{WindLevel, WindProfile};

@@ -13,6 +13,7 @@ use std::path::Path;
 
 use super::environment::{EnvLevel, Environment, PressureModel};
 use super::thermo;
+use super::wind::{MAX_WIND_SPEED_M_S, WindLevel, WindProfile, components_from_direction};
 use crate::error::{Error, Result};
 
 /// Width of every column of the table. units: characters
@@ -223,6 +224,7 @@ impl Sounding {
                 }
             }
             prev = Some((lineno, p_hpa, z));
+            check_wind(f, path, lineno, &col_of)?;
             let (t_c, td_c) = match (f[2], f[3]) {
                 (Some(t), Some(td)) => (t, td),
                 // Below-ground levels (and levels above the humidity sensor's
@@ -310,9 +312,32 @@ impl Sounding {
         Ok(Sounding { levels, station })
     }
 
+    /// The wind profile of the usable levels that give DRCT and SKNT, heights
+    /// above the surface; None when no level has wind (the columns are blank
+    /// or absent: no wind data, which the callers report as such).
+    pub fn wind_profile(&self) -> Result<Option<WindProfile>> {
+        let ground = self.levels[0].z_msl_m;
+        let levels: Vec<WindLevel> = self
+            .levels
+            .iter()
+            .filter_map(|l| {
+                let [u, v] = components_from_direction(l.wind_dir_deg?, l.wind_speed_m_s?);
+                Some(WindLevel {
+                    z_m: l.z_msl_m - ground,
+                    u_m_s: u,
+                    v_m_s: v,
+                })
+            })
+            .collect();
+        if levels.is_empty() {
+            return Ok(None);
+        }
+        WindProfile::new(levels).map(Some)
+    }
+
     /// The environment this sounding describes: θ and q_v at every usable
     /// level, observed pressures, heights above the first usable level (the
-    /// surface).
+    /// surface), and the wind of [`Sounding::wind_profile`].
     pub fn to_environment(&self) -> Result<Environment> {
         let ground = self.levels[0].z_msl_m;
         let levels = self
@@ -325,12 +350,53 @@ impl Sounding {
                 pressure_pa: Some(l.p_pa),
             })
             .collect();
-        Environment::new(levels, self.levels[0].p_pa, PressureModel::Observed)
+        Ok(
+            Environment::new(levels, self.levels[0].p_pa, PressureModel::Observed)?
+                .with_wind(self.wind_profile()?),
+        )
     }
 
     /// Height of the surface (the first usable level) above mean sea level. units: m
     pub fn surface_msl_m(&self) -> f64 {
         self.levels[0].z_msl_m
+    }
+}
+
+/// Checks a row's DRCT (0–360°) and SKNT (≥ 0, at most the largest speed a
+/// wind profile accepts); one without the other is an error too.
+fn check_wind(
+    f: &[Option<f64>; 11],
+    path: &Path,
+    lineno: usize,
+    col_of: &dyn Fn(usize) -> usize,
+) -> Result<()> {
+    let max_kn = MAX_WIND_SPEED_M_S / KNOT_M_S;
+    match (f[6], f[7]) {
+        (Some(d), _) if !(0.0..=360.0).contains(&d) => Err(Error::parse(
+            path,
+            lineno,
+            col_of(6),
+            format!("wind direction DRCT {d}°: allowed are 0 to 360° (where the wind blows from)"),
+        )),
+        (_, Some(kn)) if !(0.0..=max_kn).contains(&kn) => Err(Error::parse(
+            path,
+            lineno,
+            col_of(7),
+            format!("wind speed SKNT {kn} knots: allowed are 0 to {max_kn:.0} knots"),
+        )),
+        (Some(_), None) => Err(Error::parse(
+            path,
+            lineno,
+            col_of(7),
+            "DRCT without SKNT: give both wind columns or leave both blank (characters 50-56)",
+        )),
+        (None, Some(_)) => Err(Error::parse(
+            path,
+            lineno,
+            col_of(6),
+            "SKNT without DRCT: give both wind columns or leave both blank (characters 43-49)",
+        )),
+        _ => Ok(()),
     }
 }
 

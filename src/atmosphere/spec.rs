@@ -243,7 +243,8 @@ impl AtmosphereSpec {
                             ..*l
                         })
                         .collect();
-                    Environment::new(levels, env.surface_pressure_pa(), model)
+                    Ok(Environment::new(levels, env.surface_pressure_pa(), model)?
+                        .with_wind(env.wind().cloned()))
                 }
             };
         }

@@ -121,6 +121,19 @@ pub fn dewpoint_from_mixing_ratio_k(qv: f64, p_pa: f64) -> f64 {
     tc + 273.15
 }
 
+/// Equivalent potential temperature θ_e of air at `t_k`, dewpoint `td_k` and
+/// pressure `p_pa` (Bolton 1980 eq. 39 with the LCL temperature of his eq.
+/// 15, the form MetPy's `equivalent_potential_temperature` uses): the θ a
+/// parcel reaches when all its vapour condenses. Used to pick the most
+/// unstable parcel. units: K, K, Pa → K
+pub fn equivalent_potential_temperature_k(t_k: f64, td_k: f64, p_pa: f64) -> f64 {
+    let r = mixing_ratio_from_dewpoint(td_k, p_pa);
+    let e = vapour_pressure_pa(r, p_pa);
+    let t_lcl = 56.0 + 1.0 / (1.0 / (td_k - 56.0) + (t_k / td_k).ln() / 800.0);
+    let theta_dry = t_k * (P0_PA / (p_pa - e)).powf(KAPPA) * (t_k / t_lcl).powf(0.28 * r);
+    theta_dry * (r * (1.0 + 0.448 * r) * (3036.0 / t_lcl - 1.78)).exp()
+}
+
 /// Mixing ratio from relative humidity (0–1) at temperature and pressure.
 /// units: 1, K, Pa → kg/kg
 pub fn mixing_ratio_from_relative_humidity(rh: f64, t_k: f64, p_pa: f64) -> f64 {

@@ -1,13 +1,15 @@
-//! `cumulus parcel`: single-parcel aerology on a sounding. Lifts the surface
-//! parcel with the simulation's thermodynamics and reports its lifting
-//! condensation level (LCL), level of free convection (LFC) and equilibrium
-//! level (EL), as a table, as JSON, or as a Skew-T log-p diagram.
+//! `cumulus parcel`: single-parcel aerology on a sounding. Lifts the
+//! surface-based, mixed-layer and most-unstable parcels with the simulation's
+//! thermodynamics and reports their lifting condensation level (LCL), level
+//! of free convection (LFC), equilibrium level (EL), CAPE and CIN, as a
+//! table, as JSON, or as a Skew-T log-p diagram of the chosen one.
 
 use std::io::Write as _;
 use std::path::PathBuf;
 
 use anyhow::Context as _;
 use cumulus::atmosphere::Sounding;
+use cumulus::atmosphere::cape::{self, ParcelKind, ParcelReport};
 use cumulus::atmosphere::lifting::{self, LevelMark, LiftOptions, ParcelAscent};
 use cumulus::physics::PhysicsConfig;
 use cumulus::physics::single::{self, SingleRelease, SingleRun};
@@ -16,14 +18,17 @@ use cumulus::plots::skewt::{SkewT, write_skew_t_png};
 /// Arguments of `cumulus parcel`.
 #[derive(Debug, clap::Args)]
 #[command(
-    long_about = "Lift the surface parcel of a radiosonde sounding and report its lifting \
-condensation level (LCL), level of free convection (LFC) and equilibrium level (EL).\n\n\
+    long_about = "Lift the surface-based, mixed-layer (lowest 100 hPa) and most-unstable (lowest \
+300 hPa) parcels of a radiosonde sounding and report their lifting condensation level (LCL), \
+level of free convection (LFC), equilibrium level (EL), CAPE and CIN (J/kg, virtual-temperature \
+corrected as MetPy's cape_cin).\n\n\
 The parcel conserves potential temperature and total water and is brought to saturation \
 equilibrium at every height with the same saturation adjustment the cloud simulation uses \
 (latent-heat factor 1); LFC and EL are where the parcel's virtual temperature crosses the \
 environment's (without the condensate's weight unless --condensate-loading). Heights are above the sounding's first usable level.",
     after_help = "Examples:\n  cumulus parcel --sounding profiles/soundings/oun-2011-05-22-12z.txt\n  \
 cumulus parcel --sounding profiles/soundings/oun-1999-05-04-00z.txt --json\n  \
+cumulus parcel --sounding profiles/soundings/oun-2011-05-22-12z.txt --parcel mu --plot mu.png\n  \
 cumulus parcel --sounding profiles/soundings/oun-2011-05-22-12z.txt --surface-temp 30 --plot skewt.png"
 )]
 pub struct Args {
@@ -41,9 +46,18 @@ pub struct Args {
     /// (lowers the EL; the simulation's `condensate_loading`, off by default there too).
     #[arg(long)]
     pub condensate_loading: bool,
-    /// Print exactly one JSON object (lcl_hpa, lcl_m, lfc_hpa, lfc_m, el_hpa, el_m, levels) instead of the table.
+    /// Print exactly one JSON object instead of the table: the surface
+    /// parcel's lcl_hpa, lcl_m, lfc_hpa, lfc_m, el_hpa, el_m, cape_j_per_kg,
+    /// cin_j_per_kg; `parcels` with the same keys and the start (start_hpa,
+    /// start_m, start_t_c, start_td_c) for sb, ml and mu; `lifted_parcel`
+    /// and the `levels` of the --parcel one.
     #[arg(long)]
     pub json: bool,
+    /// Which parcel the table's levels, the diagram and --dynamic lift:
+    /// sb (surface-based), ml (mean of the lowest 100 hPa) or mu (highest
+    /// θe in the lowest 300 hPa). --surface-temp/--surface-dewpoint change sb only.
+    #[arg(long, value_enum, default_value_t = ParcelChoice::Sb)]
+    pub parcel: ParcelChoice,
     /// Also write a Skew-T log-p diagram (PNG, 900×1000) to this file; with
     /// --dynamic it also shows the released parcel's path.
     #[arg(long, value_name = "FILE.png")]
@@ -84,6 +98,27 @@ pub struct Args {
     /// and environment, q_v, q_l, radius, mass) to this CSV file.
     #[arg(long, value_name = "FILE.csv", requires = "dynamic")]
     pub csv: Option<PathBuf>,
+}
+
+/// The `--parcel` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ParcelChoice {
+    /// Surface-based.
+    Sb,
+    /// Mixed layer: mean θ and q_v of the lowest 100 hPa.
+    Ml,
+    /// Most unstable: highest θe in the lowest 300 hPa.
+    Mu,
+}
+
+impl ParcelChoice {
+    fn kind(self) -> ParcelKind {
+        match self {
+            ParcelChoice::Sb => ParcelKind::Surface,
+            ParcelChoice::Ml => ParcelKind::MixedLayer,
+            ParcelChoice::Mu => ParcelKind::MostUnstable,
+        }
+    }
 }
 
 fn positive_seconds(s: &str) -> Result<f64, String> {
@@ -179,7 +214,30 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         surface_td_k: args.surface_dewpoint.map(|c| c + 273.15),
         condensate_loading: args.condensate_loading,
     };
-    let ascent = lifting::lift_surface_parcel(&env, &opts)?;
+    let reports = ParcelKind::ALL
+        .iter()
+        .map(|&k| cape::parcel_report(&env, k, &opts))
+        .collect::<cumulus::Result<Vec<ParcelReport>>>()?;
+    let kind = args.parcel.kind();
+    let chosen = reports
+        .iter()
+        .find(|r| r.kind == kind)
+        .expect("every kind is reported");
+    if args.dynamic && chosen.start.z_m > 0.0 {
+        anyhow::bail!(
+            "--dynamic releases a parcel from the ground, but the {} parcel starts at {:.0} m: use --parcel sb or ml",
+            kind.name(),
+            chosen.start.z_m
+        );
+    }
+    // The chosen parcel at the sounding's own levels, against the observed
+    // environment, for the table and the JSON `levels`.
+    let heights: Vec<f64> = env.levels().iter().map(|l| l.z_m).collect();
+    let levels = lifting::lift_from(&env, &opts, &chosen.start, &heights)?.levels;
+    let ascent = ParcelAscent {
+        levels,
+        ..chosen.ascent.clone()
+    };
     let dynamic = if args.dynamic {
         Some(release_dynamic(&args, &env, &ascent)?)
     } else {
@@ -194,15 +252,20 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         });
         // 100 m spacing draws a smooth curve; finer steps make the thick line
         // jagged (each short segment is rounded to whole pixels).
-        let n = (env.top_m() / 100.0).ceil() as usize + 1;
-        let curve = lifting::surface_parcel_curve(&env, &opts, n)?;
+        let step = 100.0;
+        let n = ((env.top_m() - chosen.start.z_m) / step).ceil() as usize;
+        let curve_heights: Vec<f64> = (0..=n)
+            .map(|i| (chosen.start.z_m + i as f64 * step).min(env.top_m()))
+            .collect();
+        let curve = lifting::lift_from(&env, &opts, &chosen.start, &curve_heights)?;
         let title = format!(
-            "{} — surface parcel",
+            "{} — {} parcel",
             sounding.station.clone().unwrap_or_else(|| args
                 .sounding
                 .file_name()
                 .map(|f| f.to_string_lossy().into_owned())
-                .unwrap_or_default())
+                .unwrap_or_default()),
+            kind.name()
         );
         write_skew_t_png(
             path,
@@ -212,21 +275,53 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 ascent: &ascent,
                 parcel_curve: &curve.levels,
                 dynamic_path: dynamic_path.as_deref(),
+                wind: env.wind(),
+                summary: &summary_lines(&env, &reports, kind),
             },
-            900,
+            900 + cumulus::plots::skewt::SIDE_PANEL_PX,
             1000,
         )?;
     }
     let mut out = std::io::stdout().lock();
     if args.json {
         let mut json = to_json(&ascent);
+        let sb = &reports[0];
+        json["cape_j_per_kg"] = sb.cape_j_per_kg.into();
+        json["cin_j_per_kg"] = sb.cin_j_per_kg.into();
+        // The top level is the surface parcel (the --surface-* options apply).
+        for (key, m) in [
+            ("lcl", sb.ascent.lcl),
+            ("lfc", sb.ascent.lfc),
+            ("el", sb.ascent.el),
+        ] {
+            json[format!("{key}_hpa")] = m.map(|m| m.p_pa / 100.0).into();
+            json[format!("{key}_m")] = m.map(|m| m.z_m).into();
+        }
+        json["lifted_parcel"] = kind.key().into();
+        json["parcels"] = reports
+            .iter()
+            .map(|r| (r.kind.key().to_string(), report_json(r)))
+            .collect::<serde_json::Map<_, _>>()
+            .into();
         if let Some(run) = &dynamic {
             json["dynamic"] = dynamic_json(run);
         }
         serde_json::to_writer(&mut out, &json)?;
         writeln!(out)?;
     } else {
-        write_table(&mut out, &sounding, &ascent)?;
+        write_table(&mut out, &sounding, &ascent, &reports, kind)?;
+        match env.wind() {
+            Some(w) => writeln!(
+                out,
+                "wind: {} levels from DRCT/SKNT, 0–6 km bulk shear {:.1} m/s; it drives the parcels' drag unless a scene sets [wind]",
+                w.levels().len(),
+                w.bulk_shear_m_s(0.0, 6000.0)
+            )?,
+            None => writeln!(
+                out,
+                "wind: none in the sounding (DRCT/SKNT blank): scenes on it are calm unless they set [wind]"
+            )?,
+        }
         if let Some(run) = &dynamic {
             write_dynamic(&mut out, &args, run)?;
         }
@@ -235,6 +330,47 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
     }
     Ok(())
+}
+
+/// The side panel's lines: CAPE and CIN of each parcel (the drawn one
+/// marked) and the 0–6 km bulk shear.
+fn summary_lines(
+    env: &cumulus::atmosphere::Environment,
+    reports: &[ParcelReport],
+    kind: ParcelKind,
+) -> Vec<String> {
+    let mut lines: Vec<String> = reports
+        .iter()
+        .map(|r| {
+            format!(
+                "{} {}: CAPE {:.0} J/kg, CIN {:.0} J/kg",
+                if r.kind == kind { ">" } else { " " },
+                r.kind.key().to_uppercase(),
+                r.cape_j_per_kg,
+                r.cin_j_per_kg
+            )
+        })
+        .collect();
+    lines.push(match env.wind() {
+        Some(w) => format!("0–6 km bulk shear {:.0} m/s", w.bulk_shear_m_s(0.0, 6000.0)),
+        None => "no wind data".to_string(),
+    });
+    lines
+}
+
+/// One parcel of the JSON `parcels` object.
+fn report_json(r: &ParcelReport) -> serde_json::Value {
+    let hpa = |m: Option<LevelMark>| m.map(|m| m.p_pa / 100.0);
+    let z = |m: Option<LevelMark>| m.map(|m| m.z_m);
+    let a = &r.ascent;
+    serde_json::json!({
+        "start_hpa": r.start_p_pa / 100.0, "start_m": r.start.z_m,
+        "start_t_c": r.start.t_k - 273.15, "start_td_c": r.start.td_k - 273.15,
+        "lcl_hpa": hpa(a.lcl), "lcl_m": z(a.lcl),
+        "lfc_hpa": hpa(a.lfc), "lfc_m": z(a.lfc),
+        "el_hpa": hpa(a.el), "el_m": z(a.el),
+        "cape_j_per_kg": r.cape_j_per_kg, "cin_j_per_kg": r.cin_j_per_kg,
+    })
 }
 
 fn dynamic_json(run: &SingleRun) -> serde_json::Value {
@@ -335,14 +471,42 @@ fn write_table(
     out: &mut impl std::io::Write,
     s: &Sounding,
     a: &ParcelAscent,
+    reports: &[ParcelReport],
+    kind: ParcelKind,
 ) -> std::io::Result<()> {
     if let Some(st) = &s.station {
         writeln!(out, "{st}")?;
     }
+    writeln!(
+        out,
+        "{:<38} {:>6} {:>7} {:>6} {:>8} {:>8} {:>8} {:>10} {:>9}",
+        "parcel", "hPa", "T(°C)", "Td(°C)", "LCL hPa", "LFC hPa", "EL hPa", "CAPE J/kg", "CIN J/kg"
+    )?;
+    let hpa = |m: Option<LevelMark>| match m {
+        Some(m) => format!("{:8.1}", m.p_pa / 100.0),
+        None => format!("{:>8}", "none"),
+    };
+    for r in reports {
+        writeln!(
+            out,
+            "{:<38} {:6.1} {:7.1} {:6.1} {} {} {} {:10.0} {:9.0}",
+            r.kind.name(),
+            r.start_p_pa / 100.0,
+            r.start.t_k - 273.15,
+            r.start.td_k - 273.15,
+            hpa(r.ascent.lcl),
+            hpa(r.ascent.lfc),
+            hpa(r.ascent.el),
+            r.cape_j_per_kg,
+            r.cin_j_per_kg
+        )?;
+    }
+    writeln!(out)?;
     let first = &a.levels[0];
     writeln!(
         out,
-        "surface parcel: {:.1} hPa, T {:.1} °C, q_v {:.2} g/kg (station {:.0} m MSL)",
+        "{} parcel: {:.1} hPa, T {:.1} °C, q_v {:.2} g/kg (station {:.0} m MSL)",
+        kind.name(),
         first.p_pa / 100.0,
         first.t_k - 273.15,
         first.qv * 1000.0,

@@ -391,6 +391,17 @@ impl WindConfig {
         Ok(())
     }
 
+    /// The wind that drags the parcels at `z_m`: this table when the scene
+    /// sets one (any value other than the calm default), else the
+    /// environment's own profile (a sounding's DRCT/SKNT), else calm.
+    /// units: m → m s⁻¹ (z component 0)
+    pub fn over(&self, env: &crate::atmosphere::Environment, z_m: f64) -> glam::DVec3 {
+        match env.wind_m_s(z_m) {
+            Some([u, v]) if *self == WindConfig::default() => glam::DVec3::new(u, v, 0.0),
+            _ => self.at(z_m),
+        }
+    }
+
     /// Horizontal wind at height `z_m`. units: m → m s⁻¹ (z component 0)
     pub fn at(&self, z_m: f64) -> glam::DVec3 {
         let w = (z_m / self.aloft_z_m).clamp(0.0, 1.0);

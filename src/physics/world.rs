@@ -832,7 +832,7 @@ impl ParcelWorld {
         let c = &self.cfg.physics;
         for p in &mut self.parcels {
             let z = p.position_m.z;
-            let rel = p.velocity_m_s - self.cfg.wind.at(z);
+            let rel = p.velocity_m_s - self.cfg.wind.over(&self.env, z);
             // |v + δv_t| with δv_t of random direction: the magnitudes add in quadrature.
             let speed = (rel.length_squared() + c.turbulence_m_s * c.turbulence_m_s).sqrt();
             let r = p.radius_m;
@@ -1075,7 +1075,7 @@ impl ParcelWorld {
                 let tv_env = self.env.theta_v_k(z);
                 a.z += thermo::GRAVITY * (tv - tv_env) / tv_env;
             }
-            let rel = vpred[i] - self.cfg.wind.at(z);
+            let rel = vpred[i] - self.cfg.wind.over(&self.env, z);
             if c.drag {
                 let area = PI * p.radius_m * p.radius_m;
                 a -=

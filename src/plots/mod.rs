@@ -1,6 +1,7 @@
 //! PNG charts with plotters (parcel diagram, bench plots). Fonts come from
 //! `epaint_default_fonts`, so no system font library is needed.
 
+pub mod hodograph;
 pub mod skewt;
 
 use std::path::Path;

@@ -3,7 +3,8 @@
 //! going up, isotherms skewed 45° to the right, dry adiabats, a few moist
 //! adiabats and mixing-ratio lines as background; the environment's
 //! temperature and dewpoint and the parcel's temperature on top, with the
-//! LCL, LFC and EL marked.
+//! LCL, LFC and EL marked. A side panel to the right holds the hodograph
+//! of the sounding's wind and the summary lines (CAPE, CIN).
 //!
 //! Coordinates: y = −ln P, x = T[°C] + SKEW · ln(P_BOTTOM / P), so at the
 //! bottom edge x is the temperature itself and the x axis can be labelled as
@@ -15,7 +16,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::atmosphere::lifting::{LevelMark, ParcelAscent, ParcelLevel};
-use crate::atmosphere::{Environment, thermo};
+use crate::atmosphere::{Environment, WindProfile, thermo};
 use crate::error::Result;
 
 /// Bottom edge of the diagram. units: hPa
@@ -47,7 +48,15 @@ pub struct SkewT<'a> {
     /// (pressure in Pa, temperature in K) along its trajectory, drawn over the
     /// kinematic ascent so overshoot and oscillation show against it (paper fig. 4).
     pub dynamic_path: Option<&'a [(f64, f64)]>,
+    /// Wind profile for the hodograph beside the diagram (None: the panel
+    /// says the sounding has no wind).
+    pub wind: Option<&'a WindProfile>,
+    /// Lines printed under the hodograph (CAPE and CIN of the parcels).
+    pub summary: &'a [String],
 }
+
+/// Width of the side panel (hodograph and summary) right of the diagram. units: px
+pub const SIDE_PANEL_PX: u32 = 400;
 
 fn to_xy(t_c: f64, p_hpa: f64) -> (f64, f64) {
     (t_c + SKEW_C * (P_BOTTOM_HPA / p_hpa).ln(), -p_hpa.ln())
@@ -115,8 +124,10 @@ fn draw(
     height: u32,
 ) -> std::result::Result<(), String> {
     let e = |e: &dyn std::fmt::Display| e.to_string();
-    let root = BitMapBackend::with_buffer(buf, (width, height)).into_drawing_area();
-    root.fill(&WHITE).map_err(|x| e(&x))?;
+    let full = BitMapBackend::with_buffer(buf, (width, height)).into_drawing_area();
+    full.fill(&WHITE).map_err(|x| e(&x))?;
+    let (root, side) = full.split_horizontally(width.saturating_sub(SIDE_PANEL_PX));
+    super::hodograph::draw_side_panel(&side, chart_data.wind, chart_data.summary)?;
     let mut chart = ChartBuilder::on(&root)
         .caption(&chart_data.title, ("sans-serif", 24))
         .margin(12)
@@ -313,7 +324,7 @@ fn draw(
             RGBColor(20, 150, 40),
         ),
         (
-            "surface parcel temperature",
+            "parcel temperature",
             chart_data
                 .parcel_curve
                 .iter()
@@ -442,11 +453,12 @@ fn draw(
         )
         .map_err(|x| e(&x))?;
     }
-    root.present().map_err(|x| e(&x))?;
+    full.present().map_err(|x| e(&x))?;
     Ok(())
 }
 
-/// Draws the diagram and writes it atomically as a PNG of `width`×`height`.
+/// Draws the diagram and writes it atomically as a PNG of `width`×`height`
+/// (the rightmost [`SIDE_PANEL_PX`] are the side panel).
 pub fn write_skew_t_png(path: &Path, chart: &SkewT, width: u32, height: u32) -> Result<()> {
     super::write_rgb_png(path, "the Skew-T", width, height, |rgb| {
         draw(chart, rgb, width, height)

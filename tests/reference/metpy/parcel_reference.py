@@ -33,19 +33,24 @@ def read(path):
     return np.array(p) * units.hPa, np.array(t) * units.degC, np.array(td) * units.degC
 
 
-print(f"# MetPy {metpy.__version__}, numpy {np.__version__}")
-for name in SOUNDINGS:
-    p, t, td = read(ROOT / "profiles" / "soundings" / name)
-    lcl_p, lcl_t = mpcalc.lcl(p[0], t[0], td[0])
-    prof = mpcalc.parcel_profile(p, t[0], td[0]).to("K")
-    print(f"# {name}: surface {p[0]:~P}, {t[0]:~P}, {td[0]:~P}")
-    print(f"LCL_HPA = {lcl_p.to('hPa').m:.3f}; LCL_T_K = {lcl_t.to('K').m:.3f}")
-    # MetPy's LFC/EL compare plain temperatures of a pseudo-adiabatic parcel
-    # (no virtual correction, no condensate): for context, not equality.
-    lfc_p, _ = mpcalc.lfc(p, t, td, prof, which="bottom")
-    el_p, _ = mpcalc.el(p, t, td, prof)
-    print(f"LFC_HPA = {lfc_p.to('hPa').m:.3f}; EL_HPA = {el_p.to('hPa').m:.3f}")
-    print("LEVELS (p_hpa, parcel_t_k) = [")
-    for pp, tt in zip(p.to("hPa").m, prof.m):
-        print(f"    ({pp:.1f}, {tt:.3f}),")
-    print("]")
+def main():
+    print(f"# MetPy {metpy.__version__}, numpy {np.__version__}")
+    for name in SOUNDINGS:
+        p, t, td = read(ROOT / "profiles" / "soundings" / name)
+        lcl_p, lcl_t = mpcalc.lcl(p[0], t[0], td[0])
+        prof = mpcalc.parcel_profile(p, t[0], td[0]).to("K")
+        print(f"# {name}: surface {p[0]:~P}, {t[0]:~P}, {td[0]:~P}")
+        print(f"LCL_HPA = {lcl_p.to('hPa').m:.3f}; LCL_T_K = {lcl_t.to('K').m:.3f}")
+        # MetPy's LFC/EL compare plain temperatures of a pseudo-adiabatic parcel
+        # (no virtual correction, no condensate): for context, not equality.
+        lfc_p, _ = mpcalc.lfc(p, t, td, prof, which="bottom")
+        el_p, _ = mpcalc.el(p, t, td, prof)
+        print(f"LFC_HPA = {lfc_p.to('hPa').m:.3f}; EL_HPA = {el_p.to('hPa').m:.3f}")
+        print("LEVELS (p_hpa, parcel_t_k) = [")
+        for pp, tt in zip(p.to("hPa").m, prof.m):
+            print(f"    ({pp:.1f}, {tt:.3f}),")
+        print("]")
+
+
+if __name__ == "__main__":
+    main()
