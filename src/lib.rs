@@ -12,6 +12,7 @@ pub mod app;
 pub mod atmosphere;
 pub mod bench;
 pub mod error;
+pub mod export;
 pub mod output;
 pub mod physics;
 pub mod plots;
