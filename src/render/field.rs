@@ -9,7 +9,8 @@
 //! sampled as the GPU samples it (repeat addressing, trilinear filtering,
 //! texel centres at (i + ½)/n). The only GPU detail not mirrored is the
 //! hardware's 8-bit fixed-point filter weights (about 1/256 of a texel step).
-//! No wgpu here: unit-testable without a GPU.
+//! No wgpu here: unit-testable without a GPU; tests/export_gpu.rs checks it
+//! against the real cloud pass.
 
 use glam::Vec3;
 
