@@ -274,7 +274,7 @@ def main():
     ap.add_argument("--spp", type=int, help="path-traced samples per pixel")
     ap.add_argument("--voxel", type=float, help="export voxel (m); default: cumulus's")
     ap.add_argument("--max-depth", type=int, default=256, help="most scattering events per path")
-    ap.add_argument("--variant", help="Mitsuba variant (default: scalar_rgb with --quick, else cuda/llvm)")
+    ap.add_argument("--variant", help="Mitsuba variant (default: scalar_rgb with --quick, else cuda_ad_rgb if it loads, else scalar_rgb)")
     ap.add_argument("--settings", default="all", help="'all' or 'default' (only the default setting)")
     a = ap.parse_args()
 
@@ -295,7 +295,9 @@ def main():
             mi.set_variant(variant)
             mi.load_dict({"type": "constvolume"})
         except Exception:
-            variant = "llvm_ad_rgb"
+            # Not llvm_ad_rgb: with some system LLVM builds its JIT aborts
+            # ("Cannot select fminimum"); the scalar variant always works.
+            variant = "scalar_rgb"
     if variant not in mi.variants():
         fail(f"--variant {variant}: this Mitsuba has {', '.join(mi.variants())}")
     cumulus = find_cumulus(a.cumulus)
