@@ -12,6 +12,7 @@ sweep (and each `--method` the binary offers), and writes
   pathtraced.png            the path tracer, tone-mapped like ours
   ours.png                  cumulus at the default setting
   flip.png                  FLIP error map of ours against pathtraced.png
+  side_by_side.png          the three above, left to right
 
 Exposure is matched by construction: the path-traced radiance goes through
 the renderer's own tone curve, display = 1 - exp(-k L) then sRGB, with k from
@@ -346,6 +347,8 @@ def main():
             if name == "default" and (method is None or len(rows) == 2):
                 save_png(os.path.join(a.out, "ours.png"), ours)
                 save_png(os.path.join(a.out, "flip.png"), np.asarray(err_map)[..., :3])
+                side_by_side = np.concatenate([pt, ours, np.asarray(err_map)[..., :3]], axis=1)
+                save_png(os.path.join(a.out, "side_by_side.png"), side_by_side)
 
     tmp = os.path.join(a.out, ".error_vs_pathtraced.csv.tmp")
     with open(tmp, "w", encoding="utf-8") as f:
