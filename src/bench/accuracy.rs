@@ -154,14 +154,14 @@ pub fn downsample_linear(rgba: &[u8], w: u32, h: u32, ss: u32) -> Vec<u8> {
             for sy in 0..ss as usize {
                 for sx in 0..ss as usize {
                     let i = 4 * ((y * ss as usize + sy) * big_w + x * ss as usize + sx);
-                    for c in 0..3 {
-                        acc[c] += srgb_to_linear(rgba[i + c]);
+                    for (c, a) in acc.iter_mut().take(3).enumerate() {
+                        *a += srgb_to_linear(rgba[i + c]);
                     }
                     acc[3] += rgba[i + 3] as f32;
                 }
             }
-            for c in 0..3 {
-                out.push(linear_to_srgb(acc[c] / n));
+            for a in &acc[..3] {
+                out.push(linear_to_srgb(a / n));
             }
             out.push((acc[3] / n).round() as u8);
         }
