@@ -13,6 +13,7 @@ pub mod atmosphere;
 pub mod authored;
 pub mod bench;
 pub mod error;
+pub mod export;
 pub mod output;
 pub mod physics;
 pub mod plots;

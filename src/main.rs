@@ -28,6 +28,8 @@ enum Command {
     Bench(cli::bench::Args),
     /// Run the matrix of stiff and extreme cases.
     Stability(cli::stability::Args),
+    /// Write a frame's cloud density as a Mitsuba 3 .vol grid plus a JSON sidecar.
+    Export(cli::export::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -40,6 +42,7 @@ fn main() -> std::process::ExitCode {
         Some(Command::Parcel(a)) => cli::parcel::run(a),
         Some(Command::Bench(a)) => cli::bench::run(a),
         Some(Command::Stability(a)) => cli::stability::run(a),
+        Some(Command::Export(a)) => cli::export::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

@@ -1,6 +1,8 @@
 //! Error against run time. Render: one fixed frame at a sweep of settings,
-//! each compared (mean FLIP and RMSE) with a converged reference frame; the
-//! resolution-scale points are upscaled to the reference size first.
+//! each compared (mean FLIP and RMSE) with a reference frame that converges
+//! (finer view step, more octaves, several rays per pixel; see
+//! [`reference_config`] and [`REFERENCE_DIFFERENCES`]); the resolution-scale
+//! points are upscaled to the reference size first.
 //! Physics: a rising cluster simulated at a sweep of time steps, compared
 //! with a tiny-step reference (parcel positions, cloud top, total water).
 
@@ -20,14 +22,41 @@ pub const REFERENCE_STEP_FRACTION: f32 = 1.0 / 16.0;
 /// Octaves of the reference: the most the noise texture supports (the fBm
 /// truncated as late as it can be).
 pub const REFERENCE_OCTAVES: u32 = 6;
-/// Light-march samples of the reference (over the same march length).
-pub const REFERENCE_LIGHT_STEPS: u32 = 32;
+/// Rays per pixel of the reference along each image axis: it is rendered
+/// at this multiple of the frame size, then box-filtered down in linear
+/// light, so the finest octave averages out instead of aliasing.
+pub const REFERENCE_SUPERSAMPLE: u32 = 2;
+
+/// Growth of the light-march steps. Keep in sync with `LIGHT_GROWTH` in
+/// shaders/clouds.wgsl (a test reads it from there).
+pub const LIGHT_GROWTH: f32 = 1.6;
+
+/// Shortest first light step the configuration accepts (`render.light_step_m`). units: m
+const MIN_LIGHT_STEP_M: f32 = 1.0;
+
+/// Every way the reference differs from the setting it is compared with.
+pub const REFERENCE_DIFFERENCES: &[&str] = &[
+    "view-ray step 1/16 of the default (the march covers the same length with 16× the steps, at most 4096)",
+    "6 noise octaves instead of the setting's (the fBm truncated as late as the texture allows)",
+    "2×2 rays per pixel (rendered at twice the size, box-filtered in linear light)",
+    "no early exit",
+    "grid culling or brute force as the report states (the grid takes exactly the brute-force samples)",
+    "the same light march as the default setting (4 samples growing ×1.6 over 833 m): its \
+     discretisation is part of the lighting model (only its first sample sees the noise, the \
+     growth is a shader constant), so it is not refined toward a limit",
+];
+
+/// Length a light march of `steps` samples from a first step of `first_m`
+/// covers (steps grow ×[`LIGHT_GROWTH`]). units: m
+pub fn light_march_length_m(steps: u32, first_m: f32) -> f32 {
+    first_m * (LIGHT_GROWTH.powi(steps as i32) - 1.0) / (LIGHT_GROWTH - 1.0)
+}
 
 /// Length of the default light march (kept when the sample count changes,
-/// so only the sampling converges, not the physics). units: m
+/// so only the sampling changes, not the reach of the shadow). units: m
 fn light_march_m() -> f32 {
     let d = RenderConfig::default();
-    d.light_steps as f32 * d.light_step_m
+    light_march_length_m(d.light_steps, d.light_step_m)
 }
 
 /// Length the default view march covers at its nominal step; kept when the
@@ -47,14 +76,18 @@ pub fn with_step(cfg: &RenderConfig, step_m: f32) -> RenderConfig {
     }
 }
 
-/// `cfg` with `n` light-march samples over the default light-march length.
+/// `cfg` with `n` light-march samples over the default light-march length:
+/// the first step is chosen so the geometric series of steps sums to it.
+/// Where that step would be shorter than the 1 m the configuration allows
+/// (n ≥ 15 with the defaults), it is 1 m and the march reaches further
+/// ([`light_march_length_m`] says how far; the report shows it).
 pub fn with_light_steps(cfg: &RenderConfig, n: u32) -> RenderConfig {
     RenderConfig {
         light_steps: n,
         light_step_m: if n == 0 {
             cfg.light_step_m
         } else {
-            light_march_m() / n as f32
+            (light_march_m() / light_march_length_m(n, 1.0)).max(MIN_LIGHT_STEP_M)
         },
         ..cfg.clone()
     }
@@ -62,10 +95,12 @@ pub fn with_light_steps(cfg: &RenderConfig, n: u32) -> RenderConfig {
 
 /// The reference: step ≤ 1/16 of the default, every parcel at every sample
 /// (no grid culling; see [`brute_force_reference`]), no early exit, the most
-/// octaves and light samples.
+/// octaves, the default light march (see [`REFERENCE_DIFFERENCES`]); it is
+/// rendered with [`REFERENCE_SUPERSAMPLE`]² rays per pixel by [`reference_frame`].
 pub fn reference_config(base: &RenderConfig, brute_force: bool) -> RenderConfig {
     let mut r = with_step(base, base.step_m * REFERENCE_STEP_FRACTION);
-    r = with_light_steps(&r, REFERENCE_LIGHT_STEPS);
+    r.light_steps = base.light_steps;
+    r.light_step_m = base.light_step_m;
     r.noise_octaves = REFERENCE_OCTAVES;
     r.grid_culling = !brute_force;
     r.early_exit_transmittance = 0.0;
@@ -84,6 +119,73 @@ pub fn reference_config(base: &RenderConfig, brute_force: bool) -> RenderConfig 
 /// there the reference is rendered with grid culling and labelled so.
 pub fn brute_force_reference(ctx: &GpuContext) -> bool {
     !ctx.is_cpu()
+}
+
+/// sRGB8 → linear light.
+fn srgb_to_linear(v: u8) -> f32 {
+    let c = v as f32 / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Linear light → sRGB8.
+fn linear_to_srgb(c: f32) -> u8 {
+    let c = c.clamp(0.0, 1.0);
+    let s = if c <= 0.003_130_8 {
+        c * 12.92
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
+    (s * 255.0).round() as u8
+}
+
+/// Box-filters an RGBA8 sRGB image of (`ss`·w)×(`ss`·h) down to w×h in
+/// linear light (the mean of the rays of each pixel).
+pub fn downsample_linear(rgba: &[u8], w: u32, h: u32, ss: u32) -> Vec<u8> {
+    let big_w = (w * ss) as usize;
+    let mut out = Vec::with_capacity((4 * w * h) as usize);
+    let n = (ss * ss) as f32;
+    for y in 0..h as usize {
+        for x in 0..w as usize {
+            let mut acc = [0.0f32; 4];
+            for sy in 0..ss as usize {
+                for sx in 0..ss as usize {
+                    let i = 4 * ((y * ss as usize + sy) * big_w + x * ss as usize + sx);
+                    for (c, a) in acc.iter_mut().take(3).enumerate() {
+                        *a += srgb_to_linear(rgba[i + c]);
+                    }
+                    acc[3] += rgba[i + 3] as f32;
+                }
+            }
+            for a in &acc[..3] {
+                out.push(linear_to_srgb(a / n));
+            }
+            out.push((acc[3] / n).round() as u8);
+        }
+    }
+    out
+}
+
+/// Renders `cfg` at `supersample`² rays per pixel and box-filters it to
+/// `width`×`height`: (RGBA8 sRGB, median render time in ms).
+#[allow(clippy::too_many_arguments)]
+pub fn reference_frame(
+    ctx: &GpuContext,
+    cfg: &RenderConfig,
+    camera: Camera,
+    sun: Sun,
+    parcels: &[CloudParcel],
+    (width, height): (u32, u32),
+    supersample: u32,
+    reps: Repeats,
+) -> Result<(Vec<u8>, f64)> {
+    let ss = supersample.max(1);
+    let mut hl = Headless::new(ctx, cfg, width * ss, height * ss)?;
+    let m = measure(ctx, &mut hl, camera, sun, Source::Parcels(parcels), reps)?;
+    Ok((downsample_linear(&m.rgba, width, height, ss), m.render_ms))
 }
 
 /// One render setting of the sweep.
@@ -133,12 +235,11 @@ impl RenderSweep {
             out.push(s("noise_octaves", o.to_string(), c, 1.0));
         }
         for &n in &self.light_steps {
-            out.push(s(
-                "light_steps",
-                n.to_string(),
-                with_light_steps(base, n),
-                1.0,
-            ));
+            let c = with_light_steps(base, n);
+            // The march's reach beside the count: it differs where the first
+            // step hits its 1 m minimum.
+            let value = format!("{n} ({:.0} m)", light_march_length_m(n, c.light_step_m));
+            out.push(s("light_steps", value, c, 1.0));
         }
         if self.no_grid_culling {
             let c = RenderConfig {
@@ -228,17 +329,19 @@ pub fn render_sweep(
     mut tick: impl FnMut(&str),
 ) -> Result<RenderError> {
     let reference = reference_config(base, brute_force_reference(ctx));
-    let mut hl = Headless::new(ctx, &reference, width, height)?;
     tick("render reference");
-    let r = measure(
+    let (reference_rgba, reference_ms) = reference_frame(
         ctx,
-        &mut hl,
+        &reference,
         camera,
         sun,
-        Source::Parcels(parcels),
+        parcels,
+        (width, height),
+        REFERENCE_SUPERSAMPLE,
         reference_reps,
     )?;
-    let ref_rgb = rgb(&r.rgba);
+    let ref_rgb = rgb(&reference_rgba);
+    let mut hl = Headless::new(ctx, base, width, height)?;
     let mut rows = Vec::new();
     // Full-size images of the default and of brute force at default settings.
     let mut default_rgb = None;
@@ -288,9 +391,9 @@ pub fn render_sweep(
         parcels: parcels.len(),
         culling_vs_brute,
         reference,
-        reference_ms: r.render_ms,
+        reference_ms,
         rows,
-        reference_rgba: r.rgba,
+        reference_rgba,
         width,
         height,
     })
@@ -451,6 +554,54 @@ mod tests {
         assert!(r.step_m * r.max_steps as f32 >= d.step_m * d.max_steps as f32);
         assert!(!r.grid_culling);
         assert_eq!(r.early_exit_transmittance, 0.0);
+        // The light march is the tested setting's, not a different model.
+        assert_eq!(
+            (r.light_steps, r.light_step_m),
+            (d.light_steps, d.light_step_m)
+        );
+    }
+
+    #[test]
+    fn light_growth_matches_the_shader() {
+        let wgsl = include_str!("../../shaders/clouds.wgsl");
+        let line = wgsl
+            .lines()
+            .find(|l| l.trim_start().starts_with("const LIGHT_GROWTH"))
+            .expect("clouds.wgsl defines LIGHT_GROWTH");
+        let v: f32 = line
+            .split('=')
+            .nth(1)
+            .and_then(|r| r.trim().trim_end_matches(';').parse().ok())
+            .expect("a number");
+        assert_eq!(v, LIGHT_GROWTH);
+    }
+
+    #[test]
+    fn light_step_rows_keep_the_march_length() {
+        let d = RenderConfig::default();
+        let len = light_march_length_m(d.light_steps, d.light_step_m);
+        // 833 m with the defaults (4 samples from 90 m, ×1.6 each).
+        assert!((len - 833.3).abs() < 1.0, "{len}");
+        for n in [1, 2, 8] {
+            let c = with_light_steps(&d, n);
+            c.validate().unwrap();
+            let l = light_march_length_m(n, c.light_step_m);
+            // Relative 1e-4: float rounding of the geometric sum only.
+            assert!((l - len).abs() < len * 1e-4, "{n}: {l} vs {len}");
+        }
+        // Where the first step would be under 1 m it is 1 m (valid, longer).
+        let c = with_light_steps(&d, 16);
+        c.validate().unwrap();
+        assert_eq!(c.light_step_m, 1.0);
+    }
+
+    #[test]
+    fn downsampling_averages_in_linear_light() {
+        // Black and white rays average to linear 0.5, i.e. sRGB 188, not 128.
+        let px = [0u8, 0, 0, 255, 255, 255, 255, 255];
+        let img: Vec<u8> = px.iter().chain(&px).copied().collect();
+        let out = downsample_linear(&img, 1, 1, 2);
+        assert_eq!(out, vec![188, 188, 188, 255]);
     }
 
     #[test]

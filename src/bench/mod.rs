@@ -12,6 +12,7 @@
 
 pub mod accuracy;
 pub mod measure;
+pub mod pathtraced;
 pub mod perf;
 pub mod plots;
 pub mod report;
@@ -223,6 +224,8 @@ pub struct BenchResults {
     pub physics_error: PhysicsError,
     pub scaling: Vec<ScalingRow>,
     pub pruning: Vec<PruningRow>,
+    /// Rows of error_vs_pathtraced.csv found in the output folder, if any.
+    pub pathtraced: Option<Vec<pathtraced::PathTracedRow>>,
 }
 
 /// The commit being measured, if git can say.
@@ -335,6 +338,7 @@ pub fn run_with(ctx: &GpuContext, opts: &Options) -> Result<BenchResults> {
         physics_error,
         scaling,
         pruning,
+        pathtraced: pathtraced::read(&opts.out)?,
     };
     report::write_all(&opts.out, &results)?;
     Ok(results)

@@ -181,6 +181,24 @@ pub fn write_chart_png(path: &Path, chart: &Chart, w: u32, h: u32) -> Result<()>
     crate::plots::write_rgb_png(path, chart.title, w, h, |rgb| draw(chart, rgb, w, h))
 }
 
+/// Draws `charts` side by side, each `w`×`h`, into one PNG written atomically.
+pub fn write_charts_png(path: &Path, charts: &[&Chart], w: u32, h: u32) -> Result<()> {
+    let n = charts.len().max(1);
+    let title = charts.first().map_or("chart", |c| c.title);
+    crate::plots::write_rgb_png(path, title, w * n as u32, h, |rgb| {
+        let row = 3 * w as usize;
+        let mut panel = vec![0u8; row * h as usize];
+        for (i, c) in charts.iter().enumerate() {
+            draw(c, &mut panel, w, h)?;
+            for (y, src) in panel.chunks_exact(row).enumerate() {
+                let at = (y * n + i) * row;
+                rgb[at..at + row].copy_from_slice(src);
+            }
+        }
+        Ok(())
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -12,8 +12,9 @@ use crate::render::shaders::Pass;
 
 use super::accuracy::{PhysicsError, RenderError};
 use super::measure::timing_label;
+use super::pathtraced::PathTracedRow;
 use super::perf::{PerfRow, PruningRow, ScalingRow, on_off};
-use super::plots::{Chart, PALETTE, Series, write_chart_png};
+use super::plots::{Chart, PALETTE, Series, write_chart_png, write_charts_png};
 use super::{BenchResults, Mode, RunInfo};
 
 /// Plot size. units: px
@@ -442,7 +443,9 @@ pub fn report_md(r: &BenchResults) -> String {
          One fixed frame ({} condensed parcels, bench camera, terrain and shadows on) at a \
          sweep of settings, each differing from the default in one parameter, against a \
          reference rendered with step {} m (1/16 of the default), {} octaves, {} light samples \
-         over the same light-march length, {} and no early exit; the reference took {} ms. Lower resolutions are upscaled \
+         (the default light march), {} and no early exit, {}×{} rays per pixel; the reference \
+         took {} ms. The light-steps rows keep the default light march's length where a first \
+         step of at least 1 m allows (see below). Lower resolutions are upscaled \
          (bilinear) to {}×{} before comparing. Error: mean FLIP (nv-flip, default viewing \
          conditions) and RMSE of sRGB values on 0..1. Pareto: no other setting is both \
          faster and more accurate (in mean FLIP). Plot: error_vs_runtime.png (log–log, \
@@ -458,10 +461,20 @@ pub fn report_md(r: &BenchResults) -> String {
         } else {
             "every parcel at every sample (no grid culling)"
         },
+        super::accuracy::REFERENCE_SUPERSAMPLE,
+        super::accuracy::REFERENCE_SUPERSAMPLE,
         md(e.reference_ms, 1),
         e.width,
         e.height
     );
+    let _ = writeln!(
+        s,
+        "How the reference differs from each tested setting (besides the swept parameter):\n"
+    );
+    for d in super::accuracy::REFERENCE_DIFFERENCES {
+        let _ = writeln!(s, "- {d}");
+    }
+    let _ = writeln!(s);
     if let Some((flip, err)) = e.culling_vs_brute {
         let _ = writeln!(
             s,
@@ -489,6 +502,7 @@ pub fn report_md(r: &BenchResults) -> String {
             if row.pareto { "★" } else { "" }
         );
     }
+    s.push_str(&pathtraced_md(r.pathtraced.as_deref()));
 
     let ph = &r.physics_error;
     let _ = writeln!(
@@ -615,6 +629,58 @@ fn render_error_chart(e: &RenderError) -> Chart<'static> {
     }
 }
 
+/// The "against the path tracer" section of report.md.
+fn pathtraced_md(rows: Option<&[PathTracedRow]>) -> String {
+    let mut s = String::from("\n### Against a path tracer\n\n");
+    let Some(rows) = rows else {
+        s.push_str(
+            "Not measured: no error_vs_pathtraced.csv in this folder. Write it first with \
+             `python3 benches/pathtraced.py --out DIR` (DIR = this folder; see README).\n",
+        );
+        return s;
+    };
+    s.push_str(
+        "From error_vs_pathtraced.csv (benches/pathtraced.py): the same frame exported with \
+         `cumulus export` and path-traced with Mitsuba 3 `volpath` (multiple scattering, our \
+         phase function, sun and sky, terrain off in both), shown through our tone curve; our \
+         renders at each setting against it (mean FLIP, RMSE of display sRGB on 0..1). Our \
+         picture differs by design where the real-time lighting approximates light transport: \
+         multiple scattering by three octaves instead of all paths, a constant sky ambient \
+         instead of the sky's light, a 2.5× denser medium toward the sun, the clouds \
+         tone-mapped before they are blended over the sky; and the grid's voxels smooth \
+         the finest noise octave. Second panel of error_vs_runtime.png.\n\n\
+         | setting | time ms | mean FLIP | RMSE |\n|---|---|---|---|\n",
+    );
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} |",
+            r.setting,
+            md(r.time_ms, 1),
+            md(r.mean_flip, 4),
+            md(r.rmse, 4)
+        );
+    }
+    s
+}
+
+/// Our settings against the path tracer (its own row left out: error 0).
+fn pathtraced_chart(rows: &[PathTracedRow]) -> Chart<'static> {
+    let ours: Vec<&PathTracedRow> = rows.iter().filter(|r| r.setting != "pathtraced").collect();
+    Chart {
+        title: "Render: mean FLIP against the path tracer",
+        x_label: "frame time, ms (log)",
+        y_label: "mean FLIP vs Mitsuba volpath (log)",
+        series: vec![Series {
+            label: "settings (default ringed)".into(),
+            points: ours.iter().map(|r| (r.time_ms, r.mean_flip)).collect(),
+            highlight: ours.iter().map(|r| r.setting == "default").collect(),
+            line: false,
+            color: PALETTE[0],
+        }],
+    }
+}
+
 fn physics_error_chart(e: &PhysicsError) -> Chart<'static> {
     Chart {
         title: "Physics: position error against run time",
@@ -683,12 +749,16 @@ pub fn write_all(dir: &Path, r: &BenchResults) -> Result<()> {
     write_atomic(&dir.join("scaling.csv"), &scaling_csv(&r.scaling)?)?;
     write_atomic(&dir.join("pruning.csv"), &pruning_csv(&r.pruning)?)?;
     let (w, h) = PLOT_SIZE;
-    write_chart_png(
-        &dir.join("error_vs_runtime.png"),
-        &render_error_chart(&r.render_error),
-        w,
-        h,
-    )?;
+    let render_chart = render_error_chart(&r.render_error);
+    match &r.pathtraced {
+        Some(rows) => write_charts_png(
+            &dir.join("error_vs_runtime.png"),
+            &[&render_chart, &pathtraced_chart(rows)],
+            w,
+            h,
+        )?,
+        None => write_chart_png(&dir.join("error_vs_runtime.png"), &render_chart, w, h)?,
+    }
     write_chart_png(
         &dir.join("physics_error_vs_runtime.png"),
         &physics_error_chart(&r.physics_error),

@@ -2,6 +2,7 @@
 //! `Args` and a `run` function. `main.rs` only dispatches.
 
 pub mod bench;
+pub mod export;
 pub mod parcel;
 pub mod render;
 pub mod simulate;

@@ -75,14 +75,14 @@ pub fn numbered(out: &Path, i: u32) -> PathBuf {
 }
 
 /// Where the clouds come from: the parcel physics, or the stand-in field.
-enum Clouds {
+pub(crate) enum Clouds {
     World { world: Box<ParcelWorld>, dt: f64 },
     StandIn,
 }
 
 impl Clouds {
     /// The condensed parcels at simulated time `time_s` (≥ the last call's).
-    fn at(&mut self, time_s: f64, out: &mut Vec<CloudParcel>) -> anyhow::Result<()> {
+    pub(crate) fn at(&mut self, time_s: f64, out: &mut Vec<CloudParcel>) -> anyhow::Result<()> {
         match self {
             Clouds::StandIn => *out = cumulus::render::standin::default_field(time_s as f32),
             Clouds::World { world, dt } => {

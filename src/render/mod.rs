@@ -20,6 +20,7 @@
 //! The passes and their shaders are described in `shaders/*.wgsl` headers;
 //! the density of the hypertexture (paper eq. 18) in `shaders/density.wgsl`.
 
+pub mod field;
 pub mod gpu;
 pub mod headless;
 pub mod noise;

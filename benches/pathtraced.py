@@ -1,0 +1,363 @@
+#!/usr/bin/env python3
+"""Error of cumulus's real-time picture against a path-traced reference.
+
+Exports one fixed frame with `cumulus export` (the density of eq. 18 on a
+grid plus a JSON sidecar), path-traces it with Mitsuba 3's `volpath`
+(multiple scattering, the renderer's two-lobe Henyey-Greenstein phase,
+albedo 1, the same sun and a sky environment map of the same gradient),
+renders the same frame with `cumulus render` at each setting of the error
+sweep (and each `--method` the binary offers), and writes
+
+  error_vs_pathtraced.csv   setting,time_ms,mean_flip,rmse
+  pathtraced.png            the path tracer, tone-mapped like ours
+  ours.png                  cumulus at the default setting
+  flip.png                  FLIP error map of ours against pathtraced.png
+  side_by_side.png          the three above, left to right
+
+Exposure is matched by construction: the path-traced radiance goes through
+the renderer's own tone curve, display = 1 - exp(-k L) then sRGB, with k from
+the sidecar; mean FLIP (flip-evaluator, LDR) and RMSE compare the displayed
+sRGB values on 0..1 (ours exists only as 8-bit display values).
+
+Terrain is switched off in both (Mitsuba gets no ground): the comparison is
+clouds against sky. `--quick` uses a CPU variant at a small size.
+
+Usage: python3 benches/pathtraced.py [--quick] --out DIR [--cumulus BIN]
+Requirements: pip install -r benches/requirements.txt
+"""
+
+import argparse
+import json
+import math
+import os
+import re
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+
+# Growth of the light-march steps (shaders/clouds.wgsl LIGHT_GROWTH).
+LIGHT_GROWTH = 1.6
+
+
+def sweep_settings(scene_path):
+    """The error sweep's settings as `[render]` overrides of the scene: the
+    quick plan of src/bench/mod.rs, with the view march covering the same
+    length at another step and the light-step rows keeping the scene's light
+    march length (first step from the geometric series, at least 1 m, as
+    src/bench/accuracy.rs `with_step` and `with_light_steps` do)."""
+    import tomllib
+
+    with open(scene_path, "rb") as f:
+        r = tomllib.load(f).get("render", {})
+    step, max_steps = r.get("step_m", 40.0), r.get("max_steps", 160)
+    n0, first0 = r.get("light_steps", 4), r.get("light_step_m", 90.0)
+    reach = first0 * (LIGHT_GROWTH**n0 - 1) / (LIGHT_GROWTH - 1)
+    octaves = r.get("noise_octaves", 4)
+    out = [("default", {})]
+    for f in (2.0, 0.5):
+        s = step * f
+        out.append((f"step_m={s:g}", {"step_m": s, "max_steps": min(4096, math.ceil(step * max_steps / s))}))
+    for o in sorted({2, 6} - {octaves}):
+        out.append((f"noise_octaves={o}", {"noise_octaves": o}))
+    for n in sorted({1, 2, 8} - {n0}):
+        first = max(1.0, reach * (LIGHT_GROWTH - 1) / (LIGHT_GROWTH**n - 1))
+        out.append((f"light_steps={n}", {"light_steps": n, "light_step_m": round(first, 3)}))
+    out.append(("early_exit_transmittance=0", {"early_exit_transmittance": 0.0}))
+    return out
+
+
+def fail(msg):
+    print(f"pathtraced.py: error: {msg}", file=sys.stderr)
+    sys.exit(1)
+
+
+def find_cumulus(given):
+    path = given or os.path.join(ROOT, "target", "release", "cumulus")
+    if not os.access(path, os.X_OK):
+        fail(f"{path}: no cumulus binary (build it: cargo build --release, or pass --cumulus)")
+    return path
+
+
+def scene_text(base_scene, overrides, terrain):
+    """The scene TOML with `[render]` keys replaced by `overrides` and the
+    terrain switched on or off."""
+    with open(base_scene, encoding="utf-8") as f:
+        lines = f.read().splitlines()
+    out, table = [], None
+    extra = dict(overrides)
+    for line in lines:
+        m = re.match(r"^\s*\[([^\]]+)\]\s*$", line)
+        if m:
+            table = m.group(1).strip()
+            out.append(line)
+            if table == "render":
+                out += [f"{k} = {v}" for k, v in extra.items()]
+            continue
+        key = line.split("=")[0].strip() if "=" in line else None
+        if table == "render" and key in extra:
+            continue
+        if table == "render.terrain" and key == "enabled":
+            continue
+        out.append(line)
+    text = "\n".join(out) + "\n"
+    if "[render.terrain]" in text:
+        text = text.replace("[render.terrain]", f"[render.terrain]\nenabled = {str(terrain).lower()}", 1)
+    else:
+        text += f"\n[render.terrain]\nenabled = {str(terrain).lower()}\n"
+    return text
+
+
+def run(cmd):
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        fail(f"{' '.join(cmd)} failed:\n{p.stderr}")
+    return p.stderr
+
+
+def render_methods(cumulus):
+    """Values of `cumulus render --method`, or [None] when it has none."""
+    help_text = run([cumulus, "render", "--help"])
+    help_text += subprocess.run([cumulus, "render", "--help"], capture_output=True, text=True).stdout
+    m = re.search(r"--method[^\[]*\[possible values: ([^\]]+)\]", help_text)
+    if not m:
+        return [None]
+    return [v.strip() for v in m.group(1).split(",")]
+
+
+def frame_ms(stderr):
+    """Upload + pass times from `cumulus render`'s line for the frame."""
+    line = [l for l in stderr.splitlines() if " ms" in l and "t = " in l][-1]
+    passes = line.split("; ", 1)[1]
+    return sum(float(x) for x in re.findall(r"([0-9.]+) ms", passes))
+
+
+def srgb_encode(x):
+    x = np.clip(x, 0.0, 1.0)
+    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1.0 / 2.4) - 0.055)
+
+
+def tone_map(radiance, exposure):
+    """The renderer's display transform (common.wgsl `output_color`)."""
+    return srgb_encode(1.0 - np.exp(-exposure * radiance))
+
+
+def sky_color(d, sun):
+    """Sky radiance along unit directions d (..., 3), z up. Mirrors
+    `sky_color` in shaders/common.wgsl."""
+    up = np.clip(d[..., 2:3], -1.0, 1.0)
+    zenith = np.array([0.16, 0.34, 0.85])
+    horizon = np.array([0.62, 0.74, 0.92])
+    t = np.power(np.maximum(up, 0.0), 0.45)
+    c = horizon + (zenith - horizon) * t
+    below = horizon + (np.array([0.42, 0.45, 0.5]) - horizon) * np.clip(-up * 3.0, 0.0, 1.0)
+    c = np.where(up < 0.0, below, c)
+    mu = np.maximum((d * sun).sum(-1, keepdims=True), 0.0)
+    return c + np.array([1.0, 0.85, 0.6]) * (0.35 * mu**12 + 0.08 * mu**2)
+
+
+def sky_envmap(sun, width=512):
+    """Lat-long bitmap in Mitsuba's envmap frame (y up), to be placed with a
+    +90 degree rotation about x so that its y becomes our z."""
+    h = width // 2
+    v = (np.arange(h) + 0.5) / h
+    u = (np.arange(width) + 0.5) / width
+    theta = v[:, None] * math.pi
+    phi = u[None, :] * 2.0 * math.pi
+    local = np.stack(
+        [np.sin(phi) * np.sin(theta), np.cos(theta) * np.ones_like(phi), -np.cos(phi) * np.sin(theta)], -1
+    )
+    # Rotation about x by +90 degrees: (x, y, z) -> (x, -z, y).
+    world = np.stack([local[..., 0], -local[..., 2], local[..., 1]], -1)
+    return sky_color(world, np.asarray(sun)).astype(np.float32)
+
+
+def path_trace(side, vol_path, size, spp, variant, max_depth):
+    import mitsuba as mi
+
+    mi.set_variant(variant)
+    T = mi.ScalarTransform4f
+    cam, light, med, vol = side["camera"], side["light"], side["medium"], side["volume"]
+    lo = np.array(vol["bounds_min_m"], dtype=float)
+    hi = np.array(vol["bounds_max_m"], dtype=float)
+    medium = {
+        "type": "heterogeneous",
+        "sigma_t": {
+            "type": "gridvolume",
+            "filename": vol_path,
+            "to_world": T().translate(lo.tolist()) @ T().scale((hi - lo).tolist()),
+        },
+        "scale": med["extinction_scale_per_m"],
+        "albedo": med["albedo"],
+        "phase": {
+            "type": "blendphase",
+            # weight = share of the second lobe.
+            "weight": med["phase_back_weight"],
+            "phase1": {"type": "hg", "g": med["phase_g_forward"]},
+            "phase2": {"type": "hg", "g": med["phase_g_back"]},
+        },
+    }
+    scene = {
+        "type": "scene",
+        "integrator": {"type": "volpath", "max_depth": max_depth, "rr_depth": max_depth},
+        "sensor": {
+            "type": "perspective",
+            "fov_axis": "y",
+            "fov": cam["vfov_deg"],
+            "near_clip": cam["near_m"],
+            "far_clip": cam["far_m"],
+            "to_world": T().look_at(origin=cam["position_m"], target=cam["target_m"], up=cam["up"]),
+            "sampler": {"type": "independent", "sample_count": spp, "seed": 1},
+            "film": {
+                "type": "hdrfilm",
+                "width": size[0],
+                "height": size[1],
+                "rfilter": {"type": "box"},
+                "pixel_format": "rgb",
+            },
+        },
+        "sun": {
+            "type": "directional",
+            "direction": [-x for x in light["sun_direction"]],
+            "irradiance": {"type": "rgb", "value": light["sun_irradiance_rgb"]},
+        },
+        "sky": {
+            "type": "envmap",
+            "bitmap": mi.Bitmap(sky_envmap(light["sun_direction"])),
+            "to_world": T().rotate([1, 0, 0], 90),
+        },
+        "clouds": {
+            "type": "cube",
+            "to_world": T().translate(((lo + hi) / 2).tolist()) @ T().scale(((hi - lo) / 2).tolist()),
+            "bsdf": {"type": "null"},
+            "interior": medium,
+        },
+    }
+    img = mi.render(mi.load_dict(scene))
+    return np.array(img, dtype=np.float64)[..., :3]
+
+
+def flip(ref, test):
+    import flip_evaluator as flip_eval
+
+    err_map, mean, _ = flip_eval.evaluate(ref.astype(np.float32), test.astype(np.float32), "LDR")
+    return err_map, float(mean)
+
+
+def load_png(path):
+    import mitsuba as mi
+
+    a = np.array(mi.Bitmap(path), dtype=np.float64)
+    return a[..., :3] / (255.0 if a.max() > 1.0 else 1.0)
+
+
+def save_png(path, rgb01):
+    import mitsuba as mi
+
+    u8 = np.clip(np.round(rgb01 * 255.0), 0, 255).astype(np.uint8)
+    mi.Bitmap(u8, pixel_format=mi.Bitmap.PixelFormat.RGB).write(path)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--out", required=True, help="output folder")
+    ap.add_argument("--quick", action="store_true", help="CPU variant, small size, few samples")
+    ap.add_argument("--cumulus", help="the cumulus binary (default target/release/cumulus)")
+    ap.add_argument("--scene", default=os.path.join(ROOT, "profiles", "fair_weather.toml"))
+    ap.add_argument("--time", type=float, default=1800.0, help="simulated time of the frame (s)")
+    ap.add_argument("--stand-in", action="store_true", help="the stand-in cloud field (no physics)")
+    ap.add_argument("--width", type=int)
+    ap.add_argument("--height", type=int)
+    ap.add_argument("--spp", type=int, help="path-traced samples per pixel")
+    ap.add_argument("--voxel", type=float, help="export voxel (m); default: cumulus's")
+    ap.add_argument("--max-depth", type=int, default=256, help="most scattering events per path")
+    ap.add_argument("--variant", help="Mitsuba variant (default: scalar_rgb with --quick, else cuda_ad_rgb if it loads, else scalar_rgb)")
+    ap.add_argument("--settings", default="all", help="'all' or 'default' (only the default setting)")
+    a = ap.parse_args()
+
+    import mitsuba as mi
+
+    width = a.width or (160 if a.quick else 640)
+    height = a.height or (120 if a.quick else 360)
+    spp = a.spp or (16 if a.quick else 256)
+    if width < 8 or height < 8 or spp < 1:
+        fail("--width and --height must be at least 8, --spp at least 1")
+    if a.variant:
+        variant = a.variant
+    elif a.quick:
+        variant = "scalar_rgb"
+    else:
+        variant = "cuda_ad_rgb"
+        try:
+            mi.set_variant(variant)
+            mi.load_dict({"type": "constvolume"})
+        except Exception:
+            # Not llvm_ad_rgb: with some system LLVM builds its JIT aborts
+            # ("Cannot select fminimum"); the scalar variant always works.
+            variant = "scalar_rgb"
+    if variant not in mi.variants():
+        fail(f"--variant {variant}: this Mitsuba has {', '.join(mi.variants())}")
+    cumulus = find_cumulus(a.cumulus)
+    os.makedirs(a.out, exist_ok=True)
+
+    common = ["--time", str(a.time)] + (["--stand-in"] if a.stand_in else [])
+    base = scene_text(a.scene, {}, terrain=False)
+    scene_path = os.path.join(a.out, "scene.toml")
+    with open(scene_path, "w", encoding="utf-8") as f:
+        f.write(base)
+
+    vol = os.path.abspath(os.path.join(a.out, "clouds.vol"))
+    cmd = [cumulus, "export", scene_path, "--out", vol] + common
+    if a.voxel:
+        cmd += ["--voxel", str(a.voxel)]
+    print(run(cmd).strip().splitlines()[-2], file=sys.stderr)
+    with open(os.path.join(a.out, "clouds.json"), encoding="utf-8") as f:
+        side = json.load(f)
+
+    t0 = time.time()
+    hdr = path_trace(side, vol, (width, height), spp, variant, a.max_depth)
+    pt_ms = (time.time() - t0) * 1e3
+    exposure = side["light"]["tone_exposure"]
+    pt = tone_map(hdr, exposure)
+    save_png(os.path.join(a.out, "pathtraced.png"), pt)
+    print(f"path traced {width}x{height}, {spp} spp, {variant}: {pt_ms:.0f} ms", file=sys.stderr)
+
+    rows = [("pathtraced", pt_ms, 0.0, 0.0)]
+    settings = sweep_settings(a.scene)
+    settings = settings if a.settings == "all" else settings[:1]
+    for method in render_methods(cumulus):
+        for name, overrides in settings:
+            label = name if method is None else f"{name} method={method}"
+            path = os.path.join(a.out, "scene_" + re.sub(r"[^a-z0-9_.=-]", "_", label) + ".toml")
+            with open(path, "w", encoding="utf-8") as f:
+                f.write(scene_text(a.scene, overrides, terrain=False))
+            png = path[:-5] + ".png"
+            cmd = [cumulus, "render", path, "--width", str(width), "--height", str(height), "--out", png]
+            cmd += common + ([] if method is None else ["--method", method])
+            ms = frame_ms(run(cmd))
+            ours = load_png(png)
+            err_map, mean = flip(pt, ours)
+            rmse = float(np.sqrt(np.mean((ours - pt) ** 2)))
+            rows.append((label, ms, mean, rmse))
+            print(f"{label}: {ms:.1f} ms, mean FLIP {mean:.4f}, RMSE {rmse:.4f}", file=sys.stderr)
+            if name == "default" and (method is None or len(rows) == 2):
+                save_png(os.path.join(a.out, "ours.png"), ours)
+                save_png(os.path.join(a.out, "flip.png"), np.asarray(err_map)[..., :3])
+                side_by_side = np.concatenate([pt, ours, np.asarray(err_map)[..., :3]], axis=1)
+                save_png(os.path.join(a.out, "side_by_side.png"), side_by_side)
+
+    tmp = os.path.join(a.out, ".error_vs_pathtraced.csv.tmp")
+    with open(tmp, "w", encoding="utf-8") as f:
+        f.write("setting,time_ms,mean_flip,rmse\n")
+        for label, ms, mean, rmse in rows:
+            f.write(f"{label},{ms:.3f},{mean:.6f},{rmse:.6f}\n")
+    os.replace(tmp, os.path.join(a.out, "error_vs_pathtraced.csv"))
+    print(f"wrote {os.path.join(a.out, 'error_vs_pathtraced.csv')}", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()

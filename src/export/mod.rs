@@ -1,0 +1,221 @@
+//! Export of one frame's cloud density to other renderers: the field of
+//! paper eq. 18 ([`CloudField`], the CPU mirror of shaders/density.wgsl)
+//! sampled on a regular grid at cell centres, written as Mitsuba 3's
+//! `gridvolume` `.vol` ([`vol`]) with a JSON sidecar ([`sidecar`]) giving the
+//! world box, camera, sun, sky, phase function, albedo and extinction scale
+//! the renderer assumes, so a path tracer can draw the same picture.
+//!
+//! Memory is stated before anything is allocated and capped: a grid over
+//! the cap is an error naming the voxel size that would fit.
+//! Deterministic: every value is a pure function of its cell centre, so the
+//! parallel sampling (rayon, by z slab) writes the same bytes on any
+//! thread count.
+
+pub mod sidecar;
+pub mod vol;
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use crate::error::{Error, Result};
+use crate::render::RenderConfig;
+use crate::render::field::{CloudField, PLANE_SHELL};
+
+pub use vol::{VolGrid, read_vol, write_vol};
+
+/// Default cap on the grid's memory (the values in RAM, and as much again
+/// in the file). units: MiB
+pub const DEFAULT_MAX_MEMORY_MIB: u64 = 2048;
+/// Smallest voxel accepted (a 10 km cloud layer at 1 m is 10¹² cells:
+/// the memory cap would refuse it anyway). units: m
+pub const MIN_VOXEL_M: f32 = 0.5;
+
+/// A regular grid of cubic voxels: `dims` cells of side `voxel_m` from `min`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GridSpec {
+    /// Lowest corner. units: m
+    pub min: Vec3,
+    /// Cell side. units: m
+    pub voxel_m: f32,
+    /// Cells along x, y, z.
+    pub dims: [u32; 3],
+}
+
+impl GridSpec {
+    /// The smallest grid of `voxel_m` cells from `min` that covers `max`;
+    /// errors name `--voxel` for a non-finite, too small value or a grid
+    /// over `max_memory_mib`.
+    pub fn covering(min: Vec3, max: Vec3, voxel_m: f32, max_memory_mib: u64) -> Result<Self> {
+        if !(voxel_m.is_finite() && voxel_m >= MIN_VOXEL_M) {
+            return Err(Error::invalid(
+                "--voxel",
+                voxel_m,
+                format!("a voxel side of at least {MIN_VOXEL_M} m"),
+            ));
+        }
+        let extent = (max - min).max(Vec3::splat(voxel_m));
+        let dims = (extent / voxel_m).ceil();
+        // Counted in f64 first: a tiny voxel must not overflow u32.
+        let cells = dims.x as f64 * dims.y as f64 * dims.z as f64;
+        let mib = cells * 4.0 / (1024.0 * 1024.0);
+        if mib > max_memory_mib as f64 || dims.max_element() > i32::MAX as f32 {
+            // The voxel at which the grid fits: cells ∝ 1/voxel³.
+            let fits = voxel_m * (mib / max_memory_mib.max(1) as f64).cbrt() as f32;
+            return Err(Error::invalid(
+                "--voxel",
+                voxel_m,
+                format!(
+                    "a grid of {:.0}×{:.0}×{:.0} cells needs {mib:.0} MiB, over the {max_memory_mib} MiB \
+                     limit (--max-memory-mib); a voxel of {:.1} m or more fits",
+                    dims.x,
+                    dims.y,
+                    dims.z,
+                    fits * 1.01
+                ),
+            ));
+        }
+        Ok(Self {
+            min,
+            voxel_m,
+            dims: [dims.x as u32, dims.y as u32, dims.z as u32],
+        })
+    }
+
+    /// Highest corner. units: m
+    pub fn max(&self) -> Vec3 {
+        self.min
+            + self.voxel_m
+                * Vec3::new(
+                    self.dims[0] as f32,
+                    self.dims[1] as f32,
+                    self.dims[2] as f32,
+                )
+    }
+
+    /// Number of cells.
+    pub fn cells(&self) -> u64 {
+        self.dims.iter().map(|&d| d as u64).product()
+    }
+
+    /// Memory of the values (float32). units: bytes
+    pub fn bytes(&self) -> u64 {
+        4 * self.cells()
+    }
+
+    /// Centre of cell (x, y, z). units: m
+    pub fn centre(&self, x: u32, y: u32, z: u32) -> Vec3 {
+        self.min + self.voxel_m * (Vec3::new(x as f32, y as f32, z as f32) + Vec3::splat(0.5))
+    }
+}
+
+/// Default voxel side for `cfg` and the packed parcels of `field`.
+///
+/// The renderer samples ρ every `step_m` along a view ray, so detail finer
+/// than step/2 is not in its picture either (Nyquist of its own sampling);
+/// the finest noise octave's texel (tile / texels / 2.03^(octaves−1)) is the
+/// lower bound when it is coarser than that. Capped so the shapes the
+/// renderer does resolve stay resolved: half the condensation plane's shell
+/// (the flat base's soft edge, PLANE_SHELL·shell) and a quarter of the
+/// smallest rendered parcel radius. units: m
+pub fn default_voxel_m(cfg: &RenderConfig, field: &CloudField) -> f32 {
+    let finest_texel_m =
+        cfg.noise_scale_m / cfg.noise_texels as f32 / 2.03f32.powi(cfg.noise_octaves as i32 - 1);
+    let sampling = (0.5 * cfg.step_m).max(0.5 * finest_texel_m);
+    let base_edge = 0.5 * PLANE_SHELL * cfg.shell_m;
+    let smallest_radius = field
+        .parcels()
+        .iter()
+        .map(|p| p.center_radius[3])
+        .fold(f32::INFINITY, f32::min);
+    sampling
+        .min(base_edge)
+        .min(0.25 * smallest_radius)
+        .max(MIN_VOXEL_M)
+}
+
+/// ρ at every cell centre of `spec` (x fastest), `progress(done, total)`
+/// called after each slab of z slices. Same values on any thread count.
+pub fn sample_grid(
+    spec: &GridSpec,
+    density: impl Fn(Vec3) -> f32 + Sync,
+    mut progress: impl FnMut(u64, u64),
+) -> Vec<f32> {
+    let [nx, ny, nz] = spec.dims;
+    let slice = (nx as usize) * (ny as usize);
+    let mut values = vec![0.0f32; slice * nz as usize];
+    // Slabs of z slices big enough to keep every thread busy, small enough
+    // for the progress bar to move.
+    let slab = (nz as usize).div_ceil(64).max(1);
+    let total = spec.cells();
+    let mut done = 0u64;
+    for (s, chunk) in values.chunks_mut(slice * slab).enumerate() {
+        chunk
+            .par_chunks_mut(nx as usize)
+            .enumerate()
+            .for_each(|(row, out)| {
+                let z = (s * slab + row / ny as usize) as u32;
+                let y = (row % ny as usize) as u32;
+                for (x, v) in out.iter_mut().enumerate() {
+                    *v = density(spec.centre(x as u32, y, z));
+                }
+            });
+        done += chunk.len() as u64;
+        progress(done, total);
+    }
+    values
+}
+
+/// `spec`'s grid of ρ as a `.vol` grid.
+pub fn vol_grid(spec: &GridSpec, values: Vec<f32>) -> VolGrid {
+    VolGrid {
+        dims: spec.dims,
+        min: spec.min.to_array(),
+        max: spec.max().to_array(),
+        values,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grid_covers_the_box_and_states_memory() {
+        let g = GridSpec::covering(Vec3::ZERO, Vec3::new(100.0, 50.0, 10.0), 20.0, 1).unwrap();
+        assert_eq!(g.dims, [5, 3, 1]);
+        assert_eq!(g.max(), Vec3::new(100.0, 60.0, 20.0));
+        assert_eq!(g.bytes(), 4 * 15);
+        assert_eq!(g.centre(0, 0, 0), Vec3::splat(10.0));
+    }
+
+    #[test]
+    fn too_big_or_bad_voxels_are_errors() {
+        let e = GridSpec::covering(Vec3::ZERO, Vec3::splat(10_000.0), 1.0, 64)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("--max-memory-mib") && e.contains("fits"), "{e}");
+        for v in [0.0, -3.0, f32::NAN, f32::INFINITY] {
+            let e = GridSpec::covering(Vec3::ZERO, Vec3::ONE, v, 64).unwrap_err();
+            assert!(e.to_string().contains("--voxel"), "{e}");
+        }
+    }
+
+    #[test]
+    fn sampling_is_ordered_x_fastest() {
+        let g = GridSpec::covering(Vec3::ZERO, Vec3::new(3.0, 2.0, 5.0), 1.0, 1).unwrap();
+        let mut calls = 0;
+        let v = sample_grid(
+            &g,
+            |p| p.x + 10.0 * p.y + 100.0 * p.z,
+            |d, t| {
+                calls += 1;
+                assert!(d <= t);
+            },
+        );
+        assert!(calls >= 1);
+        assert_eq!(v.len(), 30);
+        assert_eq!(v[1], 1.5 + 5.0 + 50.0);
+        assert_eq!(v[3], 0.5 + 15.0 + 50.0);
+        assert_eq!(v[6], 0.5 + 5.0 + 150.0);
+    }
+}

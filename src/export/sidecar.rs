@@ -1,0 +1,160 @@
+//! The JSON sidecar of an exported grid: everything another renderer needs
+//! to reproduce our frame from the `.vol` (world box, camera, sun, sky,
+//! medium, tone curve), with units. Field names carry their units.
+//!
+//! The lighting constants below mirror the WGSL of the cloud pass; keep in
+//! sync with shaders/clouds.wgsl (`sun_octave_weights`, `LIGHT_DENSITY`) and
+//! shaders/common.wgsl (`sky_ambient`, `output_color`).
+
+use serde::{Deserialize, Serialize};
+
+use crate::render::{Camera, RenderConfig, Sun};
+
+use super::GridSpec;
+
+/// Henyey–Greenstein g of the weak back lobe (clouds.wgsl `sun_octave_weights`).
+pub const BACK_LOBE_G: f32 = -0.2;
+/// Weight of the back lobe in the mix (clouds.wgsl `sun_octave_weights`).
+pub const BACK_LOBE_WEIGHT: f32 = 0.25;
+/// Extra density factor of the light march toward the sun (clouds.wgsl `LIGHT_DENSITY`).
+pub const LIGHT_DENSITY: f32 = 2.5;
+/// Sky ambient radiance (common.wgsl `sky_ambient`). units: linear RGB
+pub const SKY_AMBIENT_RGB: [f32; 3] = [0.30, 0.40, 0.60];
+/// Exposure of the tone curve 1 − exp(−k·L) (common.wgsl `output_color`).
+pub const TONE_EXPOSURE: f32 = 1.1;
+
+/// The grid file and what its values mean.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct VolumeInfo {
+    /// The `.vol` file, relative to the sidecar.
+    pub file: String,
+    /// Cells along x, y, z.
+    pub dims: [u32; 3],
+    /// units: m
+    pub voxel_m: f32,
+    /// Lowest corner of the grid (cell (0,0,0)'s corner). units: m
+    pub bounds_min_m: [f32; 3],
+    /// Highest corner. units: m
+    pub bounds_max_m: [f32; 3],
+    /// Size of the values (float32). units: bytes
+    pub memory_bytes: u64,
+    pub values: String,
+}
+
+/// The participating medium the renderer assumes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MediumInfo {
+    /// σ_t = extinction_scale_per_m · value. units: 1/m
+    pub extinction_scale_per_m: f32,
+    /// Single-scattering albedo (the march scatters all it extinguishes).
+    pub albedo: f32,
+    /// Forward lobe g.
+    pub phase_g_forward: f32,
+    pub phase_g_back: f32,
+    /// p = (1 − w)·HG(g_forward) + w·HG(g_back).
+    pub phase_back_weight: f32,
+    /// The real-time light march toward the sun sees σ_t times this.
+    pub light_march_density_factor: f32,
+    pub notes: String,
+}
+
+/// The camera (z up).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CameraInfo {
+    pub position_m: [f32; 3],
+    pub target_m: [f32; 3],
+    pub up: [f32; 3],
+    pub vfov_deg: f32,
+    pub near_m: f32,
+    pub far_m: f32,
+}
+
+/// The sun and sky.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LightInfo {
+    /// Unit vector toward the sun (light travels along its negative).
+    pub sun_direction: [f32; 3],
+    /// The renderer's sun colour (`Sun::color`). units: linear RGB
+    pub sun_color_rgb: [f32; 3],
+    /// Physical irradiance equivalent: 4π·sun_color (the march's source term
+    /// is sun_color·4π·p(θ)). units: linear RGB per unit area
+    pub sun_irradiance_rgb: [f32; 3],
+    /// Skylight the march adds (×0.8, shaded); the visible sky is the
+    /// gradient of common.wgsl `sky_color`. units: linear RGB radiance
+    pub sky_ambient_rgb: [f32; 3],
+    /// Display value = 1 − exp(−exposure·L), then sRGB-encoded.
+    pub tone_exposure: f32,
+}
+
+/// The whole sidecar.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Sidecar {
+    pub format: String,
+    pub scene: String,
+    /// Simulated time of the frame. units: s
+    pub time_s: f64,
+    pub units: String,
+    pub volume: VolumeInfo,
+    pub medium: MediumInfo,
+    pub camera: CameraInfo,
+    pub light: LightInfo,
+}
+
+impl Sidecar {
+    /// The sidecar of grid `spec` written to `vol_file`.
+    pub fn new(
+        scene: &str,
+        time_s: f64,
+        vol_file: &str,
+        spec: &GridSpec,
+        cfg: &RenderConfig,
+        camera: &Camera,
+        sun: &Sun,
+    ) -> Self {
+        let irr = sun.color * 4.0 * std::f32::consts::PI;
+        Self {
+            format: "cumulus cloud export, version 1".into(),
+            scene: scene.into(),
+            time_s,
+            units: "lengths in metres, colours linear RGB, z up".into(),
+            volume: VolumeInfo {
+                file: vol_file.into(),
+                dims: spec.dims,
+                voxel_m: spec.voxel_m,
+                bounds_min_m: spec.min.to_array(),
+                bounds_max_m: spec.max().to_array(),
+                memory_bytes: spec.bytes(),
+                values: "cloud density rho in [0, 1] of paper eq. 18 (noise included) at cell \
+                         centres, x fastest; Mitsuba 3 gridvolume, float32, one channel"
+                    .into(),
+            },
+            medium: MediumInfo {
+                extinction_scale_per_m: cfg.extinction_per_m,
+                albedo: 1.0,
+                phase_g_forward: cfg.phase_g,
+                phase_g_back: BACK_LOBE_G,
+                phase_back_weight: BACK_LOBE_WEIGHT,
+                light_march_density_factor: LIGHT_DENSITY,
+                notes: "The real-time renderer approximates multiple scattering with three \
+                        octaves (Wrenninge) and adds sky ambient; a path tracer with this \
+                        medium computes it exactly."
+                    .into(),
+            },
+            camera: CameraInfo {
+                position_m: camera.position.to_array(),
+                target_m: camera.target.to_array(),
+                up: [0.0, 0.0, 1.0],
+                vfov_deg: camera.vfov_rad.to_degrees(),
+                near_m: camera.near_m,
+                far_m: camera.far_m,
+            },
+            light: LightInfo {
+                sun_direction: sun.direction.normalize().to_array(),
+                sun_color_rgb: sun.color.to_array(),
+                sun_irradiance_rgb: irr.to_array(),
+                sky_ambient_rgb: SKY_AMBIENT_RGB,
+                tone_exposure: TONE_EXPOSURE,
+            },
+        }
+    }
+}
