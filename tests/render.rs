@@ -325,7 +325,7 @@ fn shadow_pass_darkens_terrain_under_the_cloud() {
     hl.render(&ctx, &input).unwrap();
     assert_eq!(
         hl.renderer.pass_names(),
-        ["shadow", "sky", "terrain", "clouds"]
+        ["bake", "shadow", "sky", "terrain", "clouds"]
     );
 }
 
@@ -362,16 +362,20 @@ fn normals_on_and_off_both_render_and_differ() {
 fn pruned_scenes_create_fewer_passes() {
     let Some(ctx) = context() else { return };
     let fmt = wgpu::TextureFormat::Rgba8UnormSrgb;
+    // The baked method (the default) adds its bake pass before the others.
     let full = Renderer::new(&ctx, &RenderConfig::default(), fmt, 64, 48).unwrap();
-    assert_eq!(full.pass_names(), ["shadow", "sky", "terrain", "clouds"]);
+    assert_eq!(
+        full.pass_names(),
+        ["bake", "shadow", "sky", "terrain", "clouds"]
+    );
     let mut sky_clouds = Renderer::new(&ctx, &no_terrain(), fmt, 64, 48).unwrap();
-    assert_eq!(sky_clouds.pass_names(), ["sky", "clouds"]);
+    assert_eq!(sky_clouds.pass_names(), ["bake", "sky", "clouds"]);
     let no_shadows = RenderConfig {
         shadows: false,
         ..RenderConfig::default()
     };
     let mut r = Renderer::new(&ctx, &no_shadows, fmt, 64, 48).unwrap();
-    assert_eq!(r.pass_names(), ["sky", "terrain", "clouds"]);
+    assert_eq!(r.pass_names(), ["bake", "sky", "terrain", "clouds"]);
     // No parcels: no ray-march, and (with shadows on) no shadow pass either.
     let input = FrameInput {
         camera: Camera::from(&CameraConfig::default()),
@@ -390,12 +394,15 @@ fn pruned_scenes_create_fewer_passes() {
         ..input
     };
     r.prepare(&ctx, &input).unwrap();
-    assert_eq!(r.pass_names(), ["sky", "terrain", "clouds"]);
+    assert_eq!(r.pass_names(), ["bake", "sky", "terrain", "clouds"]);
     // Shadows on: the shadow pass is built, and the terrain pipeline (its
     // HAS_SHADOWS constant changed); sky and clouds are kept.
     let built = r.pipelines_built();
     r.set_config(&ctx, &RenderConfig::default()).unwrap();
-    assert_eq!(r.pass_names(), ["shadow", "sky", "terrain", "clouds"]);
+    assert_eq!(
+        r.pass_names(),
+        ["bake", "shadow", "sky", "terrain", "clouds"]
+    );
     assert_eq!(r.pipelines_built(), built + 2);
     // Normals: only the cloud pipeline changes.
     let normals = RenderConfig {
@@ -433,6 +440,12 @@ fn timings_name_every_pass() {
         assert!(ms.is_finite() && *ms >= 0.0, "{n}: {ms}");
     }
     assert!(t.upload_ms >= 0.0);
+    assert_eq!(names[0], "bake");
+    // Whole frame: at least its longest pass (gaps between passes count too).
+    let longest = t.passes.iter().map(|(_, ms)| *ms).fold(0.0, f64::max);
+    assert!(t.frame_ms >= longest, "{} < {longest}", t.frame_ms);
+    // Later frames of the same parcels do not bake again.
+    let names: Vec<&str> = names.into_iter().filter(|n| *n != "bake").collect();
     // The CPU-clock fallback names the same passes and says so.
     hl.renderer.set_gpu_timestamps(false);
     let (_, t) = hl.render(&ctx, &input).unwrap();
@@ -461,8 +474,12 @@ fn grid_culling_matches_brute_force() {
     let Some(ctx) = context() else { return };
     // Every parcel whose padded sphere touches a cell is in its list, so
     // evaluating only the cell's parcels must give the same image as
-    // evaluating all of them (up to float ordering in the max()).
-    let culled = RenderConfig::default();
+    // evaluating all of them (up to float ordering in the max()). The grid
+    // is the exact method's.
+    let culled = RenderConfig {
+        method: cumulus::render::RenderMethod::Exact,
+        ..RenderConfig::default()
+    };
     let brute = RenderConfig {
         grid_culling: false,
         ..culled.clone()
@@ -543,7 +560,11 @@ fn the_most_parcels_the_uniforms_hold_render() {
             cond_plane_z_m: 1500.0,
         })
         .collect();
-    let cfg = RenderConfig::default();
+    // The uniform limit is the exact method's (the baked one has none).
+    let cfg = RenderConfig {
+        method: cumulus::render::RenderMethod::Exact,
+        ..RenderConfig::default()
+    };
     let mut hl = Headless::new(&ctx, &cfg, 64, 48).unwrap();
     let input = FrameInput {
         camera: Camera::from(&CameraConfig::default()),
@@ -597,5 +618,6 @@ fn a_target_of_another_size_resizes_the_renderer() {
     });
     let t = r.render(&ctx, &tex.create_view(&Default::default()));
     assert_eq!(r.size(), (80, 40));
-    assert_eq!(t.passes.len(), 4);
+    // bake, shadow, sky, terrain, clouds
+    assert_eq!(t.passes.len(), 5);
 }

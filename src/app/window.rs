@@ -34,6 +34,8 @@ pub struct WatchOptions {
     pub warmup_s: f64,
     /// Inner window size. units: logical pixels
     pub size: (u32, u32),
+    /// Render method overriding the scene's `[render] method`.
+    pub method: Option<crate::render::RenderMethod>,
 }
 
 impl Default for WatchOptions {
@@ -44,6 +46,7 @@ impl Default for WatchOptions {
             frames: None,
             warmup_s: 0.0,
             size: (1280, 760),
+            method: None,
         }
     }
 }
@@ -55,6 +58,9 @@ pub fn run(mut opts: WatchOptions) -> Result<()> {
     }
     let (profile, source) = crate::scene::load_scene(opts.scene.as_deref())?;
     let mut model = Model::new(profile, source)?;
+    if let Some(m) = opts.method {
+        model.render_cfg.method = m;
+    }
     if opts.warmup_s > 0.0 {
         model.warm_up(opts.warmup_s);
     }
@@ -173,7 +179,11 @@ impl App {
             surface.configure(device, &config);
         }
         let (_, w3d, h3d) = view3d_rect(split, &window, config.width, config.height);
-        let renderer = Renderer::new(&ctx, &self.model.resolved_render_config(), format, w3d, h3d)?;
+        let mut renderer =
+            Renderer::new(&ctx, &self.model.resolved_render_config(), format, w3d, h3d)?;
+        // Never wait for the GPU to read the timings back: the panel shows
+        // the latest finished frame's.
+        renderer.set_timing_mode(crate::render::TimingMode::GpuLagged);
         let egui_state = egui_winit::State::new(
             self.egui_ctx.clone(),
             egui::ViewportId::ROOT,

@@ -69,6 +69,8 @@ pub fn reference_config(base: &RenderConfig, brute_force: bool) -> RenderConfig 
     r.noise_octaves = REFERENCE_OCTAVES;
     r.grid_culling = !brute_force;
     r.early_exit_transmittance = 0.0;
+    // The paper's per-sample union: what the baked field approximates.
+    r.method = crate::render::RenderMethod::Exact;
     r
 }
 
@@ -140,8 +142,18 @@ impl RenderSweep {
                 1.0,
             ));
         }
+        // Each method against the reference (kept even where one equals
+        // the default row).
+        for m in crate::render::RenderMethod::ALL {
+            let c = RenderConfig {
+                method: m,
+                ..base.clone()
+            };
+            out.push(s("method", m.name().into(), c, 1.0));
+        }
         if self.no_grid_culling {
             let c = RenderConfig {
+                method: crate::render::RenderMethod::Exact,
                 grid_culling: false,
                 ..base.clone()
             };
@@ -161,7 +173,9 @@ impl RenderSweep {
         let mut seen: Vec<(RenderConfig, u32)> = Vec::new();
         out.retain(|st| {
             let key = (st.cfg.clone(), st.scale.to_bits());
-            if seen.contains(&key) {
+            if st.parameter == "method" {
+                true
+            } else if seen.contains(&key) {
                 false
             } else {
                 seen.push(key);
@@ -467,8 +481,9 @@ mod tests {
         let s = sweep.settings(&d);
         assert_eq!(s[0].parameter, "default");
         assert_eq!(s[0].cfg, d);
-        // Default duplicates (step×1, 4 octaves, 4 light steps, 0.02, scale 1) dropped.
-        assert_eq!(s.len(), 1 + 1 + 1 + 1 + 1 + 1 + 1, "{s:#?}");
+        // Default duplicates (step×1, 4 octaves, 4 light steps, 0.02, scale 1)
+        // dropped; both method rows kept (one equals the default).
+        assert_eq!(s.len(), 1 + 1 + 1 + 1 + 1 + 1 + 1 + 2, "{s:#?}");
         for st in &s {
             st.cfg.validate().unwrap();
         }

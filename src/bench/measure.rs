@@ -39,11 +39,12 @@ pub struct Measured {
     pub upload_ms: f64,
     /// (pass, median ms) in execution order.
     pub passes: Vec<(String, f64)>,
-    /// Median of the per-frame sums of the pass times.
+    /// Median of the per-frame GPU time of the whole frame (first to last
+    /// timestamp; with CPU timing, the sum of the passes).
     pub gpu_ms: f64,
-    /// Median of the per-frame upload + passes (no physics).
+    /// Median of the per-frame upload + GPU frame (no physics).
     pub render_ms: f64,
-    /// Median of the per-frame physics + upload + passes.
+    /// Median of the per-frame physics + upload + GPU frame.
     pub frame_ms: f64,
     /// Frames measured (after warm-up).
     pub frames: usize,
@@ -166,7 +167,7 @@ pub fn measure(
             continue;
         }
         warm_left = 0;
-        let g = t.total_ms();
+        let g = t.frame_ms;
         physics.push(physics_ms);
         upload.push(t.upload_ms);
         gpu.push(g);

@@ -1,85 +1,33 @@
-//! The renderer: owns the GPU resources and the pass pipelines, and draws a
-//! frame into any texture view (window surface or offscreen). Pass order:
-//! shadow map → sky → terrain → clouds.
+//! The renderer: owns the GPU resources of the shared passes, the render
+//! method's cloud field ([`crate::render::raymarch`]) and the pipelines,
+//! and draws a frame into any texture view (window surface or offscreen).
+//! Pass order: bake (baked method, only when the parcels moved) → shadow
+//! map → sky → terrain → clouds.
 //!
 //! "Leave out what a scene does not need": [`Features`] decides which passes
-//! and resources exist; each pipeline is keyed by its `override` constants,
-//! so changing a setting (normals, culling, shadows) rebuilds only the
-//! pipelines whose constants changed, and a pass that is no longer needed is
-//! dropped. `prepare` uploads (and times the upload); `render` draws and
-//! times each pass with GPU timestamps when the device has them, else with
-//! the CPU wall clock and a queue sync per pass (labelled so).
+//! and resources exist; pipelines come from a cache keyed by pass, method
+//! and `override` constants ([`crate::render::pipelines`]), so a toggled
+//! setting builds only pipelines it has never seen and clouds appearing
+//! never wait for a shader compile. `prepare` uploads (and times the
+//! upload); `render` draws and times each pass ([`crate::render::timing`]).
 
-use std::collections::HashMap;
 use std::time::Instant;
 
 use crate::error::{Error, Result};
 use crate::render::gpu::GpuContext;
-use crate::render::pack::{self, FrameUniform, GridInfo, GridUniform, ParcelsUniform};
+use crate::render::method::RenderMethod;
+use crate::render::pack::{FrameUniform, GridInfo, GridUniform, ParcelsUniform};
+use crate::render::pipelines::{PassLayouts, PipelineCache, PipelineKey};
+use crate::render::raymarch::baked::{BakeInfo, BakedField};
+use crate::render::raymarch::exact::ExactField;
 use crate::render::shaders::Pass;
-use crate::render::terrain::{self, TerrainVertex};
+use crate::render::terrain;
+use crate::render::timing::Timestamps;
 use crate::render::{Features, FrameInput, RenderConfig, TerrainConfig, noise};
 
-/// Format of the internal depth buffer (written by terrain, read by clouds).
-pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-/// Format of the cloud-shadow map (sun transmittance 0..1).
-pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
-
-/// How long each pass of one frame took.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct FrameTimings {
-    /// (pass name, milliseconds), in execution order.
-    pub passes: Vec<(String, f64)>,
-    /// true: GPU timestamps; false: CPU wall clock with a queue sync per pass.
-    pub gpu_timestamps: bool,
-    /// CPU time of the last `prepare` (packing + buffer writes). units: ms
-    pub upload_ms: f64,
-}
-
-impl FrameTimings {
-    /// Sum of the pass times. units: ms
-    pub fn total_ms(&self) -> f64 {
-        self.passes.iter().map(|(_, ms)| ms).sum()
-    }
-
-    /// Time of one pass, if it ran. units: ms
-    pub fn pass_ms(&self, name: &str) -> Option<f64> {
-        self.passes
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, ms)| *ms)
-    }
-}
-
-struct PassPipeline {
-    constants: Vec<(&'static str, f64)>,
-    pipeline: wgpu::RenderPipeline,
-}
-
-struct Timestamps {
-    set: wgpu::QuerySet,
-    resolve: wgpu::Buffer,
-    read: wgpu::Buffer,
-    /// Lagged mode: the read buffer is being mapped for these passes;
-    /// the flag turns true when the mapping is done (Err: mapping failed).
-    in_flight: Option<(Vec<Pass>, std::sync::Arc<std::sync::Mutex<Option<bool>>>)>,
-    /// Lagged mode: the latest timings read back.
-    last: Vec<(String, f64)>,
-}
-
-/// How `render` times its passes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum TimingMode {
-    /// GPU timestamps read back at the end of each frame (waits for the
-    /// GPU; exact per frame: headless commands, bench, tests). The default.
-    GpuBlocking,
-    /// GPU timestamps read back when ready, without waiting: `render`
-    /// returns the latest finished frame's timings (a frame or more old).
-    /// For the window, so timing does not stall the frame.
-    GpuLagged,
-    /// CPU wall clock with a queue wait after each pass.
-    Cpu,
-}
+pub use crate::render::pipelines::{DEPTH_FORMAT, SHADOW_FORMAT};
+pub(crate) use crate::render::timing::read_buffer;
+pub use crate::render::timing::{FrameTimings, TimingMode};
 
 struct TerrainGpu {
     cfg: TerrainConfig,
@@ -101,15 +49,15 @@ pub struct Renderer {
     upload_ms: f64,
 
     frame_buf: wgpu::Buffer,
-    parcels_buf: wgpu::Buffer,
-    grid_buf: wgpu::Buffer,
+    exact: ExactField,
+    baked: BakedField,
+    /// `baked.generation` that `bind_common` holds.
+    bound_generation: u64,
     noise_texels: u32,
     noise_view: wgpu::TextureView,
     repeat_sampler: wgpu::Sampler,
     clamp_sampler: wgpu::Sampler,
-    layout_common: wgpu::BindGroupLayout,
-    layout_shadow_tex: wgpu::BindGroupLayout,
-    layout_depth: wgpu::BindGroupLayout,
+    layouts: PassLayouts,
     bind_common: wgpu::BindGroup,
 
     depth_view: Option<wgpu::TextureView>,
@@ -118,55 +66,15 @@ pub struct Renderer {
     white_view: wgpu::TextureView,
     terrain: Option<TerrainGpu>,
 
-    modules: HashMap<Pass, wgpu::ShaderModule>,
-    pipelines: HashMap<Pass, PassPipeline>,
+    pipelines: PipelineCache,
+    bake_pipelines: u32,
     bind_terrain: Option<wgpu::BindGroup>,
     bind_clouds: Option<wgpu::BindGroup>,
     timestamps: Option<Timestamps>,
     /// How passes are timed (GPU modes fall back to Cpu without timestamps).
     timing: TimingMode,
-    /// Pipelines created so far (tests check that a setting rebuilds only
-    /// what depends on it).
-    pipelines_built: u32,
-}
-
-fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-fn texture_entry(
-    binding: u32,
-    sample_type: wgpu::TextureSampleType,
-    dim: wgpu::TextureViewDimension,
-) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Texture {
-            sample_type,
-            view_dimension: dim,
-            multisampled: false,
-        },
-        count: None,
-    }
-}
-
-fn sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-        count: None,
-    }
+    /// Re-bake every frame (bench: the cost when every parcel moves).
+    always_bake: bool,
 }
 
 /// A single-sample, single-mip 2D texture (also the headless target and the
@@ -233,8 +141,6 @@ fn noise_texture(ctx: &GpuContext, n: u32) -> wgpu::TextureView {
 }
 
 impl Renderer {
-    /// Creates the renderer for frames of `width`×`height` in `target_format`.
-    /// Until the first `prepare`, the scene is assumed to have clouds.
     pub fn new(
         ctx: &GpuContext,
         cfg: &RenderConfig,
@@ -270,17 +176,15 @@ impl Renderer {
             )));
         }
 
-        let buffer = |label: &str, size: usize| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: size as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })
-        };
-        let frame_buf = buffer("frame uniform", std::mem::size_of::<FrameUniform>());
-        let parcels_buf = buffer("parcels uniform", std::mem::size_of::<ParcelsUniform>());
-        let grid_buf = buffer("grid uniform", std::mem::size_of::<GridUniform>());
+        let frame_buf = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("frame uniform"),
+            size: std::mem::size_of::<FrameUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let exact = ExactField::new(device);
+        let mut bake_pipelines = 0;
+        let baked = BakedField::new(ctx, &frame_buf, &mut bake_pipelines)?;
 
         let sampler = |label: &str, mode: wgpu::AddressMode| {
             device.create_sampler(&wgpu::SamplerDescriptor {
@@ -297,37 +201,7 @@ impl Renderer {
         let clamp_sampler = sampler("clamp", wgpu::AddressMode::ClampToEdge);
         let noise_view = noise_texture(ctx, cfg.noise_texels);
 
-        let layout_common = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("common"),
-            entries: &[
-                uniform_entry(0),
-                uniform_entry(1),
-                uniform_entry(2),
-                texture_entry(
-                    3,
-                    wgpu::TextureSampleType::Float { filterable: true },
-                    wgpu::TextureViewDimension::D3,
-                ),
-                sampler_entry(4),
-                sampler_entry(5),
-            ],
-        });
-        let layout_shadow_tex = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("terrain: shadow map"),
-            entries: &[texture_entry(
-                0,
-                wgpu::TextureSampleType::Float { filterable: true },
-                wgpu::TextureViewDimension::D2,
-            )],
-        });
-        let layout_depth = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("clouds: depth"),
-            entries: &[texture_entry(
-                0,
-                wgpu::TextureSampleType::Depth,
-                wgpu::TextureViewDimension::D2,
-            )],
-        });
+        let layouts = PassLayouts::new(device);
 
         let dummy_depth_view = texture_2d(
             device,
@@ -362,36 +236,15 @@ impl Renderer {
         );
         let white_view = white.create_view(&Default::default());
 
-        let timestamps = ctx.timestamps.then(|| {
-            let count = 2 * Pass::ALL.len() as u32;
-            let bytes = 8 * count as u64;
-            Timestamps {
-                set: device.create_query_set(&wgpu::QuerySetDescriptor {
-                    label: Some("pass timestamps"),
-                    ty: wgpu::QueryType::Timestamp,
-                    count,
-                }),
-                resolve: device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("timestamp resolve"),
-                    size: bytes,
-                    usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                    mapped_at_creation: false,
-                }),
-                read: device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("timestamp read"),
-                    size: bytes,
-                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                }),
-                in_flight: None,
-                last: Vec::new(),
-            }
-        });
-
-        let bind_common = Self::make_bind_common(
+        let timestamps = ctx
+            .timestamps
+            .then(|| Timestamps::new(device, Pass::ALL.len() as u32));
+        let bind_common = make_bind_common(
             device,
-            &layout_common,
-            [&frame_buf, &parcels_buf, &grid_buf],
+            &layouts,
+            &frame_buf,
+            &exact,
+            &baked,
             &noise_view,
             &repeat_sampler,
             &clamp_sampler,
@@ -401,76 +254,37 @@ impl Renderer {
             format: target_format,
             width,
             height,
+            // Built for a frame with clouds, ahead of the first condensed
+            // parcel (no compile when it appears).
             features: Features::new(cfg, true),
             any_clouds: true,
-            grid_info: pack::pack(&[], cfg.shell_m, cfg.radius_scale)?.info,
+            grid_info: crate::render::pack::pack(&[], cfg.shell_m, cfg.radius_scale)?.info,
             upload_ms: 0.0,
             frame_buf,
-            parcels_buf,
-            grid_buf,
+            bound_generation: baked.generation,
+            exact,
+            baked,
             noise_texels: cfg.noise_texels,
             noise_view,
             repeat_sampler,
             clamp_sampler,
-            layout_common,
-            layout_shadow_tex,
-            layout_depth,
+            layouts,
             bind_common,
             depth_view: None,
             dummy_depth_view,
             shadow_view: None,
             white_view,
             terrain: None,
-            modules: HashMap::new(),
-            pipelines: HashMap::new(),
+            pipelines: PipelineCache::default(),
+            bake_pipelines,
             bind_terrain: None,
             bind_clouds: None,
             timestamps,
             timing: TimingMode::GpuBlocking,
-            pipelines_built: 0,
+            always_bake: false,
         };
         r.ensure(ctx)?;
         Ok(r)
-    }
-
-    fn make_bind_common(
-        device: &wgpu::Device,
-        layout: &wgpu::BindGroupLayout,
-        bufs: [&wgpu::Buffer; 3],
-        noise: &wgpu::TextureView,
-        repeat: &wgpu::Sampler,
-        clamp: &wgpu::Sampler,
-    ) -> wgpu::BindGroup {
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("common"),
-            layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: bufs[0].as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: bufs[1].as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: bufs[2].as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::TextureView(noise),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: wgpu::BindingResource::Sampler(repeat),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 5,
-                    resource: wgpu::BindingResource::Sampler(clamp),
-                },
-            ],
-        })
     }
 
     /// The current configuration.
@@ -483,16 +297,23 @@ impl Renderer {
         self.features
     }
 
-    /// Where the last packed grid sits and how full it is.
+    /// Where the last frame's grid sits and how full it is (exact: the
+    /// culling grid; baked: the coarse occupancy grid over the bake region).
     pub fn grid_info(&self) -> GridInfo {
         self.grid_info
     }
 
-    /// Names of the passes that exist (and run), in execution order.
+    /// What the baked field covers (zeros before the first bake).
+    pub fn bake_info(&self) -> BakeInfo {
+        self.baked.info()
+    }
+
+    /// Names of the passes that exist for the current features, in
+    /// execution order (the bake runs only in frames whose parcels moved).
     pub fn pass_names(&self) -> Vec<&'static str> {
         Pass::ALL
-            .iter()
-            .filter(|p| self.pipelines.contains_key(p))
+            .into_iter()
+            .filter(|p| self.needed(*p))
             .map(|p| p.name())
             .collect()
     }
@@ -520,9 +341,15 @@ impl Renderer {
         }
     }
 
-    /// How many pipelines this renderer has created so far.
+    /// Re-bake the baked field every frame, moved or not (for the bench:
+    /// the cost of a frame whose parcels all moved).
+    pub fn set_always_bake(&mut self, on: bool) {
+        self.always_bake = on;
+    }
+
+    /// How many pipelines (render and compute) this renderer has created.
     pub fn pipelines_built(&self) -> u32 {
-        self.pipelines_built
+        self.pipelines.built + self.bake_pipelines
     }
 
     /// Frame size in pixels.
@@ -544,23 +371,31 @@ impl Renderer {
     }
 
     /// Applies new settings, rebuilding only what depends on what changed.
+    /// A new method takes effect at the next `prepare`.
     pub fn set_config(&mut self, ctx: &GpuContext, cfg: &RenderConfig) -> Result<()> {
         cfg.validate()?;
         if cfg.noise_texels != self.noise_texels {
             self.noise_view = noise_texture(ctx, cfg.noise_texels);
             self.noise_texels = cfg.noise_texels;
-            self.bind_common = Self::make_bind_common(
-                &ctx.device,
-                &self.layout_common,
-                [&self.frame_buf, &self.parcels_buf, &self.grid_buf],
-                &self.noise_view,
-                &self.repeat_sampler,
-                &self.clamp_sampler,
-            );
+            self.rebind_common(ctx);
         }
         self.cfg = cfg.clone();
         self.features = Features::new(cfg, self.any_clouds);
         self.ensure(ctx)
+    }
+
+    fn rebind_common(&mut self, ctx: &GpuContext) {
+        self.bind_common = make_bind_common(
+            &ctx.device,
+            &self.layouts,
+            &self.frame_buf,
+            &self.exact,
+            &self.baked,
+            &self.noise_view,
+            &self.repeat_sampler,
+            &self.clamp_sampler,
+        );
+        self.bound_generation = self.baked.generation;
     }
 
     /// The `override` constants of `pass` under the current features.
@@ -568,29 +403,35 @@ impl Renderer {
         let b = |v: bool| if v { 1.0 } else { 0.0 };
         let f = self.features;
         let srgb = b(!self.format.is_srgb());
-        match pass {
-            Pass::Shadow => vec![
-                ("ENCODE_SRGB", srgb),
-                ("GRID_CULLING", b(self.cfg.grid_culling)),
-            ],
-            Pass::Sky => vec![("ENCODE_SRGB", srgb)],
+        let exact = self.cfg.method == RenderMethod::Exact;
+        let mut c = match pass {
+            Pass::Bake | Pass::Sky => vec![("ENCODE_SRGB", srgb)],
+            Pass::Shadow => vec![("ENCODE_SRGB", srgb)],
             Pass::Terrain => vec![("ENCODE_SRGB", srgb), ("HAS_SHADOWS", b(f.shadows))],
             Pass::Clouds => vec![
                 ("ENCODE_SRGB", srgb),
-                ("GRID_CULLING", b(self.cfg.grid_culling)),
                 ("USE_NORMALS", b(f.normals)),
                 ("HAS_TERRAIN", b(f.terrain)),
             ],
+        };
+        if exact && matches!(pass, Pass::Shadow | Pass::Clouds) {
+            c.push(("GRID_CULLING", b(self.cfg.grid_culling)));
         }
+        c
     }
 
     fn needed(&self, pass: Pass) -> bool {
         match pass {
+            Pass::Bake => self.features.clouds && self.cfg.method == RenderMethod::Baked,
             Pass::Shadow => self.features.shadows,
             Pass::Sky => true,
             Pass::Terrain => self.features.terrain,
             Pass::Clouds => self.features.clouds,
         }
+    }
+
+    fn key(&self, pass: Pass) -> PipelineKey {
+        PipelineKey::new(pass, self.cfg.method, &self.constants(pass), self.format)
     }
 
     /// Creates what the current features need and drops what they do not.
@@ -666,7 +507,7 @@ impl Renderer {
                 .unwrap_or(&self.white_view);
             self.bind_terrain = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("terrain: shadow map"),
-                layout: &self.layout_shadow_tex,
+                layout: &self.layouts.shadow_tex,
                 entries: &[wgpu::BindGroupEntry {
                     binding: 0,
                     resource: wgpu::BindingResource::TextureView(view),
@@ -677,7 +518,7 @@ impl Renderer {
             let view = self.depth_view.as_ref().unwrap_or(&self.dummy_depth_view);
             self.bind_clouds = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("clouds: depth"),
-                layout: &self.layout_depth,
+                layout: &self.layouts.depth,
                 entries: &[wgpu::BindGroupEntry {
                     binding: 0,
                     resource: wgpu::BindingResource::TextureView(view),
@@ -685,148 +526,56 @@ impl Renderer {
             }));
         }
 
-        // Pipelines.
-        for pass in Pass::ALL {
-            if !self.needed(pass) {
-                self.pipelines.remove(&pass);
-                continue;
+        // Pipelines: built once per key and kept (see pipelines.rs), for
+        // the frame with clouds and the one without as well as the current
+        // one, so clouds appearing or vanishing never wait for a compile.
+        let current = self.features;
+        for features in [
+            Features::new(&self.cfg, true),
+            Features::new(&self.cfg, false),
+            current,
+        ] {
+            self.features = features;
+            let keys: Vec<PipelineKey> = Pass::ALL
+                .into_iter()
+                .filter(|p| *p != Pass::Bake && self.needed(*p))
+                .map(|p| self.key(p))
+                .collect();
+            self.features = current;
+            for key in keys {
+                self.pipelines.ensure(ctx, &self.layouts, &key)?;
             }
-            let constants = self.constants(pass);
-            if self.pipelines.get(&pass).map(|p| &p.constants) == Some(&constants) {
-                continue;
-            }
-            // Shader or pipeline errors become an Error, not wgpu's panic.
-            let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
-            let pipeline = self.create_pipeline(ctx, pass, &constants);
-            if let Some(e) = pollster::block_on(scope.pop()) {
-                self.modules.remove(&pass);
-                return Err(Error::Gpu(format!(
-                    "creating the {} pass: {e}",
-                    pass.name()
-                )));
-            }
-            self.pipelines_built += 1;
-            self.pipelines.insert(
-                pass,
-                PassPipeline {
-                    constants,
-                    pipeline,
-                },
-            );
         }
         Ok(())
     }
 
-    fn create_pipeline(
-        &mut self,
-        ctx: &GpuContext,
-        pass: Pass,
-        constants: &[(&'static str, f64)],
-    ) -> wgpu::RenderPipeline {
-        let device = &ctx.device;
-        let module = self.modules.entry(pass).or_insert_with(|| {
-            device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(pass.name()),
-                source: wgpu::ShaderSource::Wgsl(pass.source().into()),
-            })
-        });
-        let group1 = match pass {
-            Pass::Terrain => Some(&self.layout_shadow_tex),
-            Pass::Clouds => Some(&self.layout_depth),
-            _ => None,
-        };
-        let layouts: Vec<Option<&wgpu::BindGroupLayout>> = match group1 {
-            Some(l) => vec![Some(&self.layout_common), Some(l)],
-            None => vec![Some(&self.layout_common)],
-        };
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some(pass.name()),
-            bind_group_layouts: &layouts,
-            immediate_size: 0,
-        });
-        let options = wgpu::PipelineCompilationOptions {
-            constants,
-            ..Default::default()
-        };
-        let vertex_attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
-        let terrain_buffers = [Some(wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<TerrainVertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &vertex_attrs,
-        })];
-        let (target_format, blend) = match pass {
-            Pass::Shadow => (SHADOW_FORMAT, None),
-            Pass::Clouds => (
-                self.format,
-                Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
-            ),
-            _ => (self.format, None),
-        };
-        let targets = [Some(wgpu::ColorTargetState {
-            format: target_format,
-            blend,
-            write_mask: wgpu::ColorWrites::ALL,
-        })];
-        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(pass.name()),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module,
-                entry_point: Some("vs_main"),
-                compilation_options: options.clone(),
-                buffers: if pass == Pass::Terrain {
-                    &terrain_buffers
-                } else {
-                    &[]
-                },
-            },
-            primitive: wgpu::PrimitiveState {
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: (pass == Pass::Terrain).then(|| wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module,
-                entry_point: Some("fs_main"),
-                compilation_options: options,
-                targets: &targets,
-            }),
-            multiview_mask: None,
-            cache: None,
-        })
-    }
-
-    /// Packs and uploads a frame's data. Fails (without drawing anything
-    /// wrong) when the parcels exceed the uniform limits (see [`pack`]).
+    /// Packs and uploads a frame's data (the exact method fails, without
+    /// drawing anything wrong, past its uniform limits; see [`pack`]).
+    ///
+    /// [`pack`]: crate::render::pack
     pub fn prepare(&mut self, ctx: &GpuContext, input: &FrameInput<'_>) -> Result<()> {
         let start = Instant::now();
-        let packed = pack::pack(input.parcels, self.cfg.shell_m, self.cfg.radius_scale)?;
-        self.grid_info = packed.info;
-        self.any_clouds = packed.info.parcel_count > 0;
-        let features = Features::new(&self.cfg, packed.info.parcel_count > 0);
+        let (shell, scale) = (self.cfg.shell_m, self.cfg.radius_scale);
+        let info = match self.cfg.method {
+            RenderMethod::Exact => self.exact.upload(ctx, input.parcels, shell, scale)?,
+            RenderMethod::Baked => self.baked.update(ctx, input.parcels, shell, scale)?,
+        };
+        if self.always_bake {
+            self.baked.invalidate();
+        }
+        if self.baked.generation != self.bound_generation {
+            self.rebind_common(ctx);
+        }
+        self.grid_info = info;
+        self.any_clouds = info.parcel_count > 0;
+        let features = Features::new(&self.cfg, self.any_clouds);
         if features != self.features {
             self.features = features;
             self.ensure(ctx)?;
         }
         let frame = self.frame_uniform(input);
-        let q = &ctx.queue;
-        q.write_buffer(&self.frame_buf, 0, bytemuck::bytes_of(&frame));
-        if self.features.clouds {
-            let n = packed.info.parcel_count as usize;
-            q.write_buffer(
-                &self.parcels_buf,
-                0,
-                bytemuck::cast_slice(&packed.parcels.parcels[..n]),
-            );
-            q.write_buffer(&self.grid_buf, 0, bytemuck::bytes_of(&*packed.grid));
-        }
+        ctx.queue
+            .write_buffer(&self.frame_buf, 0, bytemuck::bytes_of(&frame));
         self.upload_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(())
     }
@@ -874,146 +623,90 @@ impl Renderer {
     /// the device cannot hold draws nothing and returns no pass timings.
     pub fn render(&mut self, ctx: &GpuContext, target: &wgpu::TextureView) -> FrameTimings {
         let size = target.texture().size();
+        let mut timings = FrameTimings {
+            gpu_timestamps: self.timing_mode() != TimingMode::Cpu,
+            upload_ms: self.upload_ms,
+            ..FrameTimings::default()
+        };
         if (size.width, size.height) != (self.width, self.height)
             && self.resize(ctx, size.width, size.height).is_err()
         {
-            return FrameTimings {
-                upload_ms: self.upload_ms,
-                ..FrameTimings::default()
-            };
+            timings.gpu_timestamps = false;
+            return timings;
         }
         let passes: Vec<Pass> = Pass::ALL
             .into_iter()
-            .filter(|p| self.pipelines.contains_key(p))
+            .filter(|p| self.needed(*p) && (*p != Pass::Bake || self.baked.dirty()))
             .collect();
-        let mut timings = FrameTimings {
-            passes: Vec::new(),
-            gpu_timestamps: self.timing_mode() != TimingMode::Cpu,
-            upload_ms: self.upload_ms,
-        };
+        let names: Vec<&'static str> = passes.iter().map(|p| p.name()).collect();
         let mode = self.timing_mode();
-        if mode == TimingMode::GpuLagged {
-            timings.passes = self.render_lagged(ctx, target, &passes);
-        } else if let Some(ts) = self
-            .timestamps
-            .as_ref()
-            .filter(|_| mode == TimingMode::GpuBlocking)
-        {
-            let mut enc = ctx.device.create_command_encoder(&Default::default());
-            for (i, pass) in passes.iter().enumerate() {
-                let writes = wgpu::RenderPassTimestampWrites {
-                    query_set: &ts.set,
-                    beginning_of_pass_write_index: Some(2 * i as u32),
-                    end_of_pass_write_index: Some(2 * i as u32 + 1),
-                };
-                self.encode_pass(&mut enc, *pass, target, Some(writes));
-            }
-            let n = 2 * passes.len() as u32;
-            enc.resolve_query_set(&ts.set, 0..n, &ts.resolve, 0);
-            enc.copy_buffer_to_buffer(&ts.resolve, 0, &ts.read, 0, 8 * n as u64);
-            ctx.queue.submit([enc.finish()]);
-            let ticks = read_buffer(ctx, &ts.read, 8 * n as u64)
-                .map(|b| bytemuck::pod_collect_to_vec::<u8, u64>(&b))
-                .unwrap_or_default();
-            let period_ns = ctx.queue.get_timestamp_period() as f64;
-            for (i, pass) in passes.iter().enumerate() {
-                let ms = match (ticks.get(2 * i), ticks.get(2 * i + 1)) {
-                    (Some(a), Some(b)) => b.saturating_sub(*a) as f64 * period_ns / 1e6,
-                    _ => f64::NAN,
-                };
-                timings.passes.push((pass.name().to_string(), ms));
-            }
-        } else {
-            for pass in passes {
-                let start = Instant::now();
+        let mut ts = self.timestamps.take();
+        match (mode, ts.as_mut()) {
+            (TimingMode::GpuBlocking, Some(ts)) => {
                 let mut enc = ctx.device.create_command_encoder(&Default::default());
-                self.encode_pass(&mut enc, pass, target, None);
+                for (i, pass) in passes.iter().enumerate() {
+                    self.encode_pass(&mut enc, *pass, target, Some((&ts.set, 2 * i as u32)));
+                }
+                ts.resolve(&mut enc, passes.len() as u32);
                 ctx.queue.submit([enc.finish()]);
-                ctx.wait_idle();
-                timings
-                    .passes
-                    .push((pass.name().to_string(), start.elapsed().as_secs_f64() * 1e3));
+                (timings.passes, timings.frame_ms) = ts.read_now(ctx, &names);
+            }
+            (TimingMode::GpuLagged, Some(ts)) => {
+                (timings.passes, timings.frame_ms) = ts.collect(ctx);
+                let measure = ts.lagged_ready();
+                let mut enc = ctx.device.create_command_encoder(&Default::default());
+                for (i, pass) in passes.iter().enumerate() {
+                    let writes = measure.then_some((&ts.set, 2 * i as u32));
+                    self.encode_pass(&mut enc, *pass, target, writes);
+                }
+                if measure {
+                    ts.resolve(&mut enc, passes.len() as u32);
+                }
+                ctx.queue.submit([enc.finish()]);
+                if measure {
+                    ts.start_map(names);
+                }
+            }
+            _ => {
+                for pass in passes {
+                    let start = Instant::now();
+                    let mut enc = ctx.device.create_command_encoder(&Default::default());
+                    self.encode_pass(&mut enc, pass, target, None);
+                    ctx.queue.submit([enc.finish()]);
+                    ctx.wait_idle();
+                    timings
+                        .passes
+                        .push((pass.name().to_string(), start.elapsed().as_secs_f64() * 1e3));
+                }
+                timings.frame_ms = timings.total_ms();
             }
         }
+        self.timestamps = ts;
         timings
     }
 
-    /// Lagged GPU timing: never waits; returns the latest finished timings.
-    fn render_lagged(
-        &mut self,
-        ctx: &GpuContext,
-        target: &wgpu::TextureView,
-        passes: &[Pass],
-    ) -> Vec<(String, f64)> {
-        let _ = ctx.device.poll(wgpu::PollType::Poll);
-        let period_ns = ctx.queue.get_timestamp_period() as f64;
-        let ts = self
-            .timestamps
-            .as_mut()
-            .expect("lagged mode needs timestamps");
-        // Collect a finished readback.
-        if let Some((done_passes, flag)) = &ts.in_flight {
-            let state = *flag.lock().unwrap_or_else(|e| e.into_inner());
-            if let Some(ok) = state {
-                let n = 2 * done_passes.len() as u64;
-                if ok {
-                    if let Ok(view) = ts.read.get_mapped_range(0..8 * n) {
-                        let ticks = bytemuck::pod_collect_to_vec::<u8, u64>(&view);
-                        ts.last = done_passes
-                            .iter()
-                            .enumerate()
-                            .map(|(i, p)| {
-                                let ms = ticks[2 * i + 1].saturating_sub(ticks[2 * i]) as f64
-                                    * period_ns
-                                    / 1e6;
-                                (p.name().to_string(), ms)
-                            })
-                            .collect();
-                    }
-                    ts.read.unmap();
-                }
-                ts.in_flight = None;
-            }
-        }
-        let measure = ts.in_flight.is_none();
-        let ts = self.timestamps.as_ref().expect("checked above");
-        let mut enc = ctx.device.create_command_encoder(&Default::default());
-        for (i, pass) in passes.iter().enumerate() {
-            let writes = measure.then(|| wgpu::RenderPassTimestampWrites {
-                query_set: &ts.set,
-                beginning_of_pass_write_index: Some(2 * i as u32),
-                end_of_pass_write_index: Some(2 * i as u32 + 1),
-            });
-            self.encode_pass(&mut enc, *pass, target, writes);
-        }
-        let n = 2 * passes.len() as u32;
-        if measure {
-            enc.resolve_query_set(&ts.set, 0..n, &ts.resolve, 0);
-            enc.copy_buffer_to_buffer(&ts.resolve, 0, &ts.read, 0, 8 * n as u64);
-        }
-        ctx.queue.submit([enc.finish()]);
-        let last = ts.last.clone();
-        if measure {
-            let flag = std::sync::Arc::new(std::sync::Mutex::new(None));
-            let setter = flag.clone();
-            ts.read
-                .map_async(wgpu::MapMode::Read, 0..8 * n as u64, move |r| {
-                    *setter.lock().unwrap_or_else(|e| e.into_inner()) = Some(r.is_ok());
-                });
-            self.timestamps.as_mut().expect("checked above").in_flight =
-                Some((passes.to_vec(), flag));
-        }
-        last
-    }
-
+    /// Encodes one pass; `timestamps` = (query set, index of its begin
+    /// query; the end query follows).
     fn encode_pass(
-        &self,
+        &mut self,
         enc: &mut wgpu::CommandEncoder,
         pass: Pass,
         target: &wgpu::TextureView,
-        timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
+        timestamps: Option<(&wgpu::QuerySet, u32)>,
     ) {
-        let pipeline = &self.pipelines[&pass].pipeline;
+        if pass == Pass::Bake {
+            self.baked.encode(enc, timestamps);
+            return;
+        }
+        let pipeline = self
+            .pipelines
+            .get(&self.key(pass))
+            .expect("ensure built every needed pipeline");
+        let timestamp_writes = timestamps.map(|(set, i)| wgpu::RenderPassTimestampWrites {
+            query_set: set,
+            beginning_of_pass_write_index: Some(i),
+            end_of_pass_write_index: Some(i + 1),
+        });
         let color = |view, load| {
             [Some(wgpu::RenderPassColorAttachment {
                 view,
@@ -1069,6 +762,43 @@ impl Renderer {
     }
 }
 
+#[allow(clippy::too_many_arguments)]
+fn make_bind_common(
+    device: &wgpu::Device,
+    layouts: &PassLayouts,
+    frame: &wgpu::Buffer,
+    exact: &ExactField,
+    baked: &BakedField,
+    noise: &wgpu::TextureView,
+    repeat: &wgpu::Sampler,
+    clamp: &wgpu::Sampler,
+) -> wgpu::BindGroup {
+    let (field, occupancy) = baked.field();
+    let entries = [
+        frame.as_entire_binding(),
+        exact.parcels_buf.as_entire_binding(),
+        exact.grid_buf.as_entire_binding(),
+        wgpu::BindingResource::TextureView(noise),
+        wgpu::BindingResource::Sampler(repeat),
+        wgpu::BindingResource::Sampler(clamp),
+        wgpu::BindingResource::TextureView(field),
+        occupancy.as_entire_binding(),
+    ];
+    let entries: Vec<wgpu::BindGroupEntry> = entries
+        .into_iter()
+        .enumerate()
+        .map(|(i, resource)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource,
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("common"),
+        layout: &layouts.common,
+        entries: &entries,
+    })
+}
+
 /// Ground rectangle (min x, min y, max x, max y) whose sun rays can cross
 /// the grid box: the box's footprint and its shadow cast from its top.
 pub fn shadow_rect(g: &GridInfo, sun: glam::Vec3) -> [f32; 4] {
@@ -1095,22 +825,4 @@ fn check_size(ctx: &GpuContext, width: u32, height: u32) -> Result<()> {
         ));
     }
     Ok(())
-}
-
-/// Maps `buffer` (MAP_READ), waits, and copies out its first `size` bytes.
-pub(crate) fn read_buffer(ctx: &GpuContext, buffer: &wgpu::Buffer, size: u64) -> Result<Vec<u8>> {
-    let (tx, rx) = std::sync::mpsc::channel();
-    buffer.map_async(wgpu::MapMode::Read, 0..size, move |r| {
-        let _ = tx.send(r);
-    });
-    ctx.wait_idle();
-    rx.recv()
-        .map_err(|e| Error::Gpu(format!("readback never completed: {e}")))?
-        .map_err(|e| Error::Gpu(format!("readback failed: {e}")))?;
-    let bytes = buffer
-        .get_mapped_range(0..size)
-        .map_err(|e| Error::Gpu(format!("readback mapping: {e}")))?
-        .to_vec();
-    buffer.unmap();
-    Ok(bytes)
 }
