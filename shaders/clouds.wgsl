@@ -10,7 +10,9 @@
 // so the samples kept are the unskipped march's, same positions. Output is
 // premultiplied (rgb = L, a = 1 − T) and blended over the sky/terrain with
 // (ONE, ONE_MINUS_SRC_ALPHA). `march` is the one march routine; the
-// fragment entry point only supplies the pixel.
+// entry points only supply the pixel: `fs_main` (fragment path) returns it,
+// `cs_main` (compute path) stores it into `cloud_out`, which composite.wgsl
+// then blends over the target the same way.
 
 // Read the terrain depth (false: no terrain pass, rays run to the box end).
 override HAS_TERRAIN: bool = true;
@@ -96,4 +98,19 @@ fn march(pix: vec2<f32>, ndc: vec2<f32>) -> vec4<f32> {
 @fragment
 fn fs_main(in: FullscreenOut) -> @location(0) vec4<f32> {
     return march(in.pos.xy, in.ndc);
+}
+
+// Compute path: the march's premultiplied colour per pixel.
+@group(2) @binding(0) var cloud_out: texture_storage_2d<rgba16float, write>;
+
+@compute @workgroup_size(8, 8)
+fn cs_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let size = textureDimensions(cloud_out);
+    if any(gid.xy >= size) {
+        return;
+    }
+    // The pixel centre and its NDC, as the rasteriser gives fs_main.
+    let pix = vec2<f32>(gid.xy) + 0.5;
+    let ndc = vec2<f32>(2.0 * pix.x / f32(size.x) - 1.0, 1.0 - 2.0 * pix.y / f32(size.y));
+    textureStore(cloud_out, gid.xy, march(pix, ndc));
 }

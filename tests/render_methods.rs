@@ -295,3 +295,60 @@ fn no_pipeline_is_built_when_clouds_vanish_and_return_and_still_parcels_are_not_
     assert_eq!(hl.renderer.bake_info().bakes, bakes + 2);
     assert_eq!(hl.renderer.pipelines_built(), built);
 }
+
+/// Mean FLIP allowed between the compute and the fragment march: the same
+/// WGSL `march` at the same pixel centres, so only the compute path's
+/// detour through an RGBA16F texture (a rounding of ~1/2000, under one 8-bit
+/// step) can differ; 0.005 leaves room for that and fails on any shift,
+/// missing pass or wrong blend (a moved cloud scores several times more).
+const COMPUTE_VS_FRAGMENT_FLIP: f32 = 0.005;
+
+#[test]
+fn compute_and_fragment_march_agree_and_auto_decides() {
+    let Some(ctx) = context() else { return };
+    let parcels = standin::default_field(900.0);
+    let size = (160, 90);
+    for method in RenderMethod::ALL {
+        let base = with_method(&RenderConfig::default(), method);
+        let path = |march| RenderConfig {
+            march,
+            ..base.clone()
+        };
+        let fragment = render(
+            &ctx,
+            &path(cumulus::render::MarchPath::Fragment),
+            towers_camera(),
+            &parcels,
+            size,
+        );
+        let compute = render(
+            &ctx,
+            &path(cumulus::render::MarchPath::Compute),
+            towers_camera(),
+            &parcels,
+            size,
+        );
+        let flip = mean_flip(&fragment, &compute, size);
+        eprintln!("{method}: mean FLIP compute vs fragment {flip:.5}");
+        assert!(flip <= COMPUTE_VS_FRAGMENT_FLIP, "{method}: {flip}");
+    }
+    // auto: alternates, then keeps one path, and says which.
+    let cfg = RenderConfig::default();
+    let mut hl = Headless::new(&ctx, &cfg, 64, 48).unwrap();
+    let input = FrameInput {
+        camera: towers_camera(),
+        parcels: &parcels,
+        sun: cfg.sun(),
+        time_s: 0.0,
+    };
+    let mut composite_seen = false;
+    for _ in 0..12 {
+        let (_, t) = hl.render(&ctx, &input).unwrap();
+        composite_seen |= t.pass_ms("composite").is_some();
+        if hl.renderer.march_path().is_some() {
+            break;
+        }
+    }
+    assert!(composite_seen, "auto never tried the compute path");
+    assert!(hl.renderer.march_path().is_some(), "auto did not decide");
+}

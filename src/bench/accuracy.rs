@@ -151,6 +151,16 @@ impl RenderSweep {
             };
             out.push(s("method", m.name().into(), c, 1.0));
         }
+        for m in [
+            crate::render::MarchPath::Fragment,
+            crate::render::MarchPath::Compute,
+        ] {
+            let c = RenderConfig {
+                march: m,
+                ..base.clone()
+            };
+            out.push(s("march", m.name().into(), c, 1.0));
+        }
         if self.no_grid_culling {
             let c = RenderConfig {
                 method: crate::render::RenderMethod::Exact,
@@ -173,7 +183,7 @@ impl RenderSweep {
         let mut seen: Vec<(RenderConfig, u32)> = Vec::new();
         out.retain(|st| {
             let key = (st.cfg.clone(), st.scale.to_bits());
-            if st.parameter == "method" {
+            if st.parameter == "method" || st.parameter == "march" {
                 true
             } else if seen.contains(&key) {
                 false
@@ -482,8 +492,8 @@ mod tests {
         assert_eq!(s[0].parameter, "default");
         assert_eq!(s[0].cfg, d);
         // Default duplicates (step×1, 4 octaves, 4 light steps, 0.02, scale 1)
-        // dropped; both method rows kept (one equals the default).
-        assert_eq!(s.len(), 1 + 1 + 1 + 1 + 1 + 1 + 1 + 2, "{s:#?}");
+        // dropped; both method rows and both march-path rows kept.
+        assert_eq!(s.len(), 1 + 1 + 1 + 1 + 1 + 1 + 1 + 2 + 2, "{s:#?}");
         for st in &s {
             st.cfg.validate().unwrap();
         }

@@ -60,6 +60,41 @@ impl FromStr for RenderMethod {
     }
 }
 
+/// Which shader stage runs the ray-march (same WGSL `march` either way).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MarchPath {
+    /// A full-screen fragment shader blended over the target.
+    Fragment,
+    /// A compute shader writing a storage texture, blended over the target
+    /// by the composite pass.
+    Compute,
+    /// Measure both on this adapter during the first frames with clouds
+    /// (alternating, no extra work or wait) and keep the faster.
+    #[default]
+    Auto,
+}
+
+impl MarchPath {
+    /// Every path, in the order tables list them.
+    pub const ALL: [MarchPath; 3] = [MarchPath::Fragment, MarchPath::Compute, MarchPath::Auto];
+
+    /// Name in scene files and tables.
+    pub fn name(self) -> &'static str {
+        match self {
+            MarchPath::Fragment => "fragment",
+            MarchPath::Compute => "compute",
+            MarchPath::Auto => "auto",
+        }
+    }
+}
+
+impl fmt::Display for MarchPath {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

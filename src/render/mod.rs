@@ -23,6 +23,7 @@
 //! The passes and their shaders are described in `shaders/*.wgsl` headers;
 //! the density of the hypertexture (paper eq. 18) in `shaders/density.wgsl`.
 
+pub mod auto_march;
 pub mod gpu;
 pub mod headless;
 pub mod method;
@@ -45,7 +46,7 @@ use crate::error::{Error, Result};
 use crate::physics::CloudParcel;
 
 pub use gpu::GpuContext;
-pub use method::RenderMethod;
+pub use method::{MarchPath, RenderMethod};
 pub use renderer::{FrameTimings, Renderer, TimingMode};
 
 /// Terrain settings (the `[render.terrain]` table).
@@ -89,6 +90,9 @@ pub struct RenderConfig {
     /// into a 3D texture, cost flat in the parcel count) or "exact" (the
     /// paper's per-sample union; at most 1024 condensed parcels).
     pub method: RenderMethod,
+    /// Shader stage of the ray-march: "fragment", "compute" or "auto" (the
+    /// default: the faster on this adapter, measured in the first frames).
+    pub march: MarchPath,
     /// Ray-march the clouds at all (off = landscape only).
     pub clouds: bool,
     /// Cloud shadows on the terrain (needs terrain and clouds).
@@ -142,6 +146,7 @@ impl Default for RenderConfig {
     fn default() -> Self {
         Self {
             method: RenderMethod::default(),
+            march: MarchPath::default(),
             clouds: true,
             shadows: true,
             normals: false,

@@ -19,10 +19,17 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Format of the cloud-shadow map (sun transmittance 0..1).
 pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
 
+/// Stages that read the shared bindings: the passes' vertex and fragment
+/// shaders and the compute march.
+const STAGES: wgpu::ShaderStages =
+    wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE);
+/// Format of the compute march's output (premultiplied, encoded colour).
+pub const CLOUD_TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
 fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
-        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+        visibility: STAGES,
         ty: wgpu::BindingType::Buffer {
             ty: wgpu::BufferBindingType::Uniform,
             has_dynamic_offset: false,
@@ -39,7 +46,7 @@ fn texture_entry(
 ) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
+        visibility: STAGES,
         ty: wgpu::BindingType::Texture {
             sample_type,
             view_dimension: dim,
@@ -52,7 +59,7 @@ fn texture_entry(
 fn sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
+        visibility: STAGES,
         ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
         count: None,
     }
@@ -68,6 +75,10 @@ pub struct PassLayouts {
     pub shadow_tex: wgpu::BindGroupLayout,
     /// Group 1 of the clouds: the terrain depth.
     pub depth: wgpu::BindGroupLayout,
+    /// Group 2 of the compute march: its output texture.
+    pub cloud_out: wgpu::BindGroupLayout,
+    /// Group 1 of the composite: the compute march's texture.
+    pub cloud_in: wgpu::BindGroupLayout,
 }
 
 impl PassLayouts {
@@ -92,7 +103,7 @@ impl PassLayouts {
                 },
                 wgpu::BindGroupLayoutEntry {
                     binding: 7,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    visibility: STAGES,
                     ty: wgpu::BindingType::Buffer {
                         ty: wgpu::BufferBindingType::Storage { read_only: true },
                         has_dynamic_offset: false,
@@ -118,10 +129,33 @@ impl PassLayouts {
                 wgpu::TextureViewDimension::D2,
             )],
         });
+        let cloud_out = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("clouds: compute output"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::StorageTexture {
+                    access: wgpu::StorageTextureAccess::WriteOnly,
+                    format: CLOUD_TARGET_FORMAT,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                },
+                count: None,
+            }],
+        });
+        let cloud_in = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("composite: clouds"),
+            entries: &[texture_entry(
+                0,
+                wgpu::TextureSampleType::Float { filterable: true },
+                wgpu::TextureViewDimension::D2,
+            )],
+        });
         Self {
             common,
             shadow_tex,
             depth,
+            cloud_out,
+            cloud_in,
         }
     }
 }
@@ -134,6 +168,8 @@ pub struct PipelineKey {
     /// `override` constants (name, value bits).
     pub constants: Vec<(&'static str, u64)>,
     pub format: wgpu::TextureFormat,
+    /// The compute entry point (the cloud pass's compute path).
+    pub compute: bool,
 }
 
 impl PipelineKey {
@@ -142,27 +178,35 @@ impl PipelineKey {
         method: RenderMethod,
         constants: &[(&'static str, f64)],
         format: wgpu::TextureFormat,
+        compute: bool,
     ) -> Self {
         Self {
             pass,
             method,
             constants: constants.iter().map(|(n, v)| (*n, v.to_bits())).collect(),
             format,
+            compute,
         }
     }
 }
 
-/// Every render pipeline built so far; see the module docs.
+/// A render or compute pipeline.
+pub enum Pipeline {
+    Render(wgpu::RenderPipeline),
+    Compute(wgpu::ComputePipeline),
+}
+
+/// Every pipeline built so far; see the module docs.
 #[derive(Default)]
 pub struct PipelineCache {
     modules: HashMap<(Pass, RenderMethod), wgpu::ShaderModule>,
-    pipelines: HashMap<PipelineKey, wgpu::RenderPipeline>,
+    pipelines: HashMap<PipelineKey, Pipeline>,
     /// Pipelines created so far.
     pub built: u32,
 }
 
 impl PipelineCache {
-    pub fn get(&self, key: &PipelineKey) -> Option<&wgpu::RenderPipeline> {
+    pub fn get(&self, key: &PipelineKey) -> Option<&Pipeline> {
         self.pipelines.get(key)
     }
 
@@ -192,12 +236,7 @@ impl PipelineCache {
         Ok(())
     }
 
-    fn create(
-        &mut self,
-        ctx: &GpuContext,
-        layouts: &PassLayouts,
-        key: &PipelineKey,
-    ) -> wgpu::RenderPipeline {
+    fn create(&mut self, ctx: &GpuContext, layouts: &PassLayouts, key: &PipelineKey) -> Pipeline {
         let device = &ctx.device;
         let pass = key.pass;
         let module = self.modules.entry((pass, key.method)).or_insert_with(|| {
@@ -209,12 +248,16 @@ impl PipelineCache {
         let group1 = match pass {
             Pass::Terrain => Some(&layouts.shadow_tex),
             Pass::Clouds => Some(&layouts.depth),
+            Pass::Composite => Some(&layouts.cloud_in),
             _ => None,
         };
-        let layouts_list: Vec<Option<&wgpu::BindGroupLayout>> = match group1 {
+        let mut layouts_list: Vec<Option<&wgpu::BindGroupLayout>> = match group1 {
             Some(l) => vec![Some(&layouts.common), Some(l)],
             None => vec![Some(&layouts.common)],
         };
+        if key.compute {
+            layouts_list.push(Some(&layouts.cloud_out));
+        }
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some(pass.name()),
             bind_group_layouts: &layouts_list,
@@ -229,6 +272,18 @@ impl PipelineCache {
             constants: &constants,
             ..Default::default()
         };
+        if key.compute {
+            return Pipeline::Compute(device.create_compute_pipeline(
+                &wgpu::ComputePipelineDescriptor {
+                    label: Some("clouds (compute)"),
+                    layout: Some(&layout),
+                    module,
+                    entry_point: Some("cs_main"),
+                    compilation_options: options,
+                    cache: None,
+                },
+            ));
+        }
         let vertex_attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
         let terrain_buffers = [Some(wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<TerrainVertex>() as u64,
@@ -237,7 +292,7 @@ impl PipelineCache {
         })];
         let (target_format, blend) = match pass {
             Pass::Shadow => (SHADOW_FORMAT, None),
-            Pass::Clouds => (
+            Pass::Clouds | Pass::Composite => (
                 key.format,
                 Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
             ),
@@ -248,39 +303,41 @@ impl PipelineCache {
             blend,
             write_mask: wgpu::ColorWrites::ALL,
         })];
-        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(pass.name()),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module,
-                entry_point: Some("vs_main"),
-                compilation_options: options.clone(),
-                buffers: if pass == Pass::Terrain {
-                    &terrain_buffers
-                } else {
-                    &[]
+        Pipeline::Render(
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(pass.name()),
+                layout: Some(&layout),
+                vertex: wgpu::VertexState {
+                    module,
+                    entry_point: Some("vs_main"),
+                    compilation_options: options.clone(),
+                    buffers: if pass == Pass::Terrain {
+                        &terrain_buffers
+                    } else {
+                        &[]
+                    },
                 },
-            },
-            primitive: wgpu::PrimitiveState {
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: (pass == Pass::Terrain).then(|| wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: None,
+                    ..Default::default()
+                },
+                depth_stencil: (pass == Pass::Terrain).then(|| wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Less),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module,
+                    entry_point: Some("fs_main"),
+                    compilation_options: options,
+                    targets: &targets,
+                }),
+                multiview_mask: None,
+                cache: None,
             }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module,
-                entry_point: Some("fs_main"),
-                compilation_options: options,
-                targets: &targets,
-            }),
-            multiview_mask: None,
-            cache: None,
-        })
+        )
     }
 }

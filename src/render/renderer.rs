@@ -14,10 +14,13 @@
 use std::time::Instant;
 
 use crate::error::{Error, Result};
+use crate::render::auto_march::AutoMarch;
 use crate::render::gpu::GpuContext;
-use crate::render::method::RenderMethod;
+use crate::render::method::{MarchPath, RenderMethod};
 use crate::render::pack::{FrameUniform, GridInfo, GridUniform, ParcelsUniform};
-use crate::render::pipelines::{PassLayouts, PipelineCache, PipelineKey};
+use crate::render::pipelines::{
+    CLOUD_TARGET_FORMAT, PassLayouts, Pipeline, PipelineCache, PipelineKey,
+};
 use crate::render::raymarch::baked::{BakeInfo, BakedField};
 use crate::render::raymarch::exact::ExactField;
 use crate::render::shaders::Pass;
@@ -75,6 +78,11 @@ pub struct Renderer {
     timing: TimingMode,
     /// Re-bake every frame (bench: the cost when every parcel moves).
     always_bake: bool,
+    /// The compute march's output: (view, its storage bind group, its
+    /// sampled bind group for the composite).
+    cloud_target: Option<(wgpu::TextureView, wgpu::BindGroup, wgpu::BindGroup)>,
+    /// `march = "auto"`: measurements and decision.
+    auto_march: AutoMarch,
 }
 
 /// A single-sample, single-mip 2D texture (also the headless target and the
@@ -282,6 +290,8 @@ impl Renderer {
             timestamps,
             timing: TimingMode::GpuBlocking,
             always_bake: false,
+            cloud_target: None,
+            auto_march: AutoMarch::default(),
         };
         r.ensure(ctx)?;
         Ok(r)
@@ -365,6 +375,7 @@ impl Renderer {
             self.height = height;
             self.depth_view = None;
             self.bind_clouds = None;
+            self.cloud_target = None;
             self.ensure(ctx)?;
         }
         Ok(())
@@ -405,7 +416,7 @@ impl Renderer {
         let srgb = b(!self.format.is_srgb());
         let exact = self.cfg.method == RenderMethod::Exact;
         let mut c = match pass {
-            Pass::Bake | Pass::Sky => vec![("ENCODE_SRGB", srgb)],
+            Pass::Bake | Pass::Sky | Pass::Composite => vec![("ENCODE_SRGB", srgb)],
             Pass::Shadow => vec![("ENCODE_SRGB", srgb)],
             Pass::Terrain => vec![("ENCODE_SRGB", srgb), ("HAS_SHADOWS", b(f.shadows))],
             Pass::Clouds => vec![
@@ -427,11 +438,52 @@ impl Renderer {
             Pass::Sky => true,
             Pass::Terrain => self.features.terrain,
             Pass::Clouds => self.features.clouds,
+            Pass::Composite => self.features.clouds && self.compute_path(),
+        }
+    }
+
+    /// Whether the next frame marches in a compute shader.
+    fn compute_path(&self) -> bool {
+        self.auto_march.path(self.cfg.march) == MarchPath::Compute
+    }
+
+    /// The march path in use: the configured one, or what `auto` chose
+    /// (None while it is still measuring).
+    pub fn march_path(&self) -> Option<MarchPath> {
+        match self.cfg.march {
+            MarchPath::Auto => self.auto_march.chosen(),
+            p => Some(p),
         }
     }
 
     fn key(&self, pass: Pass) -> PipelineKey {
-        PipelineKey::new(pass, self.cfg.method, &self.constants(pass), self.format)
+        let compute = pass == Pass::Clouds && self.compute_path();
+        PipelineKey::new(
+            pass,
+            self.cfg.method,
+            &self.constants(pass),
+            self.format,
+            compute,
+        )
+    }
+
+    /// Both cloud-pass pipelines when `auto` is still measuring (it
+    /// alternates), else the one in use.
+    fn cloud_keys(&self) -> Vec<PipelineKey> {
+        let mut keys = vec![self.key(Pass::Clouds)];
+        if self.cfg.march == MarchPath::Auto && self.auto_march.chosen().is_none() {
+            let mut other = keys[0].clone();
+            other.compute = !other.compute;
+            keys.push(other);
+            keys.push(PipelineKey::new(
+                Pass::Composite,
+                self.cfg.method,
+                &self.constants(Pass::Composite),
+                self.format,
+                false,
+            ));
+        }
+        keys
     }
 
     /// Creates what the current features need and drops what they do not.
@@ -536,17 +588,52 @@ impl Renderer {
             current,
         ] {
             self.features = features;
-            let keys: Vec<PipelineKey> = Pass::ALL
+            let mut keys: Vec<PipelineKey> = Pass::ALL
                 .into_iter()
                 .filter(|p| *p != Pass::Bake && self.needed(*p))
                 .map(|p| self.key(p))
                 .collect();
+            if self.features.clouds {
+                keys.extend(self.cloud_keys());
+            }
             self.features = current;
             for key in keys {
                 self.pipelines.ensure(ctx, &self.layouts, &key)?;
             }
         }
+        let compute_possible = self.cfg.march != MarchPath::Fragment;
+        if current.clouds && compute_possible && self.cloud_target.is_none() {
+            self.cloud_target = Some(self.make_cloud_target(device));
+        }
         Ok(())
+    }
+
+    fn make_cloud_target(
+        &self,
+        device: &wgpu::Device,
+    ) -> (wgpu::TextureView, wgpu::BindGroup, wgpu::BindGroup) {
+        let view = texture_2d(
+            device,
+            "clouds (compute)",
+            self.width,
+            self.height,
+            CLOUD_TARGET_FORMAT,
+            wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
+        )
+        .create_view(&Default::default());
+        let bind = |label, layout| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(label),
+                layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&view),
+                }],
+            })
+        };
+        let out = bind("clouds: compute output", &self.layouts.cloud_out);
+        let input = bind("composite: clouds", &self.layouts.cloud_in);
+        (view, out, input)
     }
 
     /// Packs and uploads a frame's data (the exact method fails, without
@@ -682,6 +769,15 @@ impl Renderer {
             }
         }
         self.timestamps = ts;
+        if self.features.clouds {
+            self.auto_march.drew();
+        }
+        let was = self.auto_march.chosen();
+        self.auto_march.record(&timings);
+        if was != self.auto_march.chosen() {
+            // Decided: build (normally: find cached) the chosen pipelines.
+            let _ = self.ensure(ctx);
+        }
         timings
     }
 
@@ -698,10 +794,27 @@ impl Renderer {
             self.baked.encode(enc, timestamps);
             return;
         }
-        let pipeline = self
-            .pipelines
-            .get(&self.key(pass))
-            .expect("ensure built every needed pipeline");
+        let pipeline = match self.pipelines.get(&self.key(pass)) {
+            Some(Pipeline::Render(p)) => p,
+            Some(Pipeline::Compute(p)) => {
+                let (_, out, _) = self.cloud_target.as_ref().expect("compute target exists");
+                let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("clouds (compute)"),
+                    timestamp_writes: timestamps.map(|(set, i)| wgpu::ComputePassTimestampWrites {
+                        query_set: set,
+                        beginning_of_pass_write_index: Some(i),
+                        end_of_pass_write_index: Some(i + 1),
+                    }),
+                });
+                cp.set_pipeline(p);
+                cp.set_bind_group(0, &self.bind_common, &[]);
+                cp.set_bind_group(1, self.bind_clouds.as_ref(), &[]);
+                cp.set_bind_group(2, out, &[]);
+                cp.dispatch_workgroups(self.width.div_ceil(8), self.height.div_ceil(8), 1);
+                return;
+            }
+            None => panic!("ensure built every needed pipeline ({})", pass.name()),
+        };
         let timestamp_writes = timestamps.map(|(set, i)| wgpu::RenderPassTimestampWrites {
             query_set: set,
             beginning_of_pass_write_index: Some(i),
@@ -755,6 +868,11 @@ impl Renderer {
             }
             Pass::Clouds => {
                 rp.set_bind_group(1, self.bind_clouds.as_ref(), &[]);
+                rp.draw(0..3, 0..1);
+            }
+            Pass::Composite => {
+                let (_, _, input) = self.cloud_target.as_ref().expect("compute target exists");
+                rp.set_bind_group(1, input, &[]);
                 rp.draw(0..3, 0..1);
             }
             _ => rp.draw(0..3, 0..1),

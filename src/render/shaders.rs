@@ -23,6 +23,8 @@ pub const FIELD_BAKED_WGSL: &str = include_str!("../../shaders/field_baked.wgsl"
 pub const DENSITY_WGSL: &str = include_str!("../../shaders/density.wgsl");
 /// Lighting of cloud samples (sun, sky, bounce).
 pub const LIGHTING_WGSL: &str = include_str!("../../shaders/lighting.wgsl");
+/// Composite of the compute march path.
+pub const COMPOSITE_WGSL: &str = include_str!("../../shaders/composite.wgsl");
 /// Compute bake of the macro field (`baked` method).
 pub const BAKE_WGSL: &str = include_str!("../../shaders/bake.wgsl");
 /// Sky gradient and sun disc.
@@ -43,6 +45,7 @@ pub const FILES: &[(&str, &str)] = &[
     ("density.wgsl", DENSITY_WGSL),
     ("lighting.wgsl", LIGHTING_WGSL),
     ("bake.wgsl", BAKE_WGSL),
+    ("composite.wgsl", COMPOSITE_WGSL),
     ("sky.wgsl", SKY_WGSL),
     ("terrain.wgsl", TERRAIN_WGSL),
     ("shadow.wgsl", SHADOW_WGSL),
@@ -58,16 +61,19 @@ pub enum Pass {
     Sky,
     Terrain,
     Clouds,
+    /// Blends the compute march's texture over the target (compute path).
+    Composite,
 }
 
 impl Pass {
     /// All passes in execution order.
-    pub const ALL: [Pass; 5] = [
+    pub const ALL: [Pass; 6] = [
         Pass::Bake,
         Pass::Shadow,
         Pass::Sky,
         Pass::Terrain,
         Pass::Clouds,
+        Pass::Composite,
     ];
 
     /// Name used in timings and `Renderer::pass_names`.
@@ -78,6 +84,7 @@ impl Pass {
             Pass::Sky => "sky",
             Pass::Terrain => "terrain",
             Pass::Clouds => "clouds",
+            Pass::Composite => "composite",
         }
     }
 
@@ -88,6 +95,7 @@ impl Pass {
             Pass::Sky => SKY_WGSL,
             Pass::Terrain => TERRAIN_WGSL,
             Pass::Clouds => CLOUDS_WGSL,
+            Pass::Composite => COMPOSITE_WGSL,
         }
     }
 
@@ -106,7 +114,7 @@ impl Pass {
     pub fn overrides(self, method: RenderMethod) -> &'static [&'static str] {
         let exact = method == RenderMethod::Exact;
         match self {
-            Pass::Bake => &["ENCODE_SRGB"],
+            Pass::Bake | Pass::Composite => &["ENCODE_SRGB"],
             Pass::Shadow if exact => &["ENCODE_SRGB", "GRID_CULLING"],
             Pass::Shadow => &["ENCODE_SRGB"],
             Pass::Sky => &["ENCODE_SRGB"],
