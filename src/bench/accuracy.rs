@@ -286,7 +286,10 @@ pub fn render_sweep(
         };
         let img = rgb(&resize_rgba(&m.rgba, w, h, width, height));
         match st.parameter.as_str() {
-            "default" => default_rgb = Some(img.clone()),
+            // Grid culling is the exact method's: compare it with brute force.
+            "method" if st.cfg.method == crate::render::RenderMethod::Exact => {
+                default_rgb = Some(img.clone())
+            }
             "grid_culling" => brute_rgb = Some(img.clone()),
             _ => {}
         }
