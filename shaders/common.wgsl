@@ -95,7 +95,8 @@ fn ray_box(ro: vec3<f32>, rd: vec3<f32>, bmin: vec3<f32>, bmax: vec3<f32>) -> ve
 // Tiling fBm noise in [-0.5, 0.5] at a world point: `octaves` fetches of the
 // periodic 3D texture at doubling frequencies, drifting slowly in time. The
 // weighted mean of fBm octaves clusters near 0, so it is doubled (then
-// clamped) to use the whole range.
+// clamped) to use the whole range. Keep in sync with its CPU twin,
+// NoiseVolume::noise3 in src/render/noise.rs.
 fn noise3(p: vec3<f32>) -> f32 {
     let drift = vec3<f32>(1.5, 0.8, 0.3) * frame.camera_pos.w;
     var q = (p + drift) * frame.noise.x;

@@ -124,10 +124,33 @@ fn check_outputs(dir: &Path) {
     check_positive("physics_error_vs_runtime.csv", &h, &rows, "time_ms");
 
     let (h, rows) = read_csv(&dir.join("scaling.csv"));
-    col(&h, "parcels");
-    assert_eq!(rows.len(), plan.scaling_counts.len());
-    check_positive("scaling.csv", &h, &rows, "grid_culling_frame_ms");
-    check_numbers("scaling.csv", &h, &rows, &["_ms", "_grid"]);
+    for name in [
+        "parcels",
+        "method",
+        "frame_ms",
+        "clouds_ms",
+        "bake_ms",
+        "mean_list",
+    ] {
+        col(&h, name);
+    }
+    // One row per count and method (tiny counts are ≤ brute_max: all three).
+    assert_eq!(rows.len(), 3 * plan.scaling_counts.len());
+    let m = col(&h, "method");
+    for method in ["baked", "exact", "brute"] {
+        let k = rows.iter().filter(|r| r[m] == method).count();
+        assert_eq!(k, plan.scaling_counts.len(), "{method} rows");
+    }
+    check_positive("scaling.csv", &h, &rows, "frame_ms");
+    check_positive("scaling.csv", &h, &rows, "clouds_ms");
+    // The baked rows re-bake every frame: the bake was timed.
+    let bake = col(&h, "bake_ms");
+    assert!(
+        rows.iter()
+            .filter(|r| r[m] == "baked")
+            .all(|r| r[bake].parse::<f64>().unwrap() > 0.0)
+    );
+    check_numbers("scaling.csv", &h, &rows, &["_ms", "_list"]);
 
     let (h, rows) = read_csv(&dir.join("pruning.csv"));
     assert_eq!(rows.len(), 4);
@@ -183,6 +206,7 @@ fn tiny_bench_writes_well_formed_tables() {
         size: None,
         adapter: None,
         progress: false,
+        method: Default::default(),
     };
     let results = cumulus::bench::run_with(&ctx, &opts).unwrap();
     assert!(["debug", "release"].contains(&results.info.profile));

@@ -323,10 +323,14 @@ fn shadow_pass_darkens_terrain_under_the_cloud() {
         time_s: 0.0,
     };
     hl.render(&ctx, &input).unwrap();
-    assert_eq!(
-        hl.renderer.pass_names(),
-        ["shadow", "sky", "terrain", "clouds"]
-    );
+    // (plus "composite" in frames that march in a compute shader)
+    let names: Vec<&str> = hl
+        .renderer
+        .pass_names()
+        .into_iter()
+        .filter(|n| *n != "composite")
+        .collect();
+    assert_eq!(names, ["bake", "shadow", "sky", "terrain", "clouds"]);
 }
 
 #[test]
@@ -362,16 +366,20 @@ fn normals_on_and_off_both_render_and_differ() {
 fn pruned_scenes_create_fewer_passes() {
     let Some(ctx) = context() else { return };
     let fmt = wgpu::TextureFormat::Rgba8UnormSrgb;
+    // The baked method (the default) adds its bake pass before the others.
     let full = Renderer::new(&ctx, &RenderConfig::default(), fmt, 64, 48).unwrap();
-    assert_eq!(full.pass_names(), ["shadow", "sky", "terrain", "clouds"]);
+    assert_eq!(
+        full.pass_names(),
+        ["bake", "shadow", "sky", "terrain", "clouds"]
+    );
     let mut sky_clouds = Renderer::new(&ctx, &no_terrain(), fmt, 64, 48).unwrap();
-    assert_eq!(sky_clouds.pass_names(), ["sky", "clouds"]);
+    assert_eq!(sky_clouds.pass_names(), ["bake", "sky", "clouds"]);
     let no_shadows = RenderConfig {
         shadows: false,
         ..RenderConfig::default()
     };
     let mut r = Renderer::new(&ctx, &no_shadows, fmt, 64, 48).unwrap();
-    assert_eq!(r.pass_names(), ["sky", "terrain", "clouds"]);
+    assert_eq!(r.pass_names(), ["bake", "sky", "terrain", "clouds"]);
     // No parcels: no ray-march, and (with shadows on) no shadow pass either.
     let input = FrameInput {
         camera: Camera::from(&CameraConfig::default()),
@@ -390,33 +398,42 @@ fn pruned_scenes_create_fewer_passes() {
         ..input
     };
     r.prepare(&ctx, &input).unwrap();
-    assert_eq!(r.pass_names(), ["sky", "terrain", "clouds"]);
+    assert_eq!(r.pass_names(), ["bake", "sky", "terrain", "clouds"]);
     // Shadows on: the shadow pass is built, and the terrain pipeline (its
     // HAS_SHADOWS constant changed); sky and clouds are kept.
     let built = r.pipelines_built();
     r.set_config(&ctx, &RenderConfig::default()).unwrap();
-    assert_eq!(r.pass_names(), ["shadow", "sky", "terrain", "clouds"]);
+    assert_eq!(
+        r.pass_names(),
+        ["bake", "shadow", "sky", "terrain", "clouds"]
+    );
     assert_eq!(r.pipelines_built(), built + 2);
     // Normals: only the cloud pipeline changes.
     let normals = RenderConfig {
         normals: true,
         ..RenderConfig::default()
     };
+    // Normals: only the cloud pipelines change (fragment and compute, both
+    // built while march = "auto" is still measuring).
     r.set_config(&ctx, &normals).unwrap();
-    assert_eq!(r.pipelines_built(), built + 3);
+    assert_eq!(r.pipelines_built(), built + 4);
     // A march parameter is a uniform: nothing is rebuilt.
     let steps = RenderConfig {
         step_m: 80.0,
         ..normals
     };
     r.set_config(&ctx, &steps).unwrap();
-    assert_eq!(r.pipelines_built(), built + 3);
+    assert_eq!(r.pipelines_built(), built + 4);
 }
 
 #[test]
 fn timings_name_every_pass() {
     let Some(ctx) = context() else { return };
-    let cfg = RenderConfig::default();
+    // One march path throughout ("auto" alternates while it measures).
+    let cfg = RenderConfig {
+        march: cumulus::render::MarchPath::Fragment,
+        ..RenderConfig::default()
+    };
     let mut hl = Headless::new(&ctx, &cfg, 64, 48).unwrap();
     let parcels = standin::default_field(300.0);
     let input = FrameInput {
@@ -433,6 +450,12 @@ fn timings_name_every_pass() {
         assert!(ms.is_finite() && *ms >= 0.0, "{n}: {ms}");
     }
     assert!(t.upload_ms >= 0.0);
+    assert_eq!(names[0], "bake");
+    // Whole frame: at least its longest pass (gaps between passes count too).
+    let longest = t.passes.iter().map(|(_, ms)| *ms).fold(0.0, f64::max);
+    assert!(t.frame_ms >= longest, "{} < {longest}", t.frame_ms);
+    // Later frames of the same parcels do not bake again.
+    let names: Vec<&str> = names.into_iter().filter(|n| *n != "bake").collect();
     // The CPU-clock fallback names the same passes and says so.
     hl.renderer.set_gpu_timestamps(false);
     let (_, t) = hl.render(&ctx, &input).unwrap();
@@ -461,8 +484,12 @@ fn grid_culling_matches_brute_force() {
     let Some(ctx) = context() else { return };
     // Every parcel whose padded sphere touches a cell is in its list, so
     // evaluating only the cell's parcels must give the same image as
-    // evaluating all of them (up to float ordering in the max()).
-    let culled = RenderConfig::default();
+    // evaluating all of them (up to float ordering in the max()). The grid
+    // is the exact method's.
+    let culled = RenderConfig {
+        method: cumulus::render::RenderMethod::Exact,
+        ..RenderConfig::default()
+    };
     let brute = RenderConfig {
         grid_culling: false,
         ..culled.clone()
@@ -543,7 +570,11 @@ fn the_most_parcels_the_uniforms_hold_render() {
             cond_plane_z_m: 1500.0,
         })
         .collect();
-    let cfg = RenderConfig::default();
+    // The uniform limit is the exact method's (the baked one has none).
+    let cfg = RenderConfig {
+        method: cumulus::render::RenderMethod::Exact,
+        ..RenderConfig::default()
+    };
     let mut hl = Headless::new(&ctx, &cfg, 64, 48).unwrap();
     let input = FrameInput {
         camera: Camera::from(&CameraConfig::default()),
@@ -597,5 +628,6 @@ fn a_target_of_another_size_resizes_the_renderer() {
     });
     let t = r.render(&ctx, &tex.create_view(&Default::default()));
     assert_eq!(r.size(), (80, 40));
-    assert_eq!(t.passes.len(), 4);
+    // bake, shadow, sky, terrain, clouds
+    assert_eq!(t.passes.len(), 5);
 }

@@ -3,6 +3,7 @@
 //! constants; all failures are reported at once. Also checks the Rust uniform
 //! structs against the WGSL layout naga computes.
 
+use cumulus::render::RenderMethod;
 use cumulus::render::pack::{FrameUniform, GpuParcel, GridUniform, ParcelsUniform};
 use cumulus::render::shaders::{FILES, Pass};
 
@@ -17,9 +18,9 @@ fn parse(src: &str) -> Result<(naga::Module, naga::valid::ModuleInfo), String> {
     Ok((module, info))
 }
 
-/// All 2^n combinations of the pass's boolean overrides.
-fn variants(pass: Pass) -> Vec<naga::back::PipelineConstants> {
-    let names = pass.overrides();
+/// All 2^n combinations of the pass's boolean overrides under `method`.
+fn variants(pass: Pass, method: RenderMethod) -> Vec<naga::back::PipelineConstants> {
+    let names = pass.overrides(method);
     (0..1u32 << names.len())
         .map(|bits| {
             names
@@ -35,12 +36,16 @@ fn variants(pass: Pass) -> Vec<naga::back::PipelineConstants> {
 fn every_pass_module_validates_in_every_variant() {
     let mut failures = Vec::new();
     let mut checked = 0;
-    for pass in Pass::ALL {
-        let src = pass.source();
+    for (pass, method) in Pass::ALL
+        .into_iter()
+        .flat_map(|p| RenderMethod::ALL.map(|m| (p, m)))
+        .filter(|(p, m)| p.used_by(*m))
+    {
+        let src = pass.source(method);
         let (module, info) = match parse(&src) {
             Ok(m) => m,
             Err(e) => {
-                failures.push(format!("{}: {e}", pass.name()));
+                failures.push(format!("{} ({method}): {e}", pass.name()));
                 continue;
             }
         };
@@ -51,15 +56,19 @@ fn every_pass_module_validates_in_every_variant() {
             .filter_map(|(_, o)| o.name.clone())
             .collect();
         declared.sort();
-        let mut known: Vec<String> = pass.overrides().iter().map(|s| s.to_string()).collect();
+        let mut known: Vec<String> = pass
+            .overrides(method)
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
         known.sort();
         if declared != known {
             failures.push(format!(
-                "{}: declares overrides {declared:?}, renderer sets {known:?}",
+                "{} ({method}): declares overrides {declared:?}, renderer sets {known:?}",
                 pass.name()
             ));
         }
-        for constants in variants(pass) {
+        for constants in variants(pass, method) {
             for ep in &module.entry_points {
                 let r = naga::back::pipeline_constants::process_overrides(
                     &module,
@@ -68,7 +77,11 @@ fn every_pass_module_validates_in_every_variant() {
                     &constants,
                 );
                 if let Err(e) = r {
-                    failures.push(format!("{} {} {constants:?}: {e}", pass.name(), ep.name));
+                    failures.push(format!(
+                        "{} ({method}) {} {constants:?}: {e}",
+                        pass.name(),
+                        ep.name
+                    ));
                 }
                 checked += 1;
             }
@@ -80,7 +93,13 @@ fn every_pass_module_validates_in_every_variant() {
         failures.len(),
         failures.join("\n\n")
     );
-    assert!(checked >= 2 * (4 + 2 + 4 + 16), "checked {checked}");
+    // Per method, variants × entry points (vertex + fragment, or the
+    // bake's splat + resolve): exact 2·(4 + 2 + 4 + 16), baked
+    // 2·(2 + 2 + 2 + 4 + 8): every pass of both methods was checked.
+    assert!(
+        checked >= 2 * (4 + 2 + 4 + 16) + 2 * (2 + 2 + 2 + 4 + 8),
+        "checked {checked}"
+    );
 }
 
 #[test]
@@ -95,7 +114,11 @@ fn every_file_in_shaders_dir_is_assembled() {
     }
     assert!(missing.is_empty(), "not used by any pass: {missing:?}");
     for (name, text) in FILES {
-        let used = Pass::ALL.iter().any(|p| p.source().contains(*text));
+        let used = Pass::ALL.iter().any(|p| {
+            RenderMethod::ALL
+                .iter()
+                .any(|m| p.source(*m).contains(*text))
+        });
         assert!(used, "{name} is in no pass module");
     }
 }
@@ -114,7 +137,7 @@ fn wgsl_struct_size(module: &naga::Module, name: &str) -> u32 {
 
 #[test]
 fn rust_uniforms_match_wgsl_layout() {
-    let src = Pass::Clouds.source();
+    let src = Pass::Clouds.source(RenderMethod::Exact);
     let (module, _) = parse(&src).unwrap();
     assert_eq!(
         wgsl_struct_size(&module, "Frame") as usize,

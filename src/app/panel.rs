@@ -409,6 +409,12 @@ fn render_section(ui: &mut egui::Ui, m: &mut Model) -> bool {
     ui.label(RichText::new("Rendering").strong());
     let before = m.render_cfg.clone();
     let r = &mut m.render_cfg;
+    ui.horizontal(|ui| {
+        ui.label("method");
+        for method in crate::render::RenderMethod::ALL {
+            ui.radio_value(&mut r.method, method, method.name());
+        }
+    });
     ui.add(
         egui::Slider::new(&mut r.step_m, 10.0..=200.0)
             .logarithmic(true)

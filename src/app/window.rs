@@ -34,6 +34,8 @@ pub struct WatchOptions {
     pub warmup_s: f64,
     /// Inner window size. units: logical pixels
     pub size: (u32, u32),
+    /// Render method overriding the scene's `[render] method`.
+    pub method: Option<crate::render::RenderMethod>,
 }
 
 impl Default for WatchOptions {
@@ -44,6 +46,7 @@ impl Default for WatchOptions {
             frames: None,
             warmup_s: 0.0,
             size: (1280, 760),
+            method: None,
         }
     }
 }
@@ -55,6 +58,9 @@ pub fn run(mut opts: WatchOptions) -> Result<()> {
     }
     let (profile, source) = crate::scene::load_scene(opts.scene.as_deref())?;
     let mut model = Model::new(profile, source)?;
+    if let Some(m) = opts.method {
+        model.render_cfg.method = m;
+    }
     if opts.warmup_s > 0.0 {
         model.warm_up(opts.warmup_s);
     }
@@ -103,6 +109,8 @@ struct Gfx {
     view3d: Option<(wgpu::Texture, wgpu::TextureView)>,
     egui_state: egui_winit::State,
     egui_renderer: egui_wgpu::Renderer,
+    /// Set by the device-lost callback: why the device was lost.
+    lost: Arc<std::sync::Mutex<Option<String>>>,
 }
 
 struct App {
@@ -133,6 +141,13 @@ impl App {
                 .create_window(attrs)
                 .map_err(|e| Error::Gpu(format!("cannot create the window: {e}")))?,
         );
+        self.gfx = Some(self.make_gfx(window)?);
+        Ok(())
+    }
+
+    /// Opens a device for `window` and everything drawn with it (also after
+    /// the device was lost).
+    fn make_gfx(&mut self, window: Arc<Window>) -> Result<Gfx> {
         let instance = GpuContext::new_instance();
         let surface = instance
             .create_surface(window.clone())
@@ -173,7 +188,11 @@ impl App {
             surface.configure(device, &config);
         }
         let (_, w3d, h3d) = view3d_rect(split, &window, config.width, config.height);
-        let renderer = Renderer::new(&ctx, &self.model.resolved_render_config(), format, w3d, h3d)?;
+        let mut renderer =
+            Renderer::new(&ctx, &self.model.resolved_render_config(), format, w3d, h3d)?;
+        // Never wait for the GPU to read the timings back: the panel shows
+        // the latest finished frame's.
+        renderer.set_timing_mode(crate::render::TimingMode::GpuLagged);
         let egui_state = egui_winit::State::new(
             self.egui_ctx.clone(),
             egui::ViewportId::ROOT,
@@ -184,7 +203,14 @@ impl App {
         );
         let egui_renderer =
             egui_wgpu::Renderer::new(device, format, egui_wgpu::RendererOptions::default());
-        self.gfx = Some(Gfx {
+        // Device loss (driver reset, GPU removed) is reported here and
+        // handled in `frame`: a message in the panel and a new device.
+        let lost = Arc::new(std::sync::Mutex::new(None));
+        let flag = lost.clone();
+        device.set_device_lost_callback(move |reason, msg| {
+            *flag.lock().unwrap_or_else(|e| e.into_inner()) = Some(format!("{reason:?}: {msg}"));
+        });
+        Ok(Gfx {
             window,
             surface,
             ctx,
@@ -194,7 +220,23 @@ impl App {
             view3d: None,
             egui_state,
             egui_renderer,
-        });
+            lost,
+        })
+    }
+
+    /// After a device loss: says so in the panel and rebuilds the device,
+    /// renderer and panel painter for the same window.
+    fn recover_lost_device(&mut self) -> Result<()> {
+        let Some(g) = &self.gfx else { return Ok(()) };
+        let Some(reason) = g.lost.lock().unwrap_or_else(|e| e.into_inner()).take() else {
+            return Ok(());
+        };
+        let window = g.window.clone();
+        self.gfx = None;
+        // A fresh egui context re-sends its font atlas to the new painter.
+        self.egui_ctx = panel::egui_context();
+        self.gfx = Some(self.make_gfx(window)?);
+        self.model.status = format!("GPU device lost ({reason}); recreated it");
         Ok(())
     }
 
@@ -236,6 +278,7 @@ impl App {
 
     /// One frame. Returns Ok(true) when the app should exit.
     fn frame(&mut self) -> Result<bool> {
+        self.recover_lost_device()?;
         let now = Instant::now();
         let real_dt = now - self.last_frame;
         self.last_frame = now;

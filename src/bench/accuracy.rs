@@ -104,6 +104,8 @@ pub fn reference_config(base: &RenderConfig, brute_force: bool) -> RenderConfig 
     r.noise_octaves = REFERENCE_OCTAVES;
     r.grid_culling = !brute_force;
     r.early_exit_transmittance = 0.0;
+    // The paper's per-sample union: what the baked field approximates.
+    r.method = crate::render::RenderMethod::Exact;
     r
 }
 
@@ -241,8 +243,28 @@ impl RenderSweep {
             let value = format!("{n} ({:.0} m)", light_march_length_m(n, c.light_step_m));
             out.push(s("light_steps", value, c, 1.0));
         }
+        // Each method against the reference (kept even where one equals
+        // the default row).
+        for m in crate::render::RenderMethod::ALL {
+            let c = RenderConfig {
+                method: m,
+                ..base.clone()
+            };
+            out.push(s("method", m.name().into(), c, 1.0));
+        }
+        for m in [
+            crate::render::MarchPath::Fragment,
+            crate::render::MarchPath::Compute,
+        ] {
+            let c = RenderConfig {
+                march: m,
+                ..base.clone()
+            };
+            out.push(s("march", m.name().into(), c, 1.0));
+        }
         if self.no_grid_culling {
             let c = RenderConfig {
+                method: crate::render::RenderMethod::Exact,
                 grid_culling: false,
                 ..base.clone()
             };
@@ -262,7 +284,9 @@ impl RenderSweep {
         let mut seen: Vec<(RenderConfig, u32)> = Vec::new();
         out.retain(|st| {
             let key = (st.cfg.clone(), st.scale.to_bits());
-            if seen.contains(&key) {
+            if st.parameter == "method" || st.parameter == "march" {
+                true
+            } else if seen.contains(&key) {
                 false
             } else {
                 seen.push(key);
@@ -365,7 +389,10 @@ pub fn render_sweep(
         };
         let img = rgb(&resize_rgba(&m.rgba, w, h, width, height));
         match st.parameter.as_str() {
-            "default" => default_rgb = Some(img.clone()),
+            // Grid culling is the exact method's: compare it with brute force.
+            "method" if st.cfg.method == crate::render::RenderMethod::Exact => {
+                default_rgb = Some(img.clone())
+            }
             "grid_culling" => brute_rgb = Some(img.clone()),
             _ => {}
         }
@@ -618,8 +645,9 @@ mod tests {
         let s = sweep.settings(&d);
         assert_eq!(s[0].parameter, "default");
         assert_eq!(s[0].cfg, d);
-        // Default duplicates (step×1, 4 octaves, 4 light steps, 0.02, scale 1) dropped.
-        assert_eq!(s.len(), 1 + 1 + 1 + 1 + 1 + 1 + 1, "{s:#?}");
+        // Default duplicates (step×1, 4 octaves, 4 light steps, 0.02, scale 1)
+        // dropped; both method rows and both march-path rows kept.
+        assert_eq!(s.len(), 1 + 1 + 1 + 1 + 1 + 1 + 1 + 2 + 2, "{s:#?}");
         for st in &s {
             st.cfg.validate().unwrap();
         }

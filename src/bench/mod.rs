@@ -28,6 +28,10 @@ use accuracy::{PhysicsError, RenderError, RenderSweep};
 use measure::Repeats;
 use perf::{PerfRow, PruningRow, ScalingRow};
 
+/// Parcel counts of the scaling table in quick mode.
+pub const QUICK_SCALING_COUNTS: [usize; 4] = [8, 85, 1024, 4096];
+/// Parcel counts of the scaling table in full mode.
+pub const FULL_SCALING_COUNTS: [usize; 7] = [8, 85, 256, 1024, 4096, 8192, 16_384];
 /// Parcel counts of the performance table (paper Table 1, and beyond).
 pub const TABLE_COUNTS: [usize; 6] = [8, 14, 34, 85, 256, 1024];
 
@@ -72,6 +76,9 @@ pub struct Options {
     pub adapter: Option<String>,
     /// Show progress bars on stderr.
     pub progress: bool,
+    /// Render method of the performance and pruning tables and the error
+    /// sweep's base (the scaling table measures every method).
+    pub method: crate::render::RenderMethod,
 }
 
 /// What each section measures, by mode.
@@ -119,7 +126,7 @@ impl Plan {
                 physics_duration_s: 600.0,
                 physics_dts: vec![8.0, 4.0, 2.0, 1.0, 0.5, 0.25],
                 physics_reference_dt_s: 1.0 / 64.0,
-                scaling_counts: TABLE_COUNTS.to_vec(),
+                scaling_counts: FULL_SCALING_COUNTS.to_vec(),
                 brute_max: 1024,
                 pruning_parcels: 85,
             },
@@ -144,7 +151,7 @@ impl Plan {
                 physics_duration_s: 240.0,
                 physics_dts: vec![4.0, 2.0, 1.0, 0.5],
                 physics_reference_dt_s: 1.0 / 16.0,
-                scaling_counts: TABLE_COUNTS.to_vec(),
+                scaling_counts: QUICK_SCALING_COUNTS.to_vec(),
                 brute_max: 85,
                 pruning_parcels: 85,
             },
@@ -181,11 +188,9 @@ impl Plan {
     /// Progress ticks the run will make.
     fn ticks(&self) -> u64 {
         let settings = self.sweep.settings(&RenderConfig::default()).len();
-        let brute = self
-            .scaling_counts
-            .iter()
-            .filter(|&&n| n <= self.brute_max)
-            .count();
+        let limited = |max: usize| self.scaling_counts.iter().filter(|&&n| n <= max).count();
+        let brute = limited(self.brute_max.min(crate::render::pack::MAX_PARCELS))
+            + limited(crate::render::pack::MAX_PARCELS);
         (self.counts.len() * 4
             + 1
             + settings
@@ -291,9 +296,12 @@ pub fn run_with(ctx: &GpuContext, opts: &Options) -> Result<BenchResults> {
         bar.inc(1);
     };
 
-    let performance = perf::performance(ctx, size, &plan.counts, plan.reps, tick)?;
+    let performance = perf::performance(ctx, size, &plan.counts, opts.method, plan.reps, tick)?;
 
-    let base = RenderConfig::default();
+    let base = RenderConfig {
+        method: opts.method,
+        ..RenderConfig::default()
+    };
     let error_parcels = scenes::cloud_parcels(&scenes::cloud_field(plan.error_parcels)?);
     let render_error = accuracy::render_sweep(
         ctx,
@@ -324,11 +332,17 @@ pub fn run_with(ctx: &GpuContext, opts: &Options) -> Result<BenchResults> {
         size,
         &plan.scaling_counts,
         plan.brute_max,
-        &performance,
         plan.reps,
         tick,
     )?;
-    let pruning = perf::pruning(ctx, size, plan.pruning_parcels, plan.reps, tick)?;
+    let pruning = perf::pruning(
+        ctx,
+        size,
+        plan.pruning_parcels,
+        opts.method,
+        plan.reps,
+        tick,
+    )?;
     bar.finish_and_clear();
 
     let results = BenchResults {

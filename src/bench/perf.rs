@@ -1,11 +1,14 @@
 //! Frame-time measurements: the performance table (parcel count × normals ×
-//! shadows, paper Table 1), scaling with the parcel count for grid culling
-//! against brute force, and what each optional pass costs (pruning).
+//! shadows, paper Table 1), scaling with the parcel count for each render
+//! method (baked, exact with grid culling, brute force), and what each
+//! optional pass costs (pruning).
 
 use crate::error::Result;
-use crate::physics::ParcelWorld;
+use crate::physics::{CloudParcel, ParcelWorld};
 use crate::render::headless::Headless;
-use crate::render::{Camera, CameraConfig, GpuContext, RenderConfig, TerrainConfig};
+use crate::render::{
+    Camera, CameraConfig, GpuContext, RenderConfig, RenderMethod, TerrainConfig, pack,
+};
 
 use super::measure::{Measured, Repeats, Source, measure};
 use super::scenes;
@@ -25,8 +28,9 @@ pub fn camera() -> Camera {
 
 /// Render settings of a table variant: defaults with normals and shadows
 /// as given (terrain on, so shadows have somewhere to fall).
-pub fn variant_config(normals: bool, shadows: bool) -> RenderConfig {
+pub fn variant_config(normals: bool, shadows: bool, method: RenderMethod) -> RenderConfig {
     RenderConfig {
+        method,
         normals,
         shadows,
         ..RenderConfig::default()
@@ -53,10 +57,11 @@ pub fn performance(
     ctx: &GpuContext,
     size: (u32, u32),
     counts: &[usize],
+    method: RenderMethod,
     reps: Repeats,
     mut tick: impl FnMut(&str),
 ) -> Result<Vec<PerfRow>> {
-    let mut hl = Headless::new(ctx, &variant_config(false, false), size.0, size.1)?;
+    let mut hl = Headless::new(ctx, &variant_config(false, false, method), size.0, size.1)?;
     let cam = camera();
     let worlds: Vec<ParcelWorld> = counts
         .iter()
@@ -64,7 +69,7 @@ pub fn performance(
         .collect::<Result<_>>()?;
     let mut rows = Vec::new();
     for (normals, shadows) in VARIANTS {
-        let cfg = variant_config(normals, shadows);
+        let cfg = variant_config(normals, shadows, method);
         hl.renderer.set_config(ctx, &cfg)?;
         for (&n, world) in counts.iter().zip(&worlds) {
             tick(&format!(
@@ -105,81 +110,110 @@ pub fn on_off(b: bool) -> &'static str {
     if b { "on" } else { "off" }
 }
 
-/// One row of the scaling table: render frame time (no physics) with and
-/// without the culling grid.
+/// One row of the scaling table: the render frame (no physics) of one
+/// method at one parcel count.
 #[derive(Debug, Clone)]
 pub struct ScalingRow {
     pub parcels: usize,
-    /// units: ms
-    pub grid_ms: f64,
-    /// None where brute force was skipped (too slow for this run). units: ms
-    pub brute_ms: Option<f64>,
+    /// "baked", "exact" (grid culling) or "brute" (exact, every parcel at
+    /// every sample).
+    pub method: &'static str,
+    /// GPU time of the whole frame, first to last timestamp. units: ms
+    pub frame_ms: f64,
+    /// Cloud pass. units: ms
+    pub clouds_ms: f64,
+    /// Bake pass (baked only; re-baked every measured frame, the cost when
+    /// every parcel moves, as at high time speed). units: ms
+    pub bake_ms: f64,
+    /// Exact path: mean parcel-list length over the non-empty grid cells.
+    pub mean_list: Option<f64>,
+    /// Exact path: longest parcel list.
+    pub max_list: Option<u32>,
+    /// Exact path: how often the grid was halved to fit its lists.
+    pub coarsened: Option<u32>,
 }
 
-/// Frame time against parcel count, grid culling vs brute force (default
-/// settings otherwise); brute force only up to `brute_max` parcels. The
-/// grid-culling times are the render part (upload + passes) of the
-/// performance rows with default settings where the table has the count
-/// (the same frames: measuring them again would only add noise and time).
+/// Mean and longest list, and the coarsening, of the exact path's grid for
+/// `parcels` (None past what the uniforms hold).
+fn list_stats(parcels: &[CloudParcel], cfg: &RenderConfig) -> Option<(f64, u32, u32)> {
+    let packed = pack::pack(parcels, cfg.shell_m, cfg.radius_scale).ok()?;
+    let d = packed.info.dims;
+    let mut lens = Vec::new();
+    for z in 0..d[2] {
+        for y in 0..d[1] {
+            for x in 0..d[0] {
+                let n = packed.cell_list(x, y, z).len() as u32;
+                if n > 0 {
+                    lens.push(n);
+                }
+            }
+        }
+    }
+    let mean = lens.iter().map(|&n| n as f64).sum::<f64>() / lens.len().max(1) as f64;
+    Some((
+        mean,
+        lens.iter().copied().max().unwrap_or(0),
+        packed.info.coarsened,
+    ))
+}
+
+/// Frame time against parcel count for each method: baked at every count,
+/// exact (grid culling) up to [`pack::MAX_PARCELS`], brute force only up to
+/// `brute_max` (default settings otherwise).
 pub fn scaling(
     ctx: &GpuContext,
     size: (u32, u32),
     counts: &[usize],
     brute_max: usize,
-    table: &[PerfRow],
     reps: Repeats,
     mut tick: impl FnMut(&str),
 ) -> Result<Vec<ScalingRow>> {
     let base = RenderConfig::default();
-    let default_variant = (base.normals, base.shadows);
     let mut hl = Headless::new(ctx, &base, size.0, size.1)?;
     let cam = camera();
     let mut rows = Vec::new();
-    for culling in [true, false] {
-        let cfg = RenderConfig {
-            grid_culling: culling,
-            ..base.clone()
-        };
-        hl.renderer.set_config(ctx, &cfg)?;
-        for &n in counts {
-            if !culling && n > brute_max {
+    for &n in counts {
+        let parcels = scenes::cloud_parcels(&scenes::cloud_field(n)?);
+        let stats = list_stats(&parcels, &base);
+        for method in ["baked", "exact", "brute"] {
+            let cfg = RenderConfig {
+                method: if method == "baked" {
+                    RenderMethod::Baked
+                } else {
+                    RenderMethod::Exact
+                },
+                grid_culling: method != "brute",
+                ..base.clone()
+            };
+            let skip = match method {
+                "baked" => false,
+                "exact" => n > pack::MAX_PARCELS,
+                _ => n > brute_max.min(pack::MAX_PARCELS),
+            };
+            if skip {
                 continue;
             }
-            tick(&format!(
-                "scaling: {n} parcels, {}",
-                if culling {
-                    "grid culling"
-                } else {
-                    "brute force"
-                }
-            ));
-            let known = table
-                .iter()
-                .find(|r| r.parcels == n && (r.normals, r.shadows) == default_variant);
-            let ms = match known {
-                Some(r) if culling => r.m.render_ms,
-                _ => {
-                    let parcels = scenes::cloud_parcels(&scenes::cloud_field(n)?);
-                    measure(
-                        ctx,
-                        &mut hl,
-                        cam,
-                        cfg.sun(),
-                        Source::Parcels(&parcels),
-                        reps,
-                    )?
-                    .render_ms
-                }
-            };
-            if culling {
-                rows.push(ScalingRow {
-                    parcels: n,
-                    grid_ms: ms,
-                    brute_ms: None,
-                });
-            } else if let Some(row) = rows.iter_mut().find(|r| r.parcels == n) {
-                row.brute_ms = Some(ms);
-            }
+            tick(&format!("scaling: {n} parcels, {method}"));
+            hl.renderer.set_config(ctx, &cfg)?;
+            hl.renderer.set_always_bake(true);
+            let m = measure(
+                ctx,
+                &mut hl,
+                cam,
+                cfg.sun(),
+                Source::Parcels(&parcels),
+                reps,
+            )?;
+            rows.push(ScalingRow {
+                parcels: n,
+                method,
+                frame_ms: m.gpu_ms,
+                clouds_ms: m.pass_ms("clouds").unwrap_or(0.0),
+                bake_ms: m.pass_ms("bake").unwrap_or(0.0),
+                mean_list: stats.filter(|_| method != "baked").map(|s| s.0),
+                max_list: stats.filter(|_| method != "baked").map(|s| s.1),
+                coarsened: stats.filter(|_| method != "baked").map(|s| s.2),
+            });
         }
     }
     Ok(rows)
@@ -204,10 +238,11 @@ pub fn pruning(
     ctx: &GpuContext,
     size: (u32, u32),
     parcels_n: usize,
+    method: RenderMethod,
     reps: Repeats,
     mut tick: impl FnMut(&str),
 ) -> Result<Vec<PruningRow>> {
-    let all = variant_config(true, true);
+    let all = variant_config(true, true, method);
     let variants: [(&'static str, RenderConfig); 4] = [
         ("all", all.clone()),
         (

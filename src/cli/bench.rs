@@ -30,6 +30,10 @@ pub struct Args {
     /// Part of the GPU adapter's name to use (e.g. llvmpipe).
     #[arg(long)]
     pub adapter: Option<String>,
+    /// Render method of the performance and pruning tables (the scaling
+    /// table measures every method): baked (default) or exact.
+    #[arg(long, value_parser = super::watch::parse_method)]
+    pub method: Option<cumulus::render::RenderMethod>,
 }
 
 /// Runs `cumulus bench`.
@@ -54,6 +58,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         size,
         adapter: args.adapter,
         progress: true,
+        method: args.method.unwrap_or_default(),
     };
     let start = std::time::Instant::now();
     let results = cumulus::bench::run(&opts)?;

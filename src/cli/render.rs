@@ -38,6 +38,10 @@ pub struct Args {
     /// shipped scenes' cloud fields form. units: s
     #[arg(long, default_value_t = 1800.0, allow_negative_numbers = true)]
     pub time: f64,
+    /// Cloud render method (overrides the scene's [render] method): baked
+    /// (default) or exact.
+    #[arg(long, value_parser = super::watch::parse_method)]
+    pub method: Option<cumulus::render::RenderMethod>,
     /// Finite-difference normals (overrides the scene's [render] normals).
     #[arg(long, value_enum)]
     pub normals: Option<Switch>,
@@ -143,6 +147,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let (scene, source) = cumulus::scene::load_scene(args.scene.as_deref())?;
     let mut cfg = scene.render.clone();
     cfg.resolve_paths(&source.base_dir());
+    if let Some(m) = args.method {
+        cfg.method = m;
+    }
     if let Some(n) = args.normals {
         cfg.normals = n == Switch::On;
     }
@@ -215,11 +222,22 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .iter()
             .map(|(n, ms)| format!("{n} {ms:.1} ms"))
             .collect();
+        let bake = headless.renderer.bake_info();
+        if cfg.method == cumulus::render::RenderMethod::Baked && bake.coarsened > 0 {
+            eprintln!(
+                "note: the baked cloud field uses {:.0} m voxels instead of {:.0} m to stay within {} voxels (clouds cover a large region)",
+                bake.voxel_m,
+                bake.wanted_voxel_m,
+                cumulus::render::raymarch::baked::MAX_BAKE_VOXELS
+            );
+        }
         let line = format!(
-            "{}: t = {t:.0} s, {}; {} ({}), upload {:.2} ms",
+            "{}: t = {t:.0} s, {}; {} method: {}, frame {:.1} ms ({}), upload {:.2} ms",
             path.display(),
             summary(&parcels),
+            cfg.method,
             passes.join(", "),
+            timings.frame_ms,
             if timings.gpu_timestamps {
                 "GPU timestamps"
             } else {

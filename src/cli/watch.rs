@@ -30,6 +30,15 @@ pub struct Args {
     /// Window height in logical pixels.
     #[arg(long, default_value_t = 760, value_parser = clap::value_parser!(u32).range(200..=8192))]
     pub height: u32,
+    /// Cloud render method (overrides the scene's [render] method): baked
+    /// (default) or exact.
+    #[arg(long, value_parser = parse_method)]
+    pub method: Option<cumulus::render::RenderMethod>,
+}
+
+/// Parses `--method` (the error names the allowed values).
+pub fn parse_method(s: &str) -> Result<cumulus::render::RenderMethod, String> {
+    s.parse().map_err(|e: cumulus::error::Error| e.to_string())
 }
 
 impl Default for Args {
@@ -42,6 +51,7 @@ impl Default for Args {
             warmup: d.warmup_s,
             width: d.size.0,
             height: d.size.1,
+            method: d.method,
         }
     }
 }
@@ -57,6 +67,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         frames: args.frames,
         warmup_s: args.warmup,
         size: (args.width, args.height),
+        method: args.method,
     };
     cumulus::app::run(opts).context("cumulus watch")
 }

@@ -1,9 +1,12 @@
-//! GPU renderer (paper §6): packs condensed parcels and a culling grid into
-//! uniform buffers and ray-marches hypertextured spheres over a terrain with
-//! cloud shadows. One `render` path serves the window, headless commands and tests.
+//! GPU renderer (paper §6): ray-marches hypertextured spheres (eq. 18) over
+//! a terrain with cloud shadows, by one of the [`RenderMethod`]s (the
+//! paper's exact per-sample union, or a baked macro-field texture). One
+//! `render` path serves the window, headless commands and tests.
 //!
 //! Layers: [`pack`], [`noise`] and [`terrain`] are pure CPU (unit-tested
-//! without a GPU); [`gpu`] opens the device; [`renderer`] owns the passes;
+//! without a GPU); [`gpu`] opens the device; [`raymarch`] holds each
+//! method's cloud field; [`pipelines`] the layouts and the pipeline cache;
+//! [`timing`] the GPU timestamps; [`renderer`] owns and orders the passes;
 //! [`headless`] renders to an offscreen texture and reads it back.
 //!
 //! Use (window, bench, tests alike):
@@ -20,15 +23,20 @@
 //! The passes and their shaders are described in `shaders/*.wgsl` headers;
 //! the density of the hypertexture (paper eq. 18) in `shaders/density.wgsl`.
 
+pub mod auto_march;
 pub mod field;
 pub mod gpu;
 pub mod headless;
+pub mod method;
 pub mod noise;
 pub mod pack;
+pub mod pipelines;
+pub mod raymarch;
 pub mod renderer;
 pub mod shaders;
 pub mod standin;
 pub mod terrain;
+pub mod timing;
 
 use std::path::PathBuf;
 
@@ -39,6 +47,7 @@ use crate::error::{Error, Result};
 use crate::physics::CloudParcel;
 
 pub use gpu::GpuContext;
+pub use method::{MarchPath, RenderMethod};
 pub use renderer::{FrameTimings, Renderer, TimingMode};
 
 /// Terrain settings (the `[render.terrain]` table).
@@ -78,6 +87,13 @@ impl Default for TerrainConfig {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct RenderConfig {
+    /// How the clouds are drawn: "baked" (the default: macro field baked
+    /// into a 3D texture, cost flat in the parcel count) or "exact" (the
+    /// paper's per-sample union; at most 1024 condensed parcels).
+    pub method: RenderMethod,
+    /// Shader stage of the ray-march: "fragment", "compute" or "auto" (the
+    /// default: the faster on this adapter, measured in the first frames).
+    pub march: MarchPath,
     /// Ray-march the clouds at all (off = landscape only).
     pub clouds: bool,
     /// Cloud shadows on the terrain (needs terrain and clouds).
@@ -132,6 +148,8 @@ pub struct RenderConfig {
 impl Default for RenderConfig {
     fn default() -> Self {
         Self {
+            method: RenderMethod::default(),
+            march: MarchPath::default(),
             clouds: true,
             shadows: true,
             normals: false,

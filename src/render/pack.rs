@@ -170,11 +170,16 @@ fn parcel_bounds(p: &GpuParcel, shell_m: f32) -> (Vec3, Vec3) {
     (lo, hi)
 }
 
-/// Packs `parcels` for the GPU. `shell_m` is the hypertexture shell thickness
-/// (density reaches that far beyond the sphere and below the plane);
-/// `radius_scale` enlarges the rendered spheres over the physical parcels
-/// (paper §6.1: "spheres larger than these kernels for nice looking unions").
-pub fn pack(parcels: &[CloudParcel], shell_m: f32, radius_scale: f32) -> Result<Packed> {
+/// The condensed parcels as drawn: checked (finite fields, else an error
+/// naming the parcel), those with f = 0 or r = 0 skipped (eq. 18 gives them
+/// no density), radii scaled by `radius_scale`, f capped at 1. No count
+/// limit: the exact method's [`pack`] and the baked method's chunks apply
+/// their own.
+pub fn gpu_parcels(
+    parcels: &[CloudParcel],
+    shell_m: f32,
+    radius_scale: f32,
+) -> Result<Vec<GpuParcel>> {
     if !(shell_m.is_finite() && shell_m >= 0.0) {
         return Err(Error::invalid("render.shell_m", shell_m, "finite, ≥ 0 m"));
     }
@@ -185,8 +190,7 @@ pub fn pack(parcels: &[CloudParcel], shell_m: f32, radius_scale: f32) -> Result<
             "finite, > 0",
         ));
     }
-    let mut out_parcels = zeroed_box::<ParcelsUniform>();
-    let mut n = 0usize;
+    let mut out = Vec::with_capacity(parcels.len());
     for (i, p) in parcels.iter().enumerate() {
         let finite = p.center_m.is_finite()
             && p.radius_m.is_finite()
@@ -199,24 +203,10 @@ pub fn pack(parcels: &[CloudParcel], shell_m: f32, radius_scale: f32) -> Result<
                 "finite centre, radius, fill and condensation plane",
             ));
         }
-        // f = 0 or r = 0 draws nothing (eq. 18 gives density 0): skip, not truncate.
         if p.fill <= 0.0 || p.radius_m <= 0.0 {
             continue;
         }
-        if n == MAX_PARCELS {
-            let drawn = parcels
-                .iter()
-                .filter(|p| p.fill > 0.0 && p.radius_m > 0.0)
-                .count();
-            return Err(Error::invalid(
-                "condensed parcel count",
-                drawn,
-                format!(
-                    "at most {MAX_PARCELS} (size of the parcel uniform array in pack.rs and common.wgsl)"
-                ),
-            ));
-        }
-        out_parcels.parcels[n] = GpuParcel {
+        out.push(GpuParcel {
             center_radius: [
                 p.center_m.x,
                 p.center_m.y,
@@ -224,9 +214,29 @@ pub fn pack(parcels: &[CloudParcel], shell_m: f32, radius_scale: f32) -> Result<
                 p.radius_m * radius_scale,
             ],
             fill_plane: [p.fill.min(1.0), p.cond_plane_z_m, 0.0, 0.0],
-        };
-        n += 1;
+        });
     }
+    Ok(out)
+}
+
+/// Packs `parcels` for the GPU. `shell_m` is the hypertexture shell thickness
+/// (density reaches that far beyond the sphere and below the plane);
+/// `radius_scale` enlarges the rendered spheres over the physical parcels
+/// (paper §6.1: "spheres larger than these kernels for nice looking unions").
+pub fn pack(parcels: &[CloudParcel], shell_m: f32, radius_scale: f32) -> Result<Packed> {
+    let drawn = gpu_parcels(parcels, shell_m, radius_scale)?;
+    if drawn.len() > MAX_PARCELS {
+        return Err(Error::invalid(
+            "condensed parcel count",
+            drawn.len(),
+            format!(
+                "at most {MAX_PARCELS} with render.method = \"exact\" (size of the parcel uniform array in pack.rs and common.wgsl); the \"baked\" method has no such limit"
+            ),
+        ));
+    }
+    let n = drawn.len();
+    let mut out_parcels = zeroed_box::<ParcelsUniform>();
+    out_parcels.parcels[..n].copy_from_slice(&drawn);
     let live = &out_parcels.parcels[..n];
 
     let mut grid = zeroed_box::<GridUniform>();

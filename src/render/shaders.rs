@@ -1,16 +1,32 @@
 //! WGSL sources of the passes, assembled from the files in `shaders/`
 //! (naga has no `#include`): a generated prelude with the array sizes from
-//! [`crate::render::pack`], then `common.wgsl`, then `density.wgsl` for the
-//! passes that evaluate clouds, then the pass's own file. Variants are WGSL
-//! `override` constants set at pipeline creation, so code that a scene does
-//! not need (normals, shadow lookups, brute-force loops) is removed then.
+//! [`crate::render::pack`], then `common.wgsl`, then, for the passes that
+//! evaluate clouds, `parcel.wgsl` (the parcel part of eq. 18), the macro
+//! field of the render method (`field_exact.wgsl` or `field_baked.wgsl`,
+//! same functions), `density.wgsl` and, for the cloud pass, `lighting.wgsl`;
+//! then the pass's own file. Variants are WGSL `override` constants set at
+//! pipeline creation, so code that a scene does not need (normals, shadow
+//! lookups, brute-force loops) is removed then.
 
+use crate::render::method::RenderMethod;
 use crate::render::pack::{MAX_GRID_CELLS, MAX_GRID_ENTRIES, MAX_PARCELS};
 
 /// Shared uniforms, camera, noise, sun and sky.
 pub const COMMON_WGSL: &str = include_str!("../../shaders/common.wgsl");
+/// One parcel's part of eq. 18 (exact field and bake).
+pub const PARCEL_WGSL: &str = include_str!("../../shaders/parcel.wgsl");
+/// Macro field of the `exact` method (per-sample union from the grid lists).
+pub const FIELD_EXACT_WGSL: &str = include_str!("../../shaders/field_exact.wgsl");
+/// Macro field of the `baked` method (3D texture + occupancy).
+pub const FIELD_BAKED_WGSL: &str = include_str!("../../shaders/field_baked.wgsl");
 /// Hypertexture density (paper eq. 18), for clouds and shadows.
 pub const DENSITY_WGSL: &str = include_str!("../../shaders/density.wgsl");
+/// Lighting of cloud samples (sun, sky, bounce).
+pub const LIGHTING_WGSL: &str = include_str!("../../shaders/lighting.wgsl");
+/// Composite of the compute march path.
+pub const COMPOSITE_WGSL: &str = include_str!("../../shaders/composite.wgsl");
+/// Compute bake of the macro field (`baked` method).
+pub const BAKE_WGSL: &str = include_str!("../../shaders/bake.wgsl");
 /// Sky gradient and sun disc.
 pub const SKY_WGSL: &str = include_str!("../../shaders/sky.wgsl");
 /// Terrain mesh.
@@ -23,7 +39,13 @@ pub const CLOUDS_WGSL: &str = include_str!("../../shaders/clouds.wgsl");
 /// Every file in `shaders/`, by name (the shader test checks none is missing).
 pub const FILES: &[(&str, &str)] = &[
     ("common.wgsl", COMMON_WGSL),
+    ("parcel.wgsl", PARCEL_WGSL),
+    ("field_exact.wgsl", FIELD_EXACT_WGSL),
+    ("field_baked.wgsl", FIELD_BAKED_WGSL),
     ("density.wgsl", DENSITY_WGSL),
+    ("lighting.wgsl", LIGHTING_WGSL),
+    ("bake.wgsl", BAKE_WGSL),
+    ("composite.wgsl", COMPOSITE_WGSL),
     ("sky.wgsl", SKY_WGSL),
     ("terrain.wgsl", TERRAIN_WGSL),
     ("shadow.wgsl", SHADOW_WGSL),
@@ -33,32 +55,47 @@ pub const FILES: &[(&str, &str)] = &[
 /// The render passes, in the order they run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Pass {
+    /// Compute bake of the macro field (`baked` method only).
+    Bake,
     Shadow,
     Sky,
     Terrain,
     Clouds,
+    /// Blends the compute march's texture over the target (compute path).
+    Composite,
 }
 
 impl Pass {
     /// All passes in execution order.
-    pub const ALL: [Pass; 4] = [Pass::Shadow, Pass::Sky, Pass::Terrain, Pass::Clouds];
+    pub const ALL: [Pass; 6] = [
+        Pass::Bake,
+        Pass::Shadow,
+        Pass::Sky,
+        Pass::Terrain,
+        Pass::Clouds,
+        Pass::Composite,
+    ];
 
     /// Name used in timings and `Renderer::pass_names`.
     pub fn name(self) -> &'static str {
         match self {
+            Pass::Bake => "bake",
             Pass::Shadow => "shadow",
             Pass::Sky => "sky",
             Pass::Terrain => "terrain",
             Pass::Clouds => "clouds",
+            Pass::Composite => "composite",
         }
     }
 
     fn file(self) -> &'static str {
         match self {
+            Pass::Bake => BAKE_WGSL,
             Pass::Shadow => SHADOW_WGSL,
             Pass::Sky => SKY_WGSL,
             Pass::Terrain => TERRAIN_WGSL,
             Pass::Clouds => CLOUDS_WGSL,
+            Pass::Composite => COMPOSITE_WGSL,
         }
     }
 
@@ -66,23 +103,43 @@ impl Pass {
         matches!(self, Pass::Shadow | Pass::Clouds)
     }
 
-    /// The `override` constants this pass's module declares (every one must
-    /// be given a value or keep its default; naming an absent one is an error).
-    pub fn overrides(self) -> &'static [&'static str] {
+    /// Whether the pass exists for `method` (the bake only for `baked`).
+    pub fn used_by(self, method: RenderMethod) -> bool {
+        self != Pass::Bake || method == RenderMethod::Baked
+    }
+
+    /// The `override` constants this pass's module declares under `method`
+    /// (every one must be given a value or keep its default; naming an
+    /// absent one is an error).
+    pub fn overrides(self, method: RenderMethod) -> &'static [&'static str] {
+        let exact = method == RenderMethod::Exact;
         match self {
-            Pass::Shadow => &["ENCODE_SRGB", "GRID_CULLING"],
+            Pass::Bake | Pass::Composite => &["ENCODE_SRGB"],
+            Pass::Shadow if exact => &["ENCODE_SRGB", "GRID_CULLING"],
+            Pass::Shadow => &["ENCODE_SRGB"],
             Pass::Sky => &["ENCODE_SRGB"],
             Pass::Terrain => &["ENCODE_SRGB", "HAS_SHADOWS"],
-            Pass::Clouds => &["ENCODE_SRGB", "GRID_CULLING", "USE_NORMALS", "HAS_TERRAIN"],
+            Pass::Clouds if exact => &["ENCODE_SRGB", "GRID_CULLING", "USE_NORMALS", "HAS_TERRAIN"],
+            Pass::Clouds => &["ENCODE_SRGB", "USE_NORMALS", "HAS_TERRAIN"],
         }
     }
 
-    /// The assembled WGSL module of this pass.
-    pub fn source(self) -> String {
+    /// The assembled WGSL module of this pass for `method`.
+    pub fn source(self, method: RenderMethod) -> String {
         let mut s = prelude();
         s.push_str(COMMON_WGSL);
+        if self.needs_density() || self == Pass::Bake {
+            s.push_str(PARCEL_WGSL);
+        }
         if self.needs_density() {
+            s.push_str(match method {
+                RenderMethod::Exact => FIELD_EXACT_WGSL,
+                RenderMethod::Baked => FIELD_BAKED_WGSL,
+            });
             s.push_str(DENSITY_WGSL);
+        }
+        if self == Pass::Clouds {
+            s.push_str(LIGHTING_WGSL);
         }
         s.push_str(self.file());
         s

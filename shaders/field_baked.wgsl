@@ -1,0 +1,44 @@
+// Macro field of the `baked` method: the union of parcel_value over all
+// parcels, baked by bake.wgsl into a 3D texture over the cloud region
+// (R: v, G: condensation plane (m)), read with one trilinear fetch, so a
+// sample costs the same whatever the parcel count. The frame's grid
+// (grid_min, grid_cell, grid_dims) is the bake's coarse occupancy grid
+// (BAKE_BLOCK³ voxels a cell) over the same region; `occupancy` holds, per
+// coarse cell, the largest v that trilinear filtering can return in it
+// (bit pattern of v + 1; 0 = nothing), so rays cross empty cells in one
+// step. Same functions as field_exact.wgsl; see there.
+
+@group(0) @binding(6) var field_tex: texture_3d<f32>;
+@group(0) @binding(7) var<storage, read> occupancy: array<u32>;
+
+fn field_uvw(p: vec3<f32>) -> vec3<f32> {
+    let size = frame.grid_cell.xyz * vec3<f32>(frame.grid_dims.xyz);
+    return (p - frame.grid_min.xyz) / size;
+}
+
+fn field_value(p: vec3<f32>) -> f32 {
+    // The region is padded with empty voxels: clamping returns v = −1
+    // outside it, as the exact union does far from every parcel.
+    return textureSampleLevel(field_tex, clamp_sampler, field_uvw(p), 0.0).r;
+}
+
+fn field_sample(p: vec3<f32>) -> vec2<f32> {
+    return textureSampleLevel(field_tex, clamp_sampler, field_uvw(p), 0.0).rg;
+}
+
+fn empty_skip(p: vec3<f32>, rd: vec3<f32>) -> f32 {
+    let dims = frame.grid_dims.xyz;
+    let rel = (p - frame.grid_min.xyz) / frame.grid_cell.xyz;
+    if any(rel < vec3<f32>(0.0)) || any(rel >= vec3<f32>(dims)) {
+        return 0.0;
+    }
+    let ci = vec3<u32>(rel);
+    let bits = occupancy[ci.x + dims.x * (ci.y + dims.y * ci.z)];
+    // The noise adds at most k/2 (density.wgsl): below that, nothing shows.
+    let v_max = select(-1.0, bitcast<f32>(bits) - 1.0, bits != 0u);
+    if v_max + 0.5 * frame.cloud.x > 0.0 {
+        return 0.0;
+    }
+    let lo = frame.grid_min.xyz + vec3<f32>(ci) * frame.grid_cell.xyz;
+    return max(ray_box(p, rd, lo, lo + frame.grid_cell.xyz).y, 1e-3);
+}

@@ -1,0 +1,84 @@
+// Macro field of the `exact` method (the paper's path, §6.2): the union
+// over parcels of parcel_value (parcel.wgsl), evaluated per sample from the
+// parcels listed in the sample's cell of the CPU-built grid (uniform
+// buffers). Cost per sample ∝ the cell's list length. The other method,
+// field_baked.wgsl, provides the same three functions from a baked texture:
+//   field_value(p)          v(P) ∈ [−1, 1]
+//   field_sample(p)         (v(P), condensation plane under P (m))
+//   empty_skip(p, rd)       > 0: distance along rd over which v + k/2 ≤ 0
+//                           (no density can appear); 0: p may be cloudy.
+
+// Evaluate only the parcels listed in the sample's grid cell (paper §6.2).
+// false: every parcel at every sample (brute force, for the bench).
+override GRID_CULLING: bool = true;
+
+// (start, count) of the parcel list of the grid cell holding p; count 0
+// outside the grid. No parcel's density reaches a cell with an empty list.
+fn cell_list(p: vec3<f32>) -> vec2<u32> {
+    if !GRID_CULLING {
+        return vec2<u32>(0u, frame.grid_dims.w);
+    }
+    let dims = frame.grid_dims.xyz;
+    let rel = (p - frame.grid_min.xyz) / frame.grid_cell.xyz;
+    if any(rel < vec3<f32>(0.0)) || any(rel >= vec3<f32>(dims)) {
+        return vec2<u32>(0u);
+    }
+    let ci = vec3<u32>(rel);
+    let cell = ci.x + dims.x * (ci.y + dims.y * ci.z);
+    let pair = grid.cells[cell / 2u];
+    if (cell & 1u) == 1u {
+        return pair.zw;
+    }
+    return pair.xy;
+}
+
+// Parcel index of the j-th entry of a list (brute force: j itself).
+fn list_parcel(j: u32) -> u32 {
+    if GRID_CULLING {
+        return grid.entries[j / 4u][j % 4u];
+    }
+    return j;
+}
+
+fn field_value(p: vec3<f32>) -> f32 {
+    let list = cell_list(p);
+    let shell = frame.cloud.y;
+    var v = -1.0;
+    for (var j = list.x; j < list.x + list.y; j++) {
+        v = max(v, parcel_value(parcels.p[list_parcel(j)], p, shell));
+        // The union saturates at 1 (paper): stop there.
+        if v >= 1.0 {
+            break;
+        }
+    }
+    return v;
+}
+
+// Like field_value, plus (in .y) the condensation-plane height of the
+// parcel that gives the value (the lowest plane among saturated ones), so
+// the lighting knows how far above its base a sample lies. units: -, m
+fn field_sample(p: vec3<f32>) -> vec2<f32> {
+    let list = cell_list(p);
+    let shell = frame.cloud.y;
+    var v = -1.0;
+    var plane = p.z;
+    for (var j = list.x; j < list.x + list.y; j++) {
+        let q = parcels.p[list_parcel(j)];
+        let vi = parcel_value(q, p, shell);
+        if vi > v || (vi >= 1.0 && q.fill_plane.y < plane) {
+            plane = q.fill_plane.y;
+        }
+        v = max(v, vi);
+    }
+    return vec2<f32>(v, plane);
+}
+
+// Empty cells (no parcel listed) are skipped whole.
+fn empty_skip(p: vec3<f32>, rd: vec3<f32>) -> f32 {
+    if !GRID_CULLING || cell_list(p).y > 0u {
+        return 0.0;
+    }
+    let ci = floor((p - frame.grid_min.xyz) / frame.grid_cell.xyz);
+    let lo = frame.grid_min.xyz + ci * frame.grid_cell.xyz;
+    return max(ray_box(p, rd, lo, lo + frame.grid_cell.xyz).y, 1e-3);
+}

@@ -1,0 +1,111 @@
+//! The cloud render method a scene uses (`[render] method`, `--method` on
+//! `render`, `watch` and `bench`, the panel's method box). Every method
+//! shares the sky, terrain, cloud-shadow and composite passes; what differs
+//! is how the cloud field reaches the GPU and how a pixel finds its cloud.
+//! Today both methods ray-march eq. 18 (module [`crate::render::raymarch`]);
+//! `sprites` (Wang 2003) and `slices` (Schpok 2003) plug in as further
+//! variants with their own submodules.
+
+use std::fmt;
+use std::str::FromStr;
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::Error;
+
+/// How the clouds are drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RenderMethod {
+    /// The parcels are splatted by compute passes into a 3D texture of the
+    /// macro field (re-baked only when they move); the march reads it with
+    /// one filtered fetch per sample and skips empty space with a coarse
+    /// occupancy grid: cost per pixel independent of the parcel count.
+    #[default]
+    Baked,
+    /// The paper's path (§6.2): parcels and a culling grid in uniform
+    /// buffers, the union of parcels evaluated per sample. The reference the
+    /// baked method is measured against; at most
+    /// [`crate::render::pack::MAX_PARCELS`] condensed parcels.
+    Exact,
+}
+
+impl RenderMethod {
+    /// Every method, in the order the panel and the bench list them.
+    pub const ALL: [RenderMethod; 2] = [RenderMethod::Baked, RenderMethod::Exact];
+
+    /// Name in scene files, on the command line and in tables.
+    pub fn name(self) -> &'static str {
+        match self {
+            RenderMethod::Baked => "baked",
+            RenderMethod::Exact => "exact",
+        }
+    }
+}
+
+impl fmt::Display for RenderMethod {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for RenderMethod {
+    type Err = Error;
+
+    fn from_str(s: &str) -> Result<Self, Error> {
+        Self::ALL
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| Error::invalid("render method", s, "\"baked\" or \"exact\""))
+    }
+}
+
+/// Which shader stage runs the ray-march (same WGSL `march` either way).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MarchPath {
+    /// A full-screen fragment shader blended over the target.
+    Fragment,
+    /// A compute shader writing a storage texture, blended over the target
+    /// by the composite pass.
+    Compute,
+    /// Measure both on this adapter during the first frames with clouds
+    /// (alternating, no extra work or wait) and keep the faster.
+    #[default]
+    Auto,
+}
+
+impl MarchPath {
+    /// Every path, in the order tables list them.
+    pub const ALL: [MarchPath; 3] = [MarchPath::Fragment, MarchPath::Compute, MarchPath::Auto];
+
+    /// Name in scene files and tables.
+    pub fn name(self) -> &'static str {
+        match self {
+            MarchPath::Fragment => "fragment",
+            MarchPath::Compute => "compute",
+            MarchPath::Auto => "auto",
+        }
+    }
+}
+
+impl fmt::Display for MarchPath {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip_and_bad_names_are_explained() {
+        for m in RenderMethod::ALL {
+            assert_eq!(m.name().parse::<RenderMethod>().unwrap(), m);
+        }
+        let e = "fast".parse::<RenderMethod>().unwrap_err().to_string();
+        assert!(e.contains("fast") && e.contains("baked"), "{e}");
+        assert_eq!(RenderMethod::default(), RenderMethod::Baked);
+    }
+}

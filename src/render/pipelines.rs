@@ -1,0 +1,343 @@
+//! Bind-group layouts of the render passes and the pipeline cache.
+//!
+//! No stalls: a pipeline is keyed by (pass, method, `override` constants,
+//! target format) and, once built, kept for the renderer's life, so clouds
+//! vanishing and reappearing, or an option toggled back, never compile a
+//! shader again; the renderer builds the cloud pipelines at creation, ahead
+//! of the first condensed parcel. `built` counts creations (tests check it).
+
+use std::collections::HashMap;
+
+use crate::error::{Error, Result};
+use crate::render::gpu::GpuContext;
+use crate::render::method::RenderMethod;
+use crate::render::shaders::Pass;
+use crate::render::terrain::TerrainVertex;
+
+/// Format of the internal depth buffer (written by terrain, read by clouds).
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Format of the cloud-shadow map (sun transmittance 0..1).
+pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
+
+/// Stages that read the shared bindings: the passes' vertex and fragment
+/// shaders and the compute march.
+const STAGES: wgpu::ShaderStages =
+    wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE);
+/// Format of the compute march's output (premultiplied, encoded colour).
+pub const CLOUD_TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: STAGES,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+fn texture_entry(
+    binding: u32,
+    sample_type: wgpu::TextureSampleType,
+    dim: wgpu::TextureViewDimension,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: STAGES,
+        ty: wgpu::BindingType::Texture {
+            sample_type,
+            view_dimension: dim,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+fn sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: STAGES,
+        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+        count: None,
+    }
+}
+
+/// The bind-group layouts every render pass shares.
+pub struct PassLayouts {
+    /// Group 0: frame, parcels, grid (exact), noise, samplers, baked field
+    /// and occupancy (baked). Keep in sync with shaders/common.wgsl and
+    /// shaders/field_baked.wgsl.
+    pub common: wgpu::BindGroupLayout,
+    /// Group 1 of the terrain: the cloud-shadow map.
+    pub shadow_tex: wgpu::BindGroupLayout,
+    /// Group 1 of the clouds: the terrain depth.
+    pub depth: wgpu::BindGroupLayout,
+    /// Group 2 of the compute march: its output texture.
+    pub cloud_out: wgpu::BindGroupLayout,
+    /// Group 1 of the composite: the compute march's texture.
+    pub cloud_in: wgpu::BindGroupLayout,
+}
+
+impl PassLayouts {
+    pub fn new(device: &wgpu::Device) -> Self {
+        let float3d = texture_entry(
+            3,
+            wgpu::TextureSampleType::Float { filterable: true },
+            wgpu::TextureViewDimension::D3,
+        );
+        let common = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("common"),
+            entries: &[
+                uniform_entry(0),
+                uniform_entry(1),
+                uniform_entry(2),
+                float3d,
+                sampler_entry(4),
+                sampler_entry(5),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 6,
+                    ..float3d
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 7,
+                    visibility: STAGES,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+            ],
+        });
+        let shadow_tex = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("terrain: shadow map"),
+            entries: &[texture_entry(
+                0,
+                wgpu::TextureSampleType::Float { filterable: true },
+                wgpu::TextureViewDimension::D2,
+            )],
+        });
+        let depth = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("clouds: depth"),
+            entries: &[texture_entry(
+                0,
+                wgpu::TextureSampleType::Depth,
+                wgpu::TextureViewDimension::D2,
+            )],
+        });
+        let cloud_out = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("clouds: compute output"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::StorageTexture {
+                    access: wgpu::StorageTextureAccess::WriteOnly,
+                    format: CLOUD_TARGET_FORMAT,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                },
+                count: None,
+            }],
+        });
+        let cloud_in = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("composite: clouds"),
+            entries: &[texture_entry(
+                0,
+                wgpu::TextureSampleType::Float { filterable: true },
+                wgpu::TextureViewDimension::D2,
+            )],
+        });
+        Self {
+            common,
+            shadow_tex,
+            depth,
+            cloud_out,
+            cloud_in,
+        }
+    }
+}
+
+/// What makes two render pipelines different.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct PipelineKey {
+    pub pass: Pass,
+    pub method: RenderMethod,
+    /// `override` constants (name, value bits).
+    pub constants: Vec<(&'static str, u64)>,
+    pub format: wgpu::TextureFormat,
+    /// The compute entry point (the cloud pass's compute path).
+    pub compute: bool,
+}
+
+impl PipelineKey {
+    pub fn new(
+        pass: Pass,
+        method: RenderMethod,
+        constants: &[(&'static str, f64)],
+        format: wgpu::TextureFormat,
+        compute: bool,
+    ) -> Self {
+        Self {
+            pass,
+            method,
+            constants: constants.iter().map(|(n, v)| (*n, v.to_bits())).collect(),
+            format,
+            compute,
+        }
+    }
+}
+
+/// A render or compute pipeline.
+pub enum Pipeline {
+    Render(wgpu::RenderPipeline),
+    Compute(wgpu::ComputePipeline),
+}
+
+/// Every pipeline built so far; see the module docs.
+#[derive(Default)]
+pub struct PipelineCache {
+    modules: HashMap<(Pass, RenderMethod), wgpu::ShaderModule>,
+    pipelines: HashMap<PipelineKey, Pipeline>,
+    /// Pipelines created so far.
+    pub built: u32,
+}
+
+impl PipelineCache {
+    pub fn get(&self, key: &PipelineKey) -> Option<&Pipeline> {
+        self.pipelines.get(key)
+    }
+
+    /// Builds the pipeline of `key` unless it exists. Shader or pipeline
+    /// errors become an Error, not wgpu's panic.
+    pub fn ensure(
+        &mut self,
+        ctx: &GpuContext,
+        layouts: &PassLayouts,
+        key: &PipelineKey,
+    ) -> Result<()> {
+        if self.pipelines.contains_key(key) {
+            return Ok(());
+        }
+        let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let pipeline = self.create(ctx, layouts, key);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            self.modules.remove(&(key.pass, key.method));
+            return Err(Error::Gpu(format!(
+                "creating the {} pass ({} method): {e}",
+                key.pass.name(),
+                key.method
+            )));
+        }
+        self.built += 1;
+        self.pipelines.insert(key.clone(), pipeline);
+        Ok(())
+    }
+
+    fn create(&mut self, ctx: &GpuContext, layouts: &PassLayouts, key: &PipelineKey) -> Pipeline {
+        let device = &ctx.device;
+        let pass = key.pass;
+        let module = self.modules.entry((pass, key.method)).or_insert_with(|| {
+            device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(pass.name()),
+                source: wgpu::ShaderSource::Wgsl(pass.source(key.method).into()),
+            })
+        });
+        let group1 = match pass {
+            Pass::Terrain => Some(&layouts.shadow_tex),
+            Pass::Clouds => Some(&layouts.depth),
+            Pass::Composite => Some(&layouts.cloud_in),
+            _ => None,
+        };
+        let mut layouts_list: Vec<Option<&wgpu::BindGroupLayout>> = match group1 {
+            Some(l) => vec![Some(&layouts.common), Some(l)],
+            None => vec![Some(&layouts.common)],
+        };
+        if key.compute {
+            layouts_list.push(Some(&layouts.cloud_out));
+        }
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(pass.name()),
+            bind_group_layouts: &layouts_list,
+            immediate_size: 0,
+        });
+        let constants: Vec<(&str, f64)> = key
+            .constants
+            .iter()
+            .map(|(n, b)| (*n, f64::from_bits(*b)))
+            .collect();
+        let options = wgpu::PipelineCompilationOptions {
+            constants: &constants,
+            ..Default::default()
+        };
+        if key.compute {
+            return Pipeline::Compute(device.create_compute_pipeline(
+                &wgpu::ComputePipelineDescriptor {
+                    label: Some("clouds (compute)"),
+                    layout: Some(&layout),
+                    module,
+                    entry_point: Some("cs_main"),
+                    compilation_options: options,
+                    cache: None,
+                },
+            ));
+        }
+        let vertex_attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
+        let terrain_buffers = [Some(wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<TerrainVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &vertex_attrs,
+        })];
+        let (target_format, blend) = match pass {
+            Pass::Shadow => (SHADOW_FORMAT, None),
+            Pass::Clouds | Pass::Composite => (
+                key.format,
+                Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
+            ),
+            _ => (key.format, None),
+        };
+        let targets = [Some(wgpu::ColorTargetState {
+            format: target_format,
+            blend,
+            write_mask: wgpu::ColorWrites::ALL,
+        })];
+        Pipeline::Render(
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(pass.name()),
+                layout: Some(&layout),
+                vertex: wgpu::VertexState {
+                    module,
+                    entry_point: Some("vs_main"),
+                    compilation_options: options.clone(),
+                    buffers: if pass == Pass::Terrain {
+                        &terrain_buffers
+                    } else {
+                        &[]
+                    },
+                },
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: None,
+                    ..Default::default()
+                },
+                depth_stencil: (pass == Pass::Terrain).then(|| wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Less),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module,
+                    entry_point: Some("fs_main"),
+                    compilation_options: options,
+                    targets: &targets,
+                }),
+                multiview_mask: None,
+                cache: None,
+            }),
+        )
+    }
+}

@@ -1,0 +1,592 @@
+//! The `baked` method's GPU data and its compute bake (shaders/bake.wgsl):
+//! the condensed parcels go up in uniform-buffer chunks of ≤ [`MAX_PARCELS`]
+//! (bound with dynamic offsets, one splat dispatch per chunk), are splatted
+//! into a 3D texture of the macro field M = max f·(d+1) − 1 over the region
+//! of the condensed parcels, and a coarse occupancy grid (one cell per
+//! [`BAKE_BLOCK`]³ voxels) lets the march skip empty space. The bake runs
+//! only when the parcels (or the shell) changed since the last one: a
+//! paused scene never re-bakes.
+//!
+//! Voxel size. The macro field is piecewise linear: it rises from −1 to f
+//! over two shells across a sphere's surface and over two plane shells
+//! (`PLANE_SHELL`·shell, 84 m by default) across the flat base, and is
+//! constant inside; trilinear filtering reproduces it except at the creases
+//! (union seams, the base). So the voxel is the smaller of a quarter of the
+//! median drawn radius (≥ 4 voxels per radius keep the domes round) and one
+//! plane shell (the base stays sharp to about one plane shell), rounded to
+//! a power of 2^¼ so small radius changes do not reallocate the texture.
+//!
+//! Memory. The field costs [`BYTES_PER_VOXEL`] bytes a voxel (RGBA16F
+//! texture + two u32 accumulators), at most [`MAX_BAKE_VOXELS`] voxels
+//! (128 MiB of field): a larger region (a 40 km × 40 km × 12 km landscape
+//! needs ~2.4·10⁷ voxels at 84 m) gets coarser voxels, counted in
+//! [`BakeInfo::coarsened`] and shown by the front ends.
+
+use glam::Vec3;
+
+use crate::error::{Error, Result};
+use crate::physics::CloudParcel;
+use crate::render::gpu::GpuContext;
+use crate::render::pack::{self, GpuParcel, GridInfo, MAX_PARCELS, ParcelsUniform};
+
+/// Voxels per coarse occupancy cell along each axis. Keep in sync with
+/// BAKE_BLOCK in shaders/bake.wgsl.
+pub const BAKE_BLOCK: u32 = 4;
+/// Most voxels of the baked field.
+pub const MAX_BAKE_VOXELS: u64 = 1 << 23;
+/// Field texture (RGBA16F, 8 B) + value and plane accumulators (4 B each).
+pub const BYTES_PER_VOXEL: u64 = 16;
+/// Format of the field texture: R = v, G = condensation plane (m).
+pub const FIELD_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Plane shell over sphere shell. Keep in sync with PLANE_SHELL in
+/// shaders/parcel.wgsl.
+pub const PLANE_SHELL: f32 = 0.3;
+const CHUNK_BYTES: u64 = std::mem::size_of::<ParcelsUniform>() as u64;
+
+/// What the last bake covered.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct BakeInfo {
+    /// Voxel side. units: m
+    pub voxel_m: f32,
+    /// Voxel side the radii asked for, before the memory cap. units: m
+    pub wanted_voxel_m: f32,
+    /// How many times the voxel was enlarged to fit [`MAX_BAKE_VOXELS`].
+    pub coarsened: u32,
+    /// Voxels per axis.
+    pub dims: [u32; 3],
+    /// GPU memory of the field. units: bytes
+    pub bytes: u64,
+    /// Bakes run so far (a bake runs only when parcels moved).
+    pub bakes: u64,
+}
+
+/// Layout of the bake: where the region sits and how it is divided.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Region {
+    min: Vec3,
+    voxel_m: f32,
+    /// Coarse cells per axis (voxels = cells × BAKE_BLOCK).
+    cells: [u32; 3],
+    wanted_voxel_m: f32,
+    coarsened: u32,
+}
+
+impl Region {
+    fn voxel_dims(&self) -> [u32; 3] {
+        self.cells.map(|c| c * BAKE_BLOCK)
+    }
+
+    fn voxels(&self) -> u64 {
+        self.voxel_dims().iter().map(|&d| d as u64).product()
+    }
+}
+
+/// Region and voxel size for `live` parcels (not empty), see the module docs.
+fn region(live: &[GpuParcel], shell_m: f32) -> Region {
+    let mut radii: Vec<f32> = live.iter().map(|p| p.center_radius[3]).collect();
+    radii.sort_by(f32::total_cmp);
+    let median = radii[radii.len() / 2];
+    let raw = (0.25 * median).min(PLANE_SHELL * shell_m).max(1.0);
+    let wanted = 2f32.powf((raw.log2() * 4.0).round() / 4.0);
+    let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+    for p in live {
+        let c = Vec3::from_slice(&p.center_radius[..3]);
+        let reach = p.center_radius[3] + shell_m;
+        let mut a = c - Vec3::splat(reach);
+        let b = c + Vec3::splat(reach);
+        a.z = a.z.max(p.fill_plane[1] - PLANE_SHELL * shell_m).min(b.z);
+        lo = lo.min(a);
+        hi = hi.max(b);
+    }
+    let mut voxel_m = wanted;
+    let mut coarsened = 0;
+    loop {
+        // One empty voxel of padding all round: outside the region the
+        // clamped texture then reads v = −1, as far from every parcel.
+        let min = lo - Vec3::splat(voxel_m);
+        let ext = hi - lo + Vec3::splat(2.0 * voxel_m);
+        let cell = voxel_m * BAKE_BLOCK as f32;
+        let cells = [0, 1, 2].map(|a| ((ext[a] / cell).ceil() as u32).max(1));
+        let r = Region {
+            min,
+            voxel_m,
+            cells,
+            wanted_voxel_m: wanted,
+            coarsened,
+        };
+        if r.voxels() <= MAX_BAKE_VOXELS {
+            return r;
+        }
+        voxel_m *= (r.voxels() as f64 / MAX_BAKE_VOXELS as f64)
+            .cbrt()
+            .max(1.01) as f32;
+        coarsened += 1;
+    }
+}
+
+struct Store {
+    dims: [u32; 3],
+    /// The accumulators, kept alive for the bind group.
+    _value: wgpu::Buffer,
+    _plane: wgpu::Buffer,
+    occupancy: wgpu::Buffer,
+    view: wgpu::TextureView,
+    bind: wgpu::BindGroup,
+}
+
+/// The baked field; see the module docs.
+pub struct BakedField {
+    layout: wgpu::BindGroupLayout,
+    bind_frame: wgpu::BindGroup,
+    splat: wgpu::ComputePipeline,
+    resolve: wgpu::ComputePipeline,
+    chunks: wgpu::Buffer,
+    chunk_capacity: u64,
+    store: Option<Store>,
+    /// Placeholder field (1 voxel, v = −1) and occupancy before any bake.
+    empty_view: wgpu::TextureView,
+    empty_occupancy: wgpu::Buffer,
+    /// Parcels and shell of the last bake (re-bake only when they change).
+    last: Option<(Vec<GpuParcel>, f32)>,
+    region: Option<Region>,
+    parcel_count: u32,
+    dirty: bool,
+    info: BakeInfo,
+    /// Bumped whenever the field texture or occupancy buffer is replaced
+    /// (the renderer then rebinds them).
+    pub generation: u64,
+}
+
+fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: false },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+fn field_texture(device: &wgpu::Device, dims: [u32; 3]) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("baked macro field"),
+        size: wgpu::Extent3d {
+            width: dims[0],
+            height: dims[1],
+            depth_or_array_layers: dims[2],
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D3,
+        format: FIELD_FORMAT,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    })
+}
+
+impl BakedField {
+    /// The bake's pipelines (counted in `built`) over the frame uniform.
+    pub fn new(ctx: &GpuContext, frame_buf: &wgpu::Buffer, built: &mut u32) -> Result<Self> {
+        let device = &ctx.device;
+        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("bake: frame"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        });
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("bake: chunk and field"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: true,
+                        min_binding_size: wgpu::BufferSize::new(CHUNK_BYTES),
+                    },
+                    count: None,
+                },
+                storage_entry(1),
+                storage_entry(2),
+                storage_entry(3),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 4,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::WriteOnly,
+                        format: FIELD_FORMAT,
+                        view_dimension: wgpu::TextureViewDimension::D3,
+                    },
+                    count: None,
+                },
+            ],
+        });
+        let bind_frame = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("bake: frame"),
+            layout: &frame_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: frame_buf.as_entire_binding(),
+            }],
+        });
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("bake"),
+            source: wgpu::ShaderSource::Wgsl(
+                crate::render::shaders::Pass::Bake
+                    .source(crate::render::RenderMethod::Baked)
+                    .into(),
+            ),
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("bake"),
+            bind_group_layouts: &[Some(&frame_layout), Some(&layout)],
+            immediate_size: 0,
+        });
+        let compute = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let splat = compute("splat");
+        let resolve = compute("resolve");
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(Error::Gpu(format!("creating the bake pipelines: {e}")));
+        }
+        *built += 2;
+        let empty = field_texture(device, [1, 1, 1]);
+        // IEEE half-precision −1 (v far from every parcel), then G, B, A = 0.
+        let minus_one: [u16; 4] = [0xBC00, 0, 0, 0];
+        ctx.queue.write_texture(
+            empty.as_image_copy(),
+            bytemuck::cast_slice(&minus_one),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(8),
+                rows_per_image: Some(1),
+            },
+            wgpu::Extent3d {
+                width: 1,
+                height: 1,
+                depth_or_array_layers: 1,
+            },
+        );
+        Ok(Self {
+            layout,
+            bind_frame,
+            splat,
+            resolve,
+            chunks: chunk_buffer(device, 1),
+            chunk_capacity: 1,
+            store: None,
+            empty_view: empty.create_view(&Default::default()),
+            empty_occupancy: occupancy_buffer(device, 1),
+            last: None,
+            region: None,
+            parcel_count: 0,
+            dirty: false,
+            info: BakeInfo::default(),
+            generation: 0,
+        })
+    }
+
+    /// The field texture and occupancy buffer the march reads.
+    pub fn field(&self) -> (&wgpu::TextureView, &wgpu::Buffer) {
+        match &self.store {
+            Some(s) => (&s.view, &s.occupancy),
+            None => (&self.empty_view, &self.empty_occupancy),
+        }
+    }
+
+    /// What the last bake covered.
+    pub fn info(&self) -> BakeInfo {
+        self.info
+    }
+
+    /// Bakes again at the next `render` even if nothing moved (the bench
+    /// measures the cost of a frame whose parcels all moved).
+    pub fn invalidate(&mut self) {
+        if self.store.is_some() && self.parcel_count > 0 {
+            self.dirty = true;
+        }
+    }
+
+    /// Whether `render` must bake before marching.
+    pub fn dirty(&self) -> bool {
+        self.dirty
+    }
+
+    /// Takes this frame's parcels: when they (or the shell) changed since
+    /// the last bake, uploads them and marks the field for a bake. Returns
+    /// the coarse grid the march uses (the frame's grid).
+    pub fn update(
+        &mut self,
+        ctx: &GpuContext,
+        parcels: &[CloudParcel],
+        shell_m: f32,
+        radius_scale: f32,
+    ) -> Result<GridInfo> {
+        let live = pack::gpu_parcels(parcels, shell_m, radius_scale)?;
+        let unchanged = self
+            .last
+            .as_ref()
+            .is_some_and(|(p, s)| *s == shell_m && *p == live);
+        if !unchanged {
+            self.upload(ctx, &live, shell_m)?;
+            self.last = Some((live, shell_m));
+        }
+        Ok(self.grid_info())
+    }
+
+    fn grid_info(&self) -> GridInfo {
+        match self.region.filter(|_| self.parcel_count > 0) {
+            Some(r) => GridInfo {
+                min: r.min,
+                cell: Vec3::splat(r.voxel_m * BAKE_BLOCK as f32),
+                dims: r.cells,
+                parcel_count: self.parcel_count,
+                entry_count: 0,
+                coarsened: r.coarsened,
+            },
+            None => GridInfo {
+                min: Vec3::ZERO,
+                cell: Vec3::ONE,
+                dims: [1, 1, 1],
+                parcel_count: 0,
+                entry_count: 0,
+                coarsened: 0,
+            },
+        }
+    }
+
+    fn upload(&mut self, ctx: &GpuContext, live: &[GpuParcel], shell_m: f32) -> Result<()> {
+        self.parcel_count = live.len() as u32;
+        if live.is_empty() {
+            self.dirty = false;
+            return Ok(());
+        }
+        let device = &ctx.device;
+        let r = region(live, shell_m);
+        let dims = r.voxel_dims();
+        let max3 = device.limits().max_texture_dimension_3d;
+        if dims.iter().any(|&d| d > max3) {
+            return Err(Error::Gpu(format!(
+                "the baked cloud field needs {}×{}×{} voxels of {:.0} m, more than this device's 3D texture limit of {max3} per side",
+                dims[0], dims[1], dims[2], r.voxel_m
+            )));
+        }
+        let n_chunks = live.len().div_ceil(MAX_PARCELS) as u64;
+        if n_chunks > self.chunk_capacity {
+            self.chunks = chunk_buffer(device, n_chunks);
+            self.chunk_capacity = n_chunks;
+            self.store = None;
+        }
+        for (i, chunk) in live.chunks(MAX_PARCELS).enumerate() {
+            ctx.queue.write_buffer(
+                &self.chunks,
+                i as u64 * CHUNK_BYTES,
+                bytemuck::cast_slice(chunk),
+            );
+        }
+        if self.store.as_ref().map(|s| s.dims) != Some(dims) {
+            self.store = Some(self.make_store(device, dims, r.cells));
+            self.generation += 1;
+        }
+        self.region = Some(r);
+        self.dirty = true;
+        self.info = BakeInfo {
+            voxel_m: r.voxel_m,
+            wanted_voxel_m: r.wanted_voxel_m,
+            coarsened: r.coarsened,
+            dims,
+            bytes: r.voxels() * BYTES_PER_VOXEL,
+            bakes: self.info.bakes,
+        };
+        Ok(())
+    }
+
+    fn make_store(&self, device: &wgpu::Device, dims: [u32; 3], cells: [u32; 3]) -> Store {
+        let voxels = dims.iter().map(|&d| d as u64).product::<u64>();
+        let accumulator = |label| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: 4 * voxels,
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            })
+        };
+        let value = accumulator("bake: value bits");
+        let plane = accumulator("bake: plane bits");
+        let occupancy = occupancy_buffer(device, cells.iter().map(|&c| c as u64).product());
+        let view = field_texture(device, dims).create_view(&Default::default());
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("bake: chunk and field"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &self.chunks,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(CHUNK_BYTES),
+                    }),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: value.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: plane.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: occupancy.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&view),
+                },
+            ],
+        });
+        Store {
+            dims,
+            _value: value,
+            _plane: plane,
+            occupancy,
+            view,
+            bind,
+        }
+    }
+
+    /// Encodes the bake (splat per chunk, then resolve) when the parcels
+    /// changed; `timestamps` = (query set, first index) times it as one pass.
+    pub fn encode(
+        &mut self,
+        enc: &mut wgpu::CommandEncoder,
+        timestamps: Option<(&wgpu::QuerySet, u32)>,
+    ) {
+        let Some(store) = self.store.as_ref().filter(|_| self.dirty) else {
+            return;
+        };
+        enc.clear_buffer(&store.occupancy, 0, None);
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("bake: splat"),
+                timestamp_writes: timestamps.map(|(set, i)| wgpu::ComputePassTimestampWrites {
+                    query_set: set,
+                    beginning_of_pass_write_index: Some(i),
+                    end_of_pass_write_index: None,
+                }),
+            });
+            pass.set_pipeline(&self.splat);
+            pass.set_bind_group(0, &self.bind_frame, &[]);
+            let n = self.parcel_count as usize;
+            for (i, start) in (0..n).step_by(MAX_PARCELS).enumerate() {
+                let count = (n - start).min(MAX_PARCELS) as u32;
+                pass.set_bind_group(1, &store.bind, &[(i as u64 * CHUNK_BYTES) as u32]);
+                pass.dispatch_workgroups(count, 1, 1);
+            }
+        }
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("bake: resolve"),
+            timestamp_writes: timestamps.map(|(set, i)| wgpu::ComputePassTimestampWrites {
+                query_set: set,
+                beginning_of_pass_write_index: None,
+                end_of_pass_write_index: Some(i + 1),
+            }),
+        });
+        pass.set_pipeline(&self.resolve);
+        pass.set_bind_group(0, &self.bind_frame, &[]);
+        pass.set_bind_group(1, &store.bind, &[0]);
+        let d = store.dims;
+        pass.dispatch_workgroups(d[0] / 4, d[1] / 4, d[2] / 4);
+        drop(pass);
+        self.dirty = false;
+        self.info.bakes += 1;
+    }
+}
+
+fn chunk_buffer(device: &wgpu::Device, chunks: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("bake: parcel chunks"),
+        size: chunks * CHUNK_BYTES,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+fn occupancy_buffer(device: &wgpu::Device, cells: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("bake: occupancy"),
+        size: 4 * cells.max(1),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parcel(x: f32, r: f32) -> GpuParcel {
+        GpuParcel {
+            center_radius: [x, 0.0, 2000.0, r],
+            fill_plane: [1.0, 1800.0, 0.0, 0.0],
+        }
+    }
+
+    #[test]
+    fn voxel_follows_radii_and_plane_shell() {
+        // Small parcels: a quarter radius (rounded to 2^¼ steps).
+        let r = region(&[parcel(0.0, 100.0)], 280.0);
+        assert!((r.voxel_m - 25.0).abs() / 25.0 < 0.1, "{}", r.voxel_m);
+        // Large parcels: one plane shell (0.3 × 280 m = 84 m).
+        let r = region(&[parcel(0.0, 2000.0)], 280.0);
+        assert!((r.voxel_m - 84.0).abs() / 84.0 < 0.1, "{}", r.voxel_m);
+        assert_eq!(r.coarsened, 0);
+    }
+
+    #[test]
+    fn a_landscape_fits_the_voxel_budget_with_coarser_voxels() {
+        // 40 km × 40 km of parcels 1–12 km high.
+        let mut live = Vec::new();
+        for i in 0..41 {
+            for j in 0..41 {
+                live.push(GpuParcel {
+                    center_radius: [
+                        i as f32 * 1000.0 - 20_000.0,
+                        j as f32 * 1000.0 - 20_000.0,
+                        1000.0 + (i * j % 12) as f32 * 1000.0,
+                        400.0,
+                    ],
+                    fill_plane: [1.0, 900.0, 0.0, 0.0],
+                });
+            }
+        }
+        let r = region(&live, 280.0);
+        assert!(r.voxels() <= MAX_BAKE_VOXELS);
+        assert!(r.coarsened > 0 && r.voxel_m > r.wanted_voxel_m);
+        let v = r.voxel_dims();
+        let size = Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32) * r.voxel_m;
+        assert!(size.x >= 40_000.0 && size.z >= 11_000.0, "{size}");
+    }
+}

@@ -1,0 +1,227 @@
+//! Drawing a prepared frame: the frame uniform, the pass order, each pass's
+//! encoding (render, compute bake, compute march) and its timing.
+
+use std::time::Instant;
+
+use crate::render::FrameInput;
+use crate::render::gpu::GpuContext;
+use crate::render::pack::FrameUniform;
+use crate::render::pipelines::Pipeline;
+use crate::render::shaders::Pass;
+use crate::render::timing::{FrameTimings, TimingMode};
+
+use super::{Renderer, shadow_rect};
+
+impl Renderer {
+    pub(super) fn frame_uniform(&self, input: &FrameInput<'_>) -> FrameUniform {
+        let aspect = self.width as f32 / self.height as f32;
+        let clip_from_world = input.camera.clip_from_world(aspect);
+        let c = &self.cfg;
+        let g = &self.grid_info;
+        FrameUniform {
+            clip_from_world: clip_from_world.to_cols_array_2d(),
+            world_from_clip: clip_from_world.inverse().to_cols_array_2d(),
+            camera_pos: input.camera.position.extend(input.time_s).to_array(),
+            sun_dir: input.sun.direction.normalize().extend(0.0).to_array(),
+            sun_color: input.sun.color.extend(0.0).to_array(),
+            march: [
+                c.step_m,
+                c.max_steps as f32,
+                c.light_steps as f32,
+                c.light_step_m,
+            ],
+            cloud: [
+                c.noise_amplitude,
+                c.shell_m,
+                c.extinction_per_m,
+                c.early_exit_transmittance,
+            ],
+            noise: [
+                1.0 / c.noise_scale_m,
+                c.noise_octaves as f32,
+                c.phase_g,
+                0.0,
+            ],
+            grid_min: g.min.extend(0.0).to_array(),
+            grid_cell: g.cell.extend(0.0).to_array(),
+            grid_dims: [g.dims[0], g.dims[1], g.dims[2], g.parcel_count],
+            shadow_rect: shadow_rect(g, input.sun.direction),
+        }
+    }
+
+    /// Draws the prepared frame into `target` (a view of a `target_format`
+    /// texture) and returns per-pass timings. A target of another size than
+    /// the renderer's resizes the renderer first (a window that forgot to
+    /// call `resize` gets a correct frame, not a validation panic); a size
+    /// the device cannot hold draws nothing and returns no pass timings.
+    pub fn render(&mut self, ctx: &GpuContext, target: &wgpu::TextureView) -> FrameTimings {
+        let size = target.texture().size();
+        let mut timings = FrameTimings {
+            gpu_timestamps: self.timing_mode() != TimingMode::Cpu,
+            upload_ms: self.upload_ms,
+            ..FrameTimings::default()
+        };
+        if (size.width, size.height) != (self.width, self.height)
+            && self.resize(ctx, size.width, size.height).is_err()
+        {
+            timings.gpu_timestamps = false;
+            return timings;
+        }
+        let passes: Vec<Pass> = Pass::ALL
+            .into_iter()
+            .filter(|p| self.needed(*p) && (*p != Pass::Bake || self.baked.dirty()))
+            .collect();
+        let names: Vec<&'static str> = passes.iter().map(|p| p.name()).collect();
+        let mode = self.timing_mode();
+        let mut ts = self.timestamps.take();
+        match (mode, ts.as_mut()) {
+            (TimingMode::GpuBlocking, Some(ts)) => {
+                let mut enc = ctx.device.create_command_encoder(&Default::default());
+                for (i, pass) in passes.iter().enumerate() {
+                    self.encode_pass(&mut enc, *pass, target, Some((&ts.set, 2 * i as u32)));
+                }
+                ts.resolve(&mut enc, passes.len() as u32);
+                ctx.queue.submit([enc.finish()]);
+                (timings.passes, timings.frame_ms) = ts.read_now(ctx, &names);
+            }
+            (TimingMode::GpuLagged, Some(ts)) => {
+                (timings.passes, timings.frame_ms) = ts.collect(ctx);
+                let measure = ts.lagged_ready();
+                let mut enc = ctx.device.create_command_encoder(&Default::default());
+                for (i, pass) in passes.iter().enumerate() {
+                    let writes = measure.then_some((&ts.set, 2 * i as u32));
+                    self.encode_pass(&mut enc, *pass, target, writes);
+                }
+                if measure {
+                    ts.resolve(&mut enc, passes.len() as u32);
+                }
+                ctx.queue.submit([enc.finish()]);
+                if measure {
+                    ts.start_map(names);
+                }
+            }
+            _ => {
+                for pass in passes {
+                    let start = Instant::now();
+                    let mut enc = ctx.device.create_command_encoder(&Default::default());
+                    self.encode_pass(&mut enc, pass, target, None);
+                    ctx.queue.submit([enc.finish()]);
+                    ctx.wait_idle();
+                    timings
+                        .passes
+                        .push((pass.name().to_string(), start.elapsed().as_secs_f64() * 1e3));
+                }
+                timings.frame_ms = timings.total_ms();
+            }
+        }
+        self.timestamps = ts;
+        if self.features.clouds {
+            self.auto_march.drew();
+        }
+        let was = self.auto_march.chosen();
+        self.auto_march.record(&timings);
+        if was != self.auto_march.chosen() {
+            // Decided: build (normally: find cached) the chosen pipelines.
+            let _ = self.ensure(ctx);
+        }
+        timings
+    }
+
+    /// Encodes one pass; `timestamps` = (query set, index of its begin
+    /// query; the end query follows).
+    fn encode_pass(
+        &mut self,
+        enc: &mut wgpu::CommandEncoder,
+        pass: Pass,
+        target: &wgpu::TextureView,
+        timestamps: Option<(&wgpu::QuerySet, u32)>,
+    ) {
+        if pass == Pass::Bake {
+            self.baked.encode(enc, timestamps);
+            return;
+        }
+        let pipeline = match self.pipelines.get(&self.key(pass)) {
+            Some(Pipeline::Render(p)) => p,
+            Some(Pipeline::Compute(p)) => {
+                let (_, out, _) = self.cloud_target.as_ref().expect("compute target exists");
+                let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("clouds (compute)"),
+                    timestamp_writes: timestamps.map(|(set, i)| wgpu::ComputePassTimestampWrites {
+                        query_set: set,
+                        beginning_of_pass_write_index: Some(i),
+                        end_of_pass_write_index: Some(i + 1),
+                    }),
+                });
+                cp.set_pipeline(p);
+                cp.set_bind_group(0, &self.bind_common, &[]);
+                cp.set_bind_group(1, self.bind_clouds.as_ref(), &[]);
+                cp.set_bind_group(2, out, &[]);
+                cp.dispatch_workgroups(self.width.div_ceil(8), self.height.div_ceil(8), 1);
+                return;
+            }
+            None => panic!("ensure built every needed pipeline ({})", pass.name()),
+        };
+        let timestamp_writes = timestamps.map(|(set, i)| wgpu::RenderPassTimestampWrites {
+            query_set: set,
+            beginning_of_pass_write_index: Some(i),
+            end_of_pass_write_index: Some(i + 1),
+        });
+        let color = |view, load| {
+            [Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })]
+        };
+        let clear = wgpu::LoadOp::Clear(wgpu::Color::WHITE);
+        let attachments = match pass {
+            Pass::Shadow => color(
+                &self.shadow_view.as_ref().expect("shadow map exists").1,
+                clear,
+            ),
+            Pass::Sky => color(target, clear),
+            _ => color(target, wgpu::LoadOp::Load),
+        };
+        let depth = (pass == Pass::Terrain).then(|| wgpu::RenderPassDepthStencilAttachment {
+            view: self.depth_view.as_ref().expect("depth exists with terrain"),
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(1.0),
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        });
+        let mut rp = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(pass.name()),
+            color_attachments: &attachments,
+            depth_stencil_attachment: depth,
+            timestamp_writes,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        rp.set_pipeline(pipeline);
+        rp.set_bind_group(0, &self.bind_common, &[]);
+        match pass {
+            Pass::Terrain => {
+                let t = self.terrain.as_ref().expect("terrain mesh exists");
+                rp.set_bind_group(1, self.bind_terrain.as_ref(), &[]);
+                rp.set_vertex_buffer(0, t.vertices.slice(..));
+                rp.set_index_buffer(t.indices.slice(..), wgpu::IndexFormat::Uint32);
+                rp.draw_indexed(0..t.index_count, 0, 0..1);
+            }
+            Pass::Clouds => {
+                rp.set_bind_group(1, self.bind_clouds.as_ref(), &[]);
+                rp.draw(0..3, 0..1);
+            }
+            Pass::Composite => {
+                let (_, _, input) = self.cloud_target.as_ref().expect("compute target exists");
+                rp.set_bind_group(1, input, &[]);
+                rp.draw(0..3, 0..1);
+            }
+            _ => rp.draw(0..3, 0..1),
+        }
+    }
+}

@@ -1,0 +1,599 @@
+//! The renderer: owns the GPU resources of the shared passes, the render
+//! method's cloud field ([`crate::render::raymarch`]) and the pipelines,
+//! and draws a frame into any texture view (window surface or offscreen).
+//! Pass order: bake (baked method, only when the parcels moved) → shadow
+//! map → sky → terrain → clouds (fragment, or compute + composite).
+//! This file holds the state, configuration and preparation; [`draw`] the
+//! encoding and timing of a frame; [`resources`] the textures and bind
+//! groups it creates.
+//!
+//! "Leave out what a scene does not need": [`Features`] decides which passes
+//! and resources exist; pipelines come from a cache keyed by pass, method
+//! and `override` constants ([`crate::render::pipelines`]), so a toggled
+//! setting builds only pipelines it has never seen and clouds appearing
+//! never wait for a shader compile. `prepare` uploads (and times the
+//! upload); `render` draws and times each pass ([`crate::render::timing`]).
+
+use std::time::Instant;
+
+use crate::error::{Error, Result};
+use crate::render::auto_march::AutoMarch;
+use crate::render::gpu::GpuContext;
+use crate::render::method::{MarchPath, RenderMethod};
+use crate::render::pack::{FrameUniform, GridInfo, GridUniform, ParcelsUniform};
+use crate::render::pipelines::{PassLayouts, PipelineCache, PipelineKey};
+use crate::render::raymarch::baked::{BakeInfo, BakedField};
+use crate::render::raymarch::exact::ExactField;
+use crate::render::shaders::Pass;
+use crate::render::terrain;
+use crate::render::timing::Timestamps;
+use crate::render::{Features, FrameInput, RenderConfig, TerrainConfig};
+
+mod draw;
+mod resources;
+
+pub(crate) use resources::texture_2d;
+use resources::{make_bind_common, noise_texture};
+
+pub use crate::render::pipelines::{DEPTH_FORMAT, SHADOW_FORMAT};
+pub(crate) use crate::render::timing::read_buffer;
+pub use crate::render::timing::{FrameTimings, TimingMode};
+
+struct TerrainGpu {
+    cfg: TerrainConfig,
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    index_count: u32,
+}
+
+/// Draws frames; see the module docs.
+pub struct Renderer {
+    cfg: RenderConfig,
+    format: wgpu::TextureFormat,
+    width: u32,
+    height: u32,
+    features: Features,
+    /// The last prepared frame had parcels (true before the first).
+    any_clouds: bool,
+    grid_info: GridInfo,
+    upload_ms: f64,
+
+    frame_buf: wgpu::Buffer,
+    exact: ExactField,
+    baked: BakedField,
+    /// `baked.generation` that `bind_common` holds.
+    bound_generation: u64,
+    noise_texels: u32,
+    noise_view: wgpu::TextureView,
+    repeat_sampler: wgpu::Sampler,
+    clamp_sampler: wgpu::Sampler,
+    layouts: PassLayouts,
+    bind_common: wgpu::BindGroup,
+
+    depth_view: Option<wgpu::TextureView>,
+    dummy_depth_view: wgpu::TextureView,
+    shadow_view: Option<(u32, wgpu::TextureView)>,
+    white_view: wgpu::TextureView,
+    terrain: Option<TerrainGpu>,
+
+    pipelines: PipelineCache,
+    bake_pipelines: u32,
+    bind_terrain: Option<wgpu::BindGroup>,
+    bind_clouds: Option<wgpu::BindGroup>,
+    timestamps: Option<Timestamps>,
+    /// How passes are timed (GPU modes fall back to Cpu without timestamps).
+    timing: TimingMode,
+    /// Re-bake every frame (bench: the cost when every parcel moves).
+    always_bake: bool,
+    /// The compute march's output: (view, its storage bind group, its
+    /// sampled bind group for the composite).
+    cloud_target: Option<(wgpu::TextureView, wgpu::BindGroup, wgpu::BindGroup)>,
+    /// `march = "auto"`: measurements and decision.
+    auto_march: AutoMarch,
+}
+
+impl Renderer {
+    pub fn new(
+        ctx: &GpuContext,
+        cfg: &RenderConfig,
+        target_format: wgpu::TextureFormat,
+        width: u32,
+        height: u32,
+    ) -> Result<Self> {
+        cfg.validate()?;
+        check_size(ctx, width, height)?;
+        let device = &ctx.device;
+        let limits = device.limits();
+        for (name, size) in [
+            ("frame uniform", std::mem::size_of::<FrameUniform>()),
+            ("parcel uniform", std::mem::size_of::<ParcelsUniform>()),
+            ("grid uniform", std::mem::size_of::<GridUniform>()),
+        ] {
+            if size as u64 > limits.max_uniform_buffer_binding_size as u64 {
+                return Err(Error::Gpu(format!(
+                    "the {name} needs {size} bytes but this device binds at most {} bytes of uniforms; lower MAX_PARCELS/MAX_GRID_* in src/render/pack.rs",
+                    limits.max_uniform_buffer_binding_size
+                )));
+            }
+        }
+        if cfg.noise_texels > limits.max_texture_dimension_3d
+            || cfg.shadow_texels > limits.max_texture_dimension_2d
+        {
+            return Err(Error::Gpu(format!(
+                "noise texture {}³ or shadow map {}² exceeds the device's texture limits ({}³, {}²)",
+                cfg.noise_texels,
+                cfg.shadow_texels,
+                limits.max_texture_dimension_3d,
+                limits.max_texture_dimension_2d
+            )));
+        }
+
+        let frame_buf = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("frame uniform"),
+            size: std::mem::size_of::<FrameUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let exact = ExactField::new(device);
+        let mut bake_pipelines = 0;
+        let baked = BakedField::new(ctx, &frame_buf, &mut bake_pipelines)?;
+
+        let sampler = |label: &str, mode: wgpu::AddressMode| {
+            device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some(label),
+                address_mode_u: mode,
+                address_mode_v: mode,
+                address_mode_w: mode,
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                ..Default::default()
+            })
+        };
+        let repeat_sampler = sampler("repeat", wgpu::AddressMode::Repeat);
+        let clamp_sampler = sampler("clamp", wgpu::AddressMode::ClampToEdge);
+        let noise_view = noise_texture(ctx, cfg.noise_texels);
+
+        let layouts = PassLayouts::new(device);
+
+        let dummy_depth_view = texture_2d(
+            device,
+            "dummy depth",
+            1,
+            1,
+            DEPTH_FORMAT,
+            wgpu::TextureUsages::TEXTURE_BINDING,
+        )
+        .create_view(&Default::default());
+        let white = texture_2d(
+            device,
+            "no shadow",
+            1,
+            1,
+            SHADOW_FORMAT,
+            wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        );
+        ctx.queue.write_texture(
+            white.as_image_copy(),
+            &[255],
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(1),
+                rows_per_image: None,
+            },
+            wgpu::Extent3d {
+                width: 1,
+                height: 1,
+                depth_or_array_layers: 1,
+            },
+        );
+        let white_view = white.create_view(&Default::default());
+
+        let timestamps = ctx
+            .timestamps
+            .then(|| Timestamps::new(device, Pass::ALL.len() as u32));
+        let bind_common = make_bind_common(
+            device,
+            &layouts,
+            &frame_buf,
+            &exact,
+            &baked,
+            &noise_view,
+            &repeat_sampler,
+            &clamp_sampler,
+        );
+        let mut r = Self {
+            cfg: cfg.clone(),
+            format: target_format,
+            width,
+            height,
+            // Built for a frame with clouds, ahead of the first condensed
+            // parcel (no compile when it appears).
+            features: Features::new(cfg, true),
+            any_clouds: true,
+            grid_info: crate::render::pack::pack(&[], cfg.shell_m, cfg.radius_scale)?.info,
+            upload_ms: 0.0,
+            frame_buf,
+            bound_generation: baked.generation,
+            exact,
+            baked,
+            noise_texels: cfg.noise_texels,
+            noise_view,
+            repeat_sampler,
+            clamp_sampler,
+            layouts,
+            bind_common,
+            depth_view: None,
+            dummy_depth_view,
+            shadow_view: None,
+            white_view,
+            terrain: None,
+            pipelines: PipelineCache::default(),
+            bake_pipelines,
+            bind_terrain: None,
+            bind_clouds: None,
+            timestamps,
+            timing: TimingMode::GpuBlocking,
+            always_bake: false,
+            cloud_target: None,
+            auto_march: AutoMarch::default(),
+        };
+        r.ensure(ctx)?;
+        Ok(r)
+    }
+
+    /// The current configuration.
+    pub fn config(&self) -> &RenderConfig {
+        &self.cfg
+    }
+
+    /// The features the current frame uses.
+    pub fn features(&self) -> Features {
+        self.features
+    }
+
+    /// Where the last frame's grid sits and how full it is (exact: the
+    /// culling grid; baked: the coarse occupancy grid over the bake region).
+    pub fn grid_info(&self) -> GridInfo {
+        self.grid_info
+    }
+
+    /// What the baked field covers (zeros before the first bake).
+    pub fn bake_info(&self) -> BakeInfo {
+        self.baked.info()
+    }
+
+    /// Names of the passes that exist for the current features, in
+    /// execution order (the bake runs only in frames whose parcels moved).
+    pub fn pass_names(&self) -> Vec<&'static str> {
+        Pass::ALL
+            .into_iter()
+            .filter(|p| self.needed(*p))
+            .map(|p| p.name())
+            .collect()
+    }
+
+    /// Times passes with GPU timestamps (when the device has them; the
+    /// default) or with the CPU clock and a queue sync per pass.
+    pub fn set_gpu_timestamps(&mut self, on: bool) {
+        self.set_timing_mode(if on {
+            TimingMode::GpuBlocking
+        } else {
+            TimingMode::Cpu
+        });
+    }
+
+    /// Chooses how passes are timed; see [`TimingMode`].
+    pub fn set_timing_mode(&mut self, mode: TimingMode) {
+        self.timing = mode;
+    }
+
+    /// The timing actually used: GPU modes need timestamp support.
+    pub fn timing_mode(&self) -> TimingMode {
+        match (self.timing, self.timestamps.is_some()) {
+            (TimingMode::Cpu, _) | (_, false) => TimingMode::Cpu,
+            (mode, true) => mode,
+        }
+    }
+
+    /// Re-bake the baked field every frame, moved or not (for the bench:
+    /// the cost of a frame whose parcels all moved).
+    pub fn set_always_bake(&mut self, on: bool) {
+        self.always_bake = on;
+    }
+
+    /// How many pipelines (render and compute) this renderer has created.
+    pub fn pipelines_built(&self) -> u32 {
+        self.pipelines.built + self.bake_pipelines
+    }
+
+    /// Frame size in pixels.
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    /// Changes the frame size (recreates the depth buffer).
+    pub fn resize(&mut self, ctx: &GpuContext, width: u32, height: u32) -> Result<()> {
+        check_size(ctx, width, height)?;
+        if (width, height) != (self.width, self.height) {
+            self.width = width;
+            self.height = height;
+            self.depth_view = None;
+            self.bind_clouds = None;
+            self.cloud_target = None;
+            self.ensure(ctx)?;
+        }
+        Ok(())
+    }
+
+    /// Applies new settings, rebuilding only what depends on what changed.
+    /// A new method takes effect at the next `prepare`.
+    pub fn set_config(&mut self, ctx: &GpuContext, cfg: &RenderConfig) -> Result<()> {
+        cfg.validate()?;
+        if cfg.noise_texels != self.noise_texels {
+            self.noise_view = noise_texture(ctx, cfg.noise_texels);
+            self.noise_texels = cfg.noise_texels;
+            self.rebind_common(ctx);
+        }
+        self.cfg = cfg.clone();
+        self.features = Features::new(cfg, self.any_clouds);
+        self.ensure(ctx)
+    }
+
+    /// The `override` constants of `pass` under the current features.
+    fn constants(&self, pass: Pass) -> Vec<(&'static str, f64)> {
+        let b = |v: bool| if v { 1.0 } else { 0.0 };
+        let f = self.features;
+        let srgb = b(!self.format.is_srgb());
+        let exact = self.cfg.method == RenderMethod::Exact;
+        let mut c = match pass {
+            Pass::Bake | Pass::Sky | Pass::Composite => vec![("ENCODE_SRGB", srgb)],
+            Pass::Shadow => vec![("ENCODE_SRGB", srgb)],
+            Pass::Terrain => vec![("ENCODE_SRGB", srgb), ("HAS_SHADOWS", b(f.shadows))],
+            Pass::Clouds => vec![
+                ("ENCODE_SRGB", srgb),
+                ("USE_NORMALS", b(f.normals)),
+                ("HAS_TERRAIN", b(f.terrain)),
+            ],
+        };
+        if exact && matches!(pass, Pass::Shadow | Pass::Clouds) {
+            c.push(("GRID_CULLING", b(self.cfg.grid_culling)));
+        }
+        c
+    }
+
+    fn needed(&self, pass: Pass) -> bool {
+        match pass {
+            Pass::Bake => self.features.clouds && self.cfg.method == RenderMethod::Baked,
+            Pass::Shadow => self.features.shadows,
+            Pass::Sky => true,
+            Pass::Terrain => self.features.terrain,
+            Pass::Clouds => self.features.clouds,
+            Pass::Composite => self.features.clouds && self.compute_path(),
+        }
+    }
+
+    /// Whether the next frame marches in a compute shader.
+    fn compute_path(&self) -> bool {
+        self.auto_march.path(self.cfg.march) == MarchPath::Compute
+    }
+
+    /// The march path in use: the configured one, or what `auto` chose
+    /// (None while it is still measuring).
+    pub fn march_path(&self) -> Option<MarchPath> {
+        match self.cfg.march {
+            MarchPath::Auto => self.auto_march.chosen(),
+            p => Some(p),
+        }
+    }
+
+    fn key(&self, pass: Pass) -> PipelineKey {
+        let compute = pass == Pass::Clouds && self.compute_path();
+        PipelineKey::new(
+            pass,
+            self.cfg.method,
+            &self.constants(pass),
+            self.format,
+            compute,
+        )
+    }
+
+    /// Both cloud-pass pipelines when `auto` is still measuring (it
+    /// alternates), else the one in use.
+    fn cloud_keys(&self) -> Vec<PipelineKey> {
+        let mut keys = vec![self.key(Pass::Clouds)];
+        if self.cfg.march == MarchPath::Auto && self.auto_march.chosen().is_none() {
+            let mut other = keys[0].clone();
+            other.compute = !other.compute;
+            keys.push(other);
+            keys.push(PipelineKey::new(
+                Pass::Composite,
+                self.cfg.method,
+                &self.constants(Pass::Composite),
+                self.format,
+                false,
+            ));
+        }
+        keys
+    }
+
+    /// Creates what the current features need and drops what they do not.
+    fn ensure(&mut self, ctx: &GpuContext) -> Result<()> {
+        let device = &ctx.device;
+        let f = self.features;
+
+        // Resources.
+        if f.terrain {
+            if self.terrain.as_ref().map(|t| &t.cfg) != Some(&self.cfg.terrain) {
+                let mesh = terrain::build_mesh(&self.cfg.terrain)?;
+                use wgpu::util::DeviceExt as _;
+                self.terrain = Some(TerrainGpu {
+                    cfg: self.cfg.terrain.clone(),
+                    vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("terrain vertices"),
+                        contents: bytemuck::cast_slice(&mesh.vertices),
+                        usage: wgpu::BufferUsages::VERTEX,
+                    }),
+                    indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("terrain indices"),
+                        contents: bytemuck::cast_slice(&mesh.indices),
+                        usage: wgpu::BufferUsages::INDEX,
+                    }),
+                    index_count: mesh.indices.len() as u32,
+                });
+            }
+            if self.depth_view.is_none() {
+                self.depth_view = Some(
+                    texture_2d(
+                        device,
+                        "depth",
+                        self.width,
+                        self.height,
+                        DEPTH_FORMAT,
+                        wgpu::TextureUsages::RENDER_ATTACHMENT
+                            | wgpu::TextureUsages::TEXTURE_BINDING,
+                    )
+                    .create_view(&Default::default()),
+                );
+                self.bind_clouds = None;
+            }
+        } else {
+            self.terrain = None;
+            if self.depth_view.take().is_some() {
+                self.bind_clouds = None;
+            }
+        }
+        let shadow_n = self.cfg.shadow_texels;
+        if f.shadows {
+            if self.shadow_view.as_ref().map(|(n, _)| *n) != Some(shadow_n) {
+                let tex = texture_2d(
+                    device,
+                    "cloud shadow map",
+                    shadow_n,
+                    shadow_n,
+                    SHADOW_FORMAT,
+                    wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                );
+                self.shadow_view = Some((shadow_n, tex.create_view(&Default::default())));
+                self.bind_terrain = None;
+            }
+        } else if self.shadow_view.take().is_some() {
+            self.bind_terrain = None;
+        }
+
+        // Bind groups of group 1.
+        if f.terrain && self.bind_terrain.is_none() {
+            let view = self
+                .shadow_view
+                .as_ref()
+                .map(|(_, v)| v)
+                .unwrap_or(&self.white_view);
+            self.bind_terrain = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("terrain: shadow map"),
+                layout: &self.layouts.shadow_tex,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(view),
+                }],
+            }));
+        }
+        if f.clouds && self.bind_clouds.is_none() {
+            let view = self.depth_view.as_ref().unwrap_or(&self.dummy_depth_view);
+            self.bind_clouds = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("clouds: depth"),
+                layout: &self.layouts.depth,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(view),
+                }],
+            }));
+        }
+
+        // Pipelines: built once per key and kept (see pipelines.rs), for
+        // the frame with clouds and the one without as well as the current
+        // one, so clouds appearing or vanishing never wait for a compile.
+        let current = self.features;
+        for features in [
+            Features::new(&self.cfg, true),
+            Features::new(&self.cfg, false),
+            current,
+        ] {
+            self.features = features;
+            let mut keys: Vec<PipelineKey> = Pass::ALL
+                .into_iter()
+                .filter(|p| *p != Pass::Bake && self.needed(*p))
+                .map(|p| self.key(p))
+                .collect();
+            if self.features.clouds {
+                keys.extend(self.cloud_keys());
+            }
+            self.features = current;
+            for key in keys {
+                self.pipelines.ensure(ctx, &self.layouts, &key)?;
+            }
+        }
+        let compute_possible = self.cfg.march != MarchPath::Fragment;
+        if current.clouds && compute_possible && self.cloud_target.is_none() {
+            self.cloud_target = Some(self.make_cloud_target(device));
+        }
+        Ok(())
+    }
+
+    /// Packs and uploads a frame's data (the exact method fails, without
+    /// drawing anything wrong, past its uniform limits; see [`pack`]).
+    ///
+    /// [`pack`]: crate::render::pack
+    pub fn prepare(&mut self, ctx: &GpuContext, input: &FrameInput<'_>) -> Result<()> {
+        let start = Instant::now();
+        let (shell, scale) = (self.cfg.shell_m, self.cfg.radius_scale);
+        let info = match self.cfg.method {
+            RenderMethod::Exact => self.exact.upload(ctx, input.parcels, shell, scale)?,
+            RenderMethod::Baked => self.baked.update(ctx, input.parcels, shell, scale)?,
+        };
+        if self.always_bake {
+            self.baked.invalidate();
+        }
+        if self.baked.generation != self.bound_generation {
+            self.rebind_common(ctx);
+        }
+        self.grid_info = info;
+        self.any_clouds = info.parcel_count > 0;
+        let features = Features::new(&self.cfg, self.any_clouds);
+        if features != self.features {
+            self.features = features;
+            self.ensure(ctx)?;
+        }
+        let frame = self.frame_uniform(input);
+        ctx.queue
+            .write_buffer(&self.frame_buf, 0, bytemuck::bytes_of(&frame));
+        self.upload_ms = start.elapsed().as_secs_f64() * 1e3;
+        Ok(())
+    }
+}
+
+/// Ground rectangle (min x, min y, max x, max y) whose sun rays can cross
+/// the grid box: the box's footprint and its shadow cast from its top.
+pub fn shadow_rect(g: &GridInfo, sun: glam::Vec3) -> [f32; 4] {
+    let sun = sun.normalize();
+    let (lo, hi) = (g.min, g.max());
+    // Along the sun ray from ground (x, y, 0), height z is reached at x + z·s.
+    let s = glam::Vec2::new(sun.x, sun.y) / sun.z.max(0.03);
+    let a = lo.truncate() - s * hi.z;
+    let b = hi.truncate() - s * hi.z;
+    let c = lo.truncate() - s * lo.z.max(0.0);
+    let d = hi.truncate() - s * lo.z.max(0.0);
+    let min = a.min(c).min(b).min(d);
+    let max = a.max(c).max(b).max(d);
+    [min.x, min.y, max.x, max.y]
+}
+
+fn check_size(ctx: &GpuContext, width: u32, height: u32) -> Result<()> {
+    let max = ctx.device.limits().max_texture_dimension_2d;
+    if width == 0 || height == 0 || width > max || height > max {
+        return Err(Error::invalid(
+            "frame size",
+            format!("{width}×{height}"),
+            format!("1 to {max} pixels per side on this device"),
+        ));
+    }
+    Ok(())
+}
