@@ -28,7 +28,7 @@ pub const REFERENCE_OCTAVES: u32 = 6;
 pub const REFERENCE_SUPERSAMPLE: u32 = 2;
 
 /// Growth of the light-march steps. Keep in sync with `LIGHT_GROWTH` in
-/// shaders/clouds.wgsl (a test reads it from there).
+/// shaders/lighting.wgsl (a test reads it from there).
 pub const LIGHT_GROWTH: f32 = 1.6;
 
 /// Shortest first light step the configuration accepts (`render.light_step_m`). units: m
@@ -590,11 +590,11 @@ mod tests {
 
     #[test]
     fn light_growth_matches_the_shader() {
-        let wgsl = include_str!("../../shaders/clouds.wgsl");
+        let wgsl = include_str!("../../shaders/lighting.wgsl");
         let line = wgsl
             .lines()
             .find(|l| l.trim_start().starts_with("const LIGHT_GROWTH"))
-            .expect("clouds.wgsl defines LIGHT_GROWTH");
+            .expect("lighting.wgsl defines LIGHT_GROWTH");
         let v: f32 = line
             .split('=')
             .nth(1)

@@ -3,7 +3,7 @@
 //! medium, tone curve), with units. Field names carry their units.
 //!
 //! The lighting constants below mirror the WGSL of the cloud pass; keep in
-//! sync with shaders/clouds.wgsl (`sun_octave_weights`, `LIGHT_DENSITY`) and
+//! sync with shaders/lighting.wgsl (`sun_octave_weights`, `LIGHT_DENSITY`) and
 //! shaders/common.wgsl (`sky_ambient`, `output_color`).
 
 use serde::{Deserialize, Serialize};
@@ -12,11 +12,11 @@ use crate::render::{Camera, RenderConfig, Sun};
 
 use super::GridSpec;
 
-/// Henyey–Greenstein g of the weak back lobe (clouds.wgsl `sun_octave_weights`).
+/// Henyey–Greenstein g of the weak back lobe (lighting.wgsl `sun_octave_weights`).
 pub const BACK_LOBE_G: f32 = -0.2;
-/// Weight of the back lobe in the mix (clouds.wgsl `sun_octave_weights`).
+/// Weight of the back lobe in the mix (lighting.wgsl `sun_octave_weights`).
 pub const BACK_LOBE_WEIGHT: f32 = 0.25;
-/// Extra density factor of the light march toward the sun (clouds.wgsl `LIGHT_DENSITY`).
+/// Extra density factor of the light march toward the sun (lighting.wgsl `LIGHT_DENSITY`).
 pub const LIGHT_DENSITY: f32 = 2.5;
 /// Sky ambient radiance (common.wgsl `sky_ambient`). units: linear RGB
 pub const SKY_AMBIENT_RGB: [f32; 3] = [0.30, 0.40, 0.60];
