@@ -40,7 +40,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 
-# Growth of the light-march steps (shaders/clouds.wgsl LIGHT_GROWTH).
+# Growth of the light-march steps (shaders/lighting.wgsl LIGHT_GROWTH).
 LIGHT_GROWTH = 1.6
 
 
