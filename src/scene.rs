@@ -80,6 +80,7 @@ impl SceneProfile {
         })?;
         let profile = Self::from_toml(&text, path)?;
         profile.validate().map_err(|e| locate(e, &text, path))?;
+        require_atmosphere(&text, path)?;
         Ok(profile)
     }
 
@@ -105,6 +106,25 @@ impl SceneProfile {
     pub fn to_toml(&self) -> Result<String> {
         toml::to_string_pretty(self).map_err(|e| Error::invalid("scene", &self.name, e.to_string()))
     }
+}
+
+/// A profile file must say what its atmosphere is: one without an
+/// `[atmosphere]` table (an empty file, say) would otherwise run on the
+/// built-in default without a word. (Parsed TOML text is given.)
+fn require_atmosphere(text: &str, path: &Path) -> Result<()> {
+    let table: toml::Table = toml::from_str(text).unwrap_or_default();
+    if table.contains_key("atmosphere") {
+        return Ok(());
+    }
+    Err(Error::parse(
+        path,
+        0,
+        0,
+        "the profile has no [atmosphere] table: say what the atmosphere is, either \
+         `[atmosphere]` with `sounding = \"soundings/FILE.txt\"` or with \
+         `[[atmosphere.points]]` (z_m, t_c, td_c)"
+            .to_string(),
+    ))
 }
 
 /// Turns a parameter error into one that names the profile file and the

@@ -8,35 +8,12 @@ use super::run::{CaseResult, KE_RATIO_BOUND};
 use crate::error::Result;
 use crate::physics::ClampCounts;
 
-/// Clamp kinds and their counts, in a fixed order.
-fn clamp_kinds(c: &ClampCounts) -> [(&'static str, u64); 12] {
-    [
-        ("negative_humidity", c.negative_humidity),
-        ("radius", c.radius),
-        ("mass", c.mass),
-        ("saturation_cap", c.saturation_cap),
-        ("detrainment", c.detrainment),
-        ("exchange", c.exchange),
-        ("speed", c.speed),
-        ("substep_budget", c.substep_budget),
-        ("non_finite", c.non_finite),
-        ("bad_frame_dt", c.bad_frame_dt),
-        ("atm_force", c.atm_force),
-        ("viscosity", c.viscosity),
-    ]
-}
-
 /// "speed 12, radius 3" (non-zero kinds only), or "–" when none was hit.
 pub fn clamp_summary(c: &ClampCounts) -> String {
-    let parts: Vec<String> = clamp_kinds(c)
-        .iter()
-        .filter(|(_, n)| *n > 0)
-        .map(|(k, n)| format!("{k} {n}"))
-        .collect();
-    if parts.is_empty() {
+    if c.total() == 0 {
         "–".into()
     } else {
-        parts.join(", ")
+        c.to_string()
     }
 }
 
@@ -120,7 +97,7 @@ pub fn to_csv(results: &[CaseResult]) -> String {
     let mut s = String::from(
         "case,group,frame_dt_s,frames,frames_run,parcels_start,parcels_peak,completed,panic,non_finite,ke_max_j,ke_ratio,ke_step_growth,e_phys_j_per_kg,atm_work_j,atm_work_share,max_speed_m_s,escaped_sides,escaped_top,substeps",
     );
-    for (k, _) in clamp_kinds(&ClampCounts::default()) {
+    for (k, _) in ClampCounts::default().kinds() {
         let _ = write!(s, ",clamp_{k}");
     }
     s.push_str(",wall_s,passed,failures\n");
@@ -150,7 +127,7 @@ pub fn to_csv(results: &[CaseResult]) -> String {
             r.escaped_top,
             r.substeps
         );
-        for (_, n) in clamp_kinds(&r.clamps) {
+        for (_, n) in r.clamps.kinds() {
             let _ = write!(s, ",{n}");
         }
         let _ = writeln!(
