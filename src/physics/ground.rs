@@ -239,7 +239,9 @@ mod tests {
         let expect = e.rate_per_km2_per_h * weight_km2 * 6000.0 / 3600.0;
         for (frames, dt) in [(10, 600.0), (3000, 2.0)] {
             let mut rng = SplitMix64::new(5);
-            let n: usize = (0..frames).map(|_| g.draw(&e, 0.0, dt, &mut rng).len()).sum();
+            let n: usize = (0..frames)
+                .map(|_| g.draw(&e, 0.0, dt, &mut rng).len())
+                .sum();
             assert!(
                 (n as f64 - expect).abs() < 5.0 * expect.sqrt(),
                 "{frames} frames of {dt} s: {n} vs {expect}"

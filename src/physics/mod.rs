@@ -10,7 +10,8 @@
 //! - [`single`]: one parcel released from the ground (`parcel --dynamic`);
 //! - [`config`]: the `[physics]`, `[ground]`, `[emission]`, `[wind]` tables;
 //! - [`ground`]: heat/humidity maps and the parcel generator;
-//! - [`sph`], [`tessellation`], [`rng`]: kernels, the 18 × 9 sphere, SplitMix64.
+//! - [`sph`], [`tessellation`], [`rng`]: kernels, the 18 × 9 sphere, SplitMix64;
+//! - [`scale_bench`]: the lattice worlds of the speed measurements.
 //!
 //! Where the paper is loose, what we do (details at each function):
 //! - SI units throughout; latent-heat factor α = 1 (the paper's 0.3 is
@@ -37,6 +38,7 @@ pub mod config;
 pub mod ground;
 pub mod parcel;
 pub mod rng;
+pub mod scale_bench;
 pub mod single;
 pub mod sph;
 pub mod tessellation;

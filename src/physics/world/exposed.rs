@@ -56,6 +56,7 @@ impl ParcelWorld {
                 let mut hidden = [0u64; 3];
                 let mut force = DVec3::ZERO;
                 let mut tested = 0u64;
+                let mut evaluated = false;
                 // Per overlapping neighbour: axis u towards it, cos of the
                 // cap's half-angle, pressure at the contact disk's centre.
                 // The part of sphere i inside sphere j is exactly the cap
@@ -76,18 +77,21 @@ impl ParcelWorld {
                     }
                     let x = x.max(-ri);
                     let (cos, p_ref) = (x / ri, pressure_anomaly(x * u.z));
-                    tested += sphere.normal.len() as u64;
-                    for (q, (nq, area)) in sphere.normal.iter().zip(&sphere.area).enumerate() {
+                    evaluated = true;
+                    sphere.cap_candidates(u, cos, |q| {
+                        tested += 1;
+                        let nq = sphere.normal[q];
                         if nq.dot(u) > cos {
                             hidden[q / 64] |= 1 << (q % 64);
                             if weight != 0.0 {
-                                force += *nq * ((pressure_anomaly(nq.z * ri) - p_ref) * area * r2);
+                                force += nq
+                                    * ((pressure_anomaly(nq.z * ri) - p_ref) * sphere.area[q] * r2);
                             }
                         }
-                    }
+                    });
                 }
-                if tested == 0 {
-                    return (4.0 * PI * r2, DVec3::ZERO, false, 0);
+                if !evaluated {
+                    return (4.0 * PI * r2, DVec3::ZERO, false, None);
                 }
                 let exposed: f64 = sphere
                     .area
@@ -102,9 +106,14 @@ impl ParcelWorld {
                 let bound =
                     weight * parcels[i].env_at_centre.1 * thermo::GRAVITY * parcels[i].volume_m3;
                 if force.length() > bound {
-                    (exposed, force * (bound / force.length()), true, tested)
+                    (
+                        exposed,
+                        force * (bound / force.length()),
+                        true,
+                        Some(tested),
+                    )
                 } else {
-                    (exposed, force, false, tested)
+                    (exposed, force, false, Some(tested))
                 }
             })
             .collect_into_vec(&mut out);
@@ -112,8 +121,8 @@ impl ParcelWorld {
             p.exposed_area_m2 = exposed;
             p.atm_force_n = force;
             clamps.atm_force += capped as u64;
-            self.counters.exposed_area_evaluations += (tested > 0) as u64;
-            self.counters.quads_tested += tested;
+            self.counters.exposed_area_evaluations += tested.is_some() as u64;
+            self.counters.quads_tested += tested.unwrap_or(0);
         }
         self.scratch.exposed = out;
     }

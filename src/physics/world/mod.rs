@@ -61,8 +61,8 @@ struct Scratch {
     /// SPH density and pressure. units: kg m⁻³, Pa
     density: Vec<(f64, f64)>,
     /// Exposed area, atmospheric force, whether the force was capped,
-    /// quads tested. units: m², N
-    exposed: Vec<(f64, DVec3, bool, u64)>,
+    /// quads tested (None: no overlap, no tessellation). units: m², N
+    exposed: Vec<(f64, DVec3, bool, Option<u64>)>,
     /// Contacts per parcel (for the exchange bound).
     contacts: Vec<u32>,
     /// Exchange increments of q_v, q_l, θ, θ_l, and the bounded pairs. units: kg/kg, K
