@@ -51,20 +51,23 @@ pub fn to_markdown(results: &[CaseResult], title: &str) -> String {
          - **NaN/Inf**: parcels removed by the non-finite guard plus frames with a non-finite state; \
          any fails the case. A panic fails it too (caught, not propagated).\n\
          - **escaped**: parcels that left through the sides / the top (of the domain or the profile).\n\
-         - **clamps**: guards hit, by kind (see `physics::ClampCounts`).\n"
+         - **clamps**: guards hit, by kind (see `physics::ClampCounts`); a kind the case does not \
+         declare (listed under Cases) fails it. `opaque` (fill shown as 1) is information only.\n\
+         - **wall/sub-step**: wall-clock time in the physics stages per sub-step (the harness's \
+         set-up and energy sums left out).\n"
     );
     let _ = writeln!(
         s,
-        "| case | dt (s) | frames | parcels start/peak | NaN/Inf | KE ratio | KE step | e_phys (J/kg) | W_atm share | max speed (m/s) | escaped sides/top | sub-steps | clamps | wall (s) | result |"
+        "| case | dt (s) | frames | parcels start/peak | NaN/Inf | KE ratio | KE step | e_phys (J/kg) | W_atm share | max speed (m/s) | escaped sides/top | sub-steps | clamps | wall (s) | wall/sub-step (ms) | result |"
     );
     let _ = writeln!(
         s,
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---|"
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---|"
     );
     for r in results {
         let _ = writeln!(
             s,
-            "| {} | {} | {}/{} | {}/{} | {} | {:.3} | {:.3e} | {:.0} | {:.2} | {:.1} | {}/{} | {} | {} | {:.2} | {} |",
+            "| {} | {} | {}/{} | {}/{} | {} | {:.3} | {:.3e} | {:.0} | {:.2} | {:.1} | {}/{} | {} | {} | {:.2} | {:.2} | {} |",
             r.name,
             r.frame_dt_s,
             r.frames_run,
@@ -82,12 +85,22 @@ pub fn to_markdown(results: &[CaseResult], title: &str) -> String {
             r.substeps,
             clamp_summary(&r.clamps),
             r.wall_s,
+            r.wall_per_substep_ms(),
             verdict(r)
         );
     }
     let _ = writeln!(s, "\n## Cases\n");
     for r in results {
-        let _ = writeln!(s, "- `{}` ({}): {}", r.name, r.group, r.note);
+        let declared = if r.declared_clamps.is_empty() {
+            "none".to_string()
+        } else {
+            r.declared_clamps.join(", ")
+        };
+        let _ = writeln!(
+            s,
+            "- `{}` ({}): {}; declared clamps: {declared}",
+            r.name, r.group, r.note
+        );
     }
     s
 }
@@ -100,7 +113,7 @@ pub fn to_csv(results: &[CaseResult]) -> String {
     for (k, _) in ClampCounts::default().kinds() {
         let _ = write!(s, ",clamp_{k}");
     }
-    s.push_str(",wall_s,passed,failures\n");
+    s.push_str(",wall_s,wall_ms_per_substep,passed,failures\n");
     let quote = |t: &str| format!("\"{}\"", t.replace('"', "\"\""));
     for r in results {
         let _ = write!(
@@ -132,8 +145,9 @@ pub fn to_csv(results: &[CaseResult]) -> String {
         }
         let _ = writeln!(
             s,
-            ",{:.3},{},{}",
+            ",{:.3},{:.3},{},{}",
             r.wall_s,
+            r.wall_per_substep_ms(),
             r.passed(),
             quote(&r.failures().join("; "))
         );

@@ -97,8 +97,24 @@ pub struct CaseResult {
     pub substeps: u64,
     /// Clamps by kind (cumulative).
     pub clamps: ClampCounts,
+    /// Clamp kinds the case declares (see `Case::declared_clamps`).
+    pub declared_clamps: Vec<&'static str>,
     /// Wall-clock time of the case. units: s
     pub wall_s: f64,
+    /// Wall-clock time inside the physics stages (the world's counters). units: s
+    pub physics_s: f64,
+}
+
+impl CaseResult {
+    /// Wall-clock time of the physics (the world's stage timers, without
+    /// the harness's set-up and energy sums) per sub-step (0 before any). units: ms
+    pub fn wall_per_substep_ms(&self) -> f64 {
+        if self.substeps == 0 {
+            0.0
+        } else {
+            self.physics_s * 1e3 / self.substeps as f64
+        }
+    }
 }
 
 impl CaseResult {
@@ -114,6 +130,16 @@ impl CaseResult {
         }
         if self.non_finite > 0 {
             f.push(format!("{} NaN/Inf", self.non_finite));
+        }
+        let undeclared: Vec<String> = self
+            .clamps
+            .kinds()
+            .iter()
+            .filter(|(k, n)| *n > 0 && *k != "opaque" && !self.declared_clamps.contains(k))
+            .map(|(k, n)| format!("{k} {n}"))
+            .collect();
+        if !undeclared.is_empty() {
+            f.push(format!("undeclared clamps: {}", undeclared.join(", ")));
         }
         if !(self.ke_ratio <= KE_RATIO_BOUND) {
             f.push(format!(
@@ -287,7 +313,9 @@ pub fn run_case(case: &Case, mut on_frame: impl FnMut(u32)) -> CaseResult {
         escaped_top: 0,
         substeps: 0,
         clamps: ClampCounts::default(),
+        declared_clamps: case.declared_clamps.clone(),
         wall_s: 0.0,
+        physics_s: 0.0,
     };
     let outcome = catch_unwind(AssertUnwindSafe(|| simulate(case, &mut res, &mut on_frame)));
     match outcome {
@@ -387,6 +415,9 @@ fn simulate(case: &Case, res: &mut CaseResult, on_frame: &mut dyn FnMut(u32)) ->
     }
     let d = world.diagnostics();
     res.atm_work_j = w_atm;
+    let c = world.counters();
+    res.physics_s =
+        (c.neighbours + c.sph + c.exposed_area + c.mixing + c.thermo + c.integrate).as_secs_f64();
     res.clamps = d.clamps;
     res.escaped_sides = d.fates.escaped_sides;
     res.escaped_top = d.fates.escaped_top;

@@ -2,6 +2,8 @@
 
 use rayon::prelude::*;
 
+use super::PAR_MIN;
+
 use super::ParcelWorld;
 use crate::physics::sph;
 
@@ -20,6 +22,7 @@ impl ParcelWorld {
         let mut out = std::mem::take(&mut self.scratch.density);
         (0..parcels.len())
             .into_par_iter()
+            .with_min_len(PAR_MIN)
             .map(|i| {
                 let mi = parcels[i].total_mass_kg();
                 let mut rho = mi * w0;
@@ -31,6 +34,7 @@ impl ParcelWorld {
             .collect_into_vec(&mut out);
         self.parcels
             .par_iter_mut()
+            .with_min_len(PAR_MIN)
             .zip(&out)
             .for_each(|(p, &(rho, pr))| {
                 p.sph_density_kg_m3 = rho;

@@ -6,6 +6,8 @@ use std::f64::consts::PI;
 use glam::DVec3;
 use rayon::prelude::*;
 
+use super::PAR_MIN;
+
 use super::{ClampCounts, ParcelWorld};
 use crate::atmosphere::thermo;
 
@@ -39,6 +41,7 @@ impl ParcelWorld {
         let mut out = std::mem::take(&mut self.scratch.exposed);
         (0..parcels.len())
             .into_par_iter()
+            .with_min_len(PAR_MIN)
             .map(|i| {
                 let (ci, ri) = (parcels[i].position_m, parcels[i].radius_m);
                 // P across the sphere by the quadratic through P(z_c − r), P(z_c),

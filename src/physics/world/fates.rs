@@ -4,6 +4,8 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
+use super::PAR_MIN;
+
 use super::moisture::{condensation_plane_m, fill_ratio};
 use super::{ClampCounts, Fates, ParcelWorld};
 use crate::physics::parcel::ParcelSpec;
@@ -73,6 +75,7 @@ impl ParcelWorld {
         let (counted, opaque_count) = self
             .parcels
             .par_iter_mut()
+            .with_min_len(PAR_MIN)
             .map(|p| {
                 let mut f = Fates::default();
                 let plane = condensation_plane_m(env, z_max, p);

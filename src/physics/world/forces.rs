@@ -7,6 +7,8 @@ use std::f64::consts::PI;
 use glam::DVec3;
 use rayon::prelude::*;
 
+use super::PAR_MIN;
+
 use super::{ClampCounts, ParcelWorld, wind_at};
 use crate::atmosphere::thermo;
 use crate::physics::sph;
@@ -20,6 +22,7 @@ impl ParcelWorld {
         let mut vpred = std::mem::take(&mut self.scratch.vpred);
         parcels
             .par_iter()
+            .with_min_len(PAR_MIN)
             .map(|p| p.velocity_m_s + p.accel_m_s2 * (0.5 * dt))
             .collect_into_vec(&mut vpred);
         // Guard: explicit viscosity relaxes v_i towards its neighbours at the
@@ -35,6 +38,7 @@ impl ParcelWorld {
         let viscous = c.viscosity && c.viscosity_mu > 0.0;
         (0..parcels.len())
             .into_par_iter()
+            .with_min_len(PAR_MIN)
             .map(|i| {
                 if !viscous {
                     return 0.0;
@@ -60,6 +64,7 @@ impl ParcelWorld {
         let (vp, vr) = (&vpred, &visc_rate);
         (0..parcels.len())
             .into_par_iter()
+            .with_min_len(PAR_MIN)
             .map(|i| {
                 let p = &parcels[i];
                 let mi = p.total_mass_kg();
@@ -125,6 +130,7 @@ impl ParcelWorld {
             .collect_into_vec(&mut acc);
         self.parcels
             .par_iter_mut()
+            .with_min_len(PAR_MIN)
             .zip(&acc)
             .for_each(|(p, a)| p.accel_m_s2 = *a);
         self.scratch.vpred = vpred;

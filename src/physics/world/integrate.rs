@@ -5,6 +5,8 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
+use super::PAR_MIN;
+
 use super::{ClampCounts, ParcelWorld};
 use crate::atmosphere::thermo;
 
@@ -20,6 +22,7 @@ impl ParcelWorld {
         let (vmax, amax) = self
             .parcels
             .par_iter()
+            .with_min_len(PAR_MIN)
             .map(|p| (p.velocity_m_s.length(), p.accel_m_s2.length()))
             .reduce(|| (0.0_f64, 0.0_f64), |a, b| (a.0.max(b.0), a.1.max(b.1)));
         let mut dt = c.max_dt_s;
@@ -37,10 +40,13 @@ impl ParcelWorld {
 
     pub(super) fn substep(&mut self, dt: f64, clamps: &mut ClampCounts) {
         let t0 = Instant::now();
-        self.parcels.par_iter_mut().for_each(|p| {
-            p.velocity_m_s += p.accel_m_s2 * (0.5 * dt);
-            p.position_m += p.velocity_m_s * dt;
-        });
+        self.parcels
+            .par_iter_mut()
+            .with_min_len(PAR_MIN)
+            .for_each(|p| {
+                p.velocity_m_s += p.accel_m_s2 * (0.5 * dt);
+                p.position_m += p.velocity_m_s * dt;
+            });
         self.counters.integrate += t0.elapsed();
 
         self.update(dt, clamps);
@@ -50,6 +56,7 @@ impl ParcelWorld {
         clamps.speed += self
             .parcels
             .par_iter_mut()
+            .with_min_len(PAR_MIN)
             .map(|p| {
                 p.velocity_m_s += p.accel_m_s2 * (0.5 * dt);
                 p.age_s += dt;
@@ -85,13 +92,16 @@ impl ParcelWorld {
     pub(super) fn update(&mut self, dt: f64, clamps: &mut ClampCounts) {
         let t0 = Instant::now();
         let env = &self.env;
-        self.parcels.par_iter_mut().for_each(|p| {
-            let z = p.position_m.z;
-            let pr = env.pressure_pa(z);
-            let t = thermo::temperature_from_theta_k(env.theta_k(z), pr);
-            // Same expression as Environment::density_kg_m3, one pressure lookup fewer.
-            p.env_at_centre = (pr, thermo::air_density_kg_m3(pr, t, env.qv(z)));
-        });
+        self.parcels
+            .par_iter_mut()
+            .with_min_len(PAR_MIN)
+            .for_each(|p| {
+                let z = p.position_m.z;
+                let pr = env.pressure_pa(z);
+                let t = thermo::temperature_from_theta_k(env.theta_k(z), pr);
+                // Same expression as Environment::density_kg_m3, one pressure lookup fewer.
+                p.env_at_centre = (pr, thermo::air_density_kg_m3(pr, t, env.qv(z)));
+            });
         self.build_neighbours();
         let t1 = Instant::now();
         self.counters.neighbours += t1 - t0;

@@ -5,6 +5,8 @@ use std::f64::consts::PI;
 
 use rayon::prelude::*;
 
+use super::PAR_MIN;
+
 use super::{ClampCounts, MAX_DETRAIN_FRACTION, MIN_DRY_MASS_KG, ParcelWorld, wind_at};
 
 impl ParcelWorld {
@@ -12,7 +14,7 @@ impl ParcelWorld {
     pub(super) fn mix_with_environment(&mut self, dt: f64, clamps: &mut ClampCounts) {
         let (c, env, cfg) = (&self.cfg.physics, &self.env, &self.cfg);
         let env_cl = self.env_condensation_level_m;
-        let counted = self.parcels.par_iter_mut().map(|p| {
+        let counted = self.parcels.par_iter_mut().with_min_len(PAR_MIN).map(|p| {
             let mut clamps = ClampCounts::default();
             let z = p.position_m.z;
             let rel = p.velocity_m_s - wind_at(cfg, env, z);
@@ -99,6 +101,7 @@ impl ParcelWorld {
         let mut contacts = std::mem::take(&mut self.scratch.contacts);
         (0..parcels.len())
             .into_par_iter()
+            .with_min_len(PAR_MIN)
             .map(|i| grid.of(i).iter().filter(|n| touching(i, n)).count() as u32)
             .collect_into_vec(&mut contacts);
         // Air mass exchanged by the pair (a, b), a < b, and whether it was bounded.
@@ -114,6 +117,7 @@ impl ParcelWorld {
         let mut out = std::mem::take(&mut self.scratch.exchange);
         (0..parcels.len())
             .into_par_iter()
+            .with_min_len(PAR_MIN)
             .map(|i| {
                 let pi = &parcels[i];
                 let mut d = [0.0; 4];
@@ -134,6 +138,7 @@ impl ParcelWorld {
         clamps.exchange += out.iter().map(|(_, c)| c).sum::<u64>();
         self.parcels
             .par_iter_mut()
+            .with_min_len(PAR_MIN)
             .zip(&out)
             .for_each(|(p, (d, _))| {
                 p.qv_kg_per_kg += d[0];

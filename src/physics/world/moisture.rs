@@ -4,6 +4,8 @@
 
 use rayon::prelude::*;
 
+use super::PAR_MIN;
+
 use super::{ClampCounts, ParcelWorld};
 use crate::atmosphere::{Environment, thermo};
 use crate::physics::parcel::{Parcel, sphere_radius_m, sphere_volume_m3};
@@ -12,7 +14,7 @@ impl ParcelWorld {
     /// eq 6: V₂ = V₁ (P₁/P₂)^{1/γ} (m₂/m₁), then r from V, and humidity guards.
     pub(super) fn update_volume(&mut self, clamps: &mut ClampCounts) {
         let c = &self.cfg.physics;
-        let counted = self.parcels.par_iter_mut().map(|p| {
+        let counted = self.parcels.par_iter_mut().with_min_len(PAR_MIN).map(|p| {
             let mut clamps = ClampCounts::default();
             // Guard: no stage makes a mixing ratio negative (mixing scales,
             // exchange mixes convexly, condensation adjusts within the
@@ -51,7 +53,7 @@ impl ParcelWorld {
     /// (α = latent_heat_alpha), by thermo's saturation adjustment.
     pub(super) fn condense(&mut self, clamps: &mut ClampCounts) {
         let alpha = self.cfg.physics.latent_heat_alpha;
-        let counted = self.parcels.par_iter_mut().map(|p| {
+        let counted = self.parcels.par_iter_mut().with_min_len(PAR_MIN).map(|p| {
             let pr = p.env_at_centre.0;
             let ex = thermo::exner(pr);
             let t = p.theta_k * ex;

@@ -15,6 +15,8 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
+use super::PAR_MIN;
+
 use super::ParcelWorld;
 
 /// Parcels per block of the neighbour lists: each block is filled by one
@@ -171,13 +173,16 @@ impl Cells {
             return pos.len() > 1;
         }
         let d2 = d_m * d_m;
-        (0..pos.len()).into_par_iter().any(|i| {
-            let mut hit = false;
-            self.scan(pos[i], |j| {
-                hit |= j != i && (pos[i] - pos[j]).length_squared() < d2;
-            });
-            hit
-        })
+        (0..pos.len())
+            .into_par_iter()
+            .with_min_len(PAR_MIN)
+            .any(|i| {
+                let mut hit = false;
+                self.scan(pos[i], |j| {
+                    hit |= j != i && (pos[i] - pos[j]).length_squared() < d2;
+                });
+                hit
+            })
     }
 }
 
