@@ -65,7 +65,8 @@ fn eq6_volume_follows_pressure_adiabatically() {
 fn eqs_11_14_15_entrain_and_detrain_by_the_computed_amounts() {
     // One sub-step of 1 s at 4 m/s through fair-weather air, isolated (its
     // exposed area is the whole sphere): the dry air gained is
-    // K_e ε r A ρ |v_rel| dt /(1 + q_env) (eq 11, 13), θ mixes by mass (eq 14).
+    // K_e ε r A ρ |v_rel| dt /(1 + q_env) (eq 11, 13), θ mixes by mass (eq 14),
+    // with the environment taken at the sub-step's midpoint height.
     let physics = PhysicsConfig {
         mixing: true,
         turbulence_m_s: 0.0,
@@ -87,7 +88,8 @@ fn eqs_11_14_15_entrain_and_detrain_by_the_computed_amounts() {
     w.step(1.0);
     let after = &w.parcels()[0];
     let env = w.environment();
-    let z = 400.0 + v;
+    // The air met at the sub-step's midpoint (the midpoint rule).
+    let z = 400.0 + 0.5 * v;
     let rho = env.density_kg_m3(z);
     let r = before.radius_m;
     let area = 4.0 * std::f64::consts::PI * r * r;
@@ -126,7 +128,7 @@ fn eqs_11_14_15_entrain_and_detrain_by_the_computed_amounts() {
     let b = w.parcels()[0].clone();
     w.step(1.0);
     let a = &w.parcels()[0];
-    let z = 2500.0 + v;
+    let z = 2500.0 + 0.5 * v;
     let dma = c.entrainment_rate_per_m * r * area * env.density_kg_m3(z) * v;
     let dry_in = dma / (1.0 + env.qv(z));
     let m = b.total_mass_kg();

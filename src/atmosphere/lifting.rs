@@ -232,16 +232,7 @@ pub fn lift_at(env: &Environment, opts: &LiftOptions, heights: &[f64]) -> Result
         let adj = thermo::saturation_adjust(theta * thermo::exner(p1), qv, ql, p1, opts.alpha);
         if lcl.is_none() && adj.condensed > 0.0 {
             // Bisect for q_v = ωs along the dry adiabat between z and z1.
-            let (mut lo, mut hi) = (z, z1);
-            for _ in 0..50 {
-                let mid = 0.5 * (lo + hi);
-                if excess(mid) >= 0.0 {
-                    hi = mid
-                } else {
-                    lo = mid
-                }
-            }
-            lcl = Some(0.5 * (lo + hi));
+            lcl = Some(saturation_level_between(env, theta_s, qt, z, z1, 50));
         }
         theta = adj.t_k / thermo::exner(p1);
         qv = adj.qv;
@@ -287,4 +278,48 @@ pub fn lift_at(env: &Environment, opts: &LiftOptions, heights: &[f64]) -> Result
         el: el.map(mark),
         levels: out,
     })
+}
+
+/// Height at which air of liquid-water potential temperature `theta_l_k` and
+/// total water `qt` becomes saturated when lifted through `env` (bisection on
+/// ω_s(θ_l Π(P(z)), P(z)) = q_t, which decreases with height). 0 if it is
+/// saturated at the ground, `z_max_m` if it never saturates below it. units: m
+pub fn condensation_level_m(env: &Environment, theta_l_k: f64, qt: f64, z_max_m: f64) -> f64 {
+    if !(saturation_excess(env, theta_l_k, qt, 0.0) > 0.0) {
+        return 0.0;
+    }
+    if saturation_excess(env, theta_l_k, qt, z_max_m) > 0.0 {
+        return z_max_m;
+    }
+    // 40 halvings of ≤ 100 km: below a millimetre.
+    saturation_level_between(env, theta_l_k, qt, 0.0, z_max_m, 40)
+}
+
+/// ω_s − q_t of air with liquid-water potential temperature θ_l lifted to z.
+pub fn saturation_excess(env: &Environment, theta_l_k: f64, qt: f64, z_m: f64) -> f64 {
+    let p = env.pressure_pa(z_m);
+    thermo::saturation_mixing_ratio(theta_l_k * thermo::exner(p), p) - qt
+}
+
+/// Bisection for the saturation level inside [lo, hi] (unsaturated at lo):
+/// `n` halvings of the bracket. The one LCL search of the crate: the
+/// surface parcel's lifting and the physics' condensation planes use it.
+pub fn saturation_level_between(
+    env: &Environment,
+    theta_l_k: f64,
+    qt: f64,
+    lo: f64,
+    hi: f64,
+    n: u32,
+) -> f64 {
+    let (mut lo, mut hi) = (lo, hi);
+    for _ in 0..n {
+        let mid = 0.5 * (lo + hi);
+        if saturation_excess(env, theta_l_k, qt, mid) > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
 }

@@ -16,7 +16,10 @@ impl ParcelWorld {
         let env_cl = self.env_condensation_level_m;
         let counted = self.parcels.par_iter_mut().with_min_len(PAR_MIN).map(|p| {
             let mut clamps = ClampCounts::default();
-            let z = p.position_m.z;
+            // The air met during the sub-step, at its midpoint: the drift
+            // went from z − v dt to z at the mid-step velocity v, so the
+            // midpoint rule makes the entrained mass second order in dt.
+            let z = p.position_m.z - 0.5 * dt * p.velocity_m_s.z;
             let rel = p.velocity_m_s - wind_at(cfg, env, z);
             // |v + δv_t| with δv_t of random direction: the magnitudes add in quadrature.
             let speed = (rel.length_squared() + c.turbulence_m_s * c.turbulence_m_s).sqrt();
@@ -27,7 +30,7 @@ impl ParcelWorld {
             let dma_e = c.entrainment_surface_factor
                 * (c.entrainment_rate_per_m * r)
                 * area
-                * p.env_at_centre.1
+                * env.density_kg_m3(z)
                 * speed
                 * dt;
             // eq 11's ρ_atm is moist air; its dry part is what the mixing ratios count.

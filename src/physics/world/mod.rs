@@ -54,7 +54,7 @@ mod moisture;
 mod neighbours;
 mod stats;
 
-pub use moisture::condensation_level_m;
+pub use crate::atmosphere::lifting::condensation_level_m;
 use neighbours::NeighbourGrid;
 pub use stats::{ClampCounts, Counters, Diagnostics, Fates, StepReport};
 

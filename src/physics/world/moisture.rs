@@ -7,6 +7,9 @@ use rayon::prelude::*;
 use super::PAR_MIN;
 
 use super::{ClampCounts, ParcelWorld};
+use crate::atmosphere::lifting::{
+    condensation_level_m, saturation_excess, saturation_level_between,
+};
 use crate::atmosphere::{Environment, thermo};
 use crate::physics::parcel::{Parcel, sphere_radius_m, sphere_volume_m3};
 
@@ -115,42 +118,7 @@ pub(super) fn condensation_plane_m(env: &Environment, z_max: f64, p: &Parcel) ->
     }
     let (lo, hi) = (p.cond_plane_z_m - 32.0, p.cond_plane_z_m + 32.0);
     if lo > 0.0 && hi < z_max && excess(lo) > 0.0 && !(excess(hi) > 0.0) {
-        return bisect_plane(env, p.theta_l_k, qt, lo, hi, 19);
+        return saturation_level_between(env, p.theta_l_k, qt, lo, hi, 19);
     }
     condensation_level_m(env, p.theta_l_k, qt, z_max)
-}
-
-/// Height at which air of liquid-water potential temperature `theta_l_k` and
-/// total water `qt` becomes saturated when lifted through `env` (bisection on
-/// ω_s(θ_l Π(P(z)), P(z)) = q_t, which decreases with height). 0 if it is
-/// saturated at the ground, `z_max_m` if it never saturates below it. units: m
-pub fn condensation_level_m(env: &Environment, theta_l_k: f64, qt: f64, z_max_m: f64) -> f64 {
-    if !(saturation_excess(env, theta_l_k, qt, 0.0) > 0.0) {
-        return 0.0;
-    }
-    if saturation_excess(env, theta_l_k, qt, z_max_m) > 0.0 {
-        return z_max_m;
-    }
-    // 40 halvings of ≤ 100 km: below a millimetre.
-    bisect_plane(env, theta_l_k, qt, 0.0, z_max_m, 40)
-}
-
-/// ω_s − q_t of air with liquid-water potential temperature θ_l lifted to z.
-fn saturation_excess(env: &Environment, theta_l_k: f64, qt: f64, z_m: f64) -> f64 {
-    let p = env.pressure_pa(z_m);
-    thermo::saturation_mixing_ratio(theta_l_k * thermo::exner(p), p) - qt
-}
-
-/// Bisection for the saturation level inside [lo, hi] (excess > 0 at lo).
-fn bisect_plane(env: &Environment, theta_l_k: f64, qt: f64, lo: f64, hi: f64, n: u32) -> f64 {
-    let (mut lo, mut hi) = (lo, hi);
-    for _ in 0..n {
-        let mid = 0.5 * (lo + hi);
-        if saturation_excess(env, theta_l_k, qt, mid) > 0.0 {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
 }
