@@ -97,3 +97,19 @@ fn contacts_beyond_the_support_radius_are_seen() {
     // No SPH force beyond h: a neutral, dry pair at rest stays at rest.
     assert_eq!(p[0].velocity_m_s.x, 0.0);
 }
+
+#[test]
+fn the_bench_physics_speed_table_measures_one_sub_step() {
+    use cumulus::bench::physics_speed::{physics_speed, physics_speed_csv, physics_speed_md};
+    let rows = physics_speed(&[256], 2, |_| {}).unwrap();
+    assert_eq!(rows.len(), 1);
+    let r = &rows[0];
+    assert_eq!(r.parcels, 256);
+    assert!(r.threads >= 1 && r.substep_ms > 0.0 && r.substep_ms.is_finite());
+    assert_eq!(r.goal_ms, None, "goals are set at 10 000 and 100 000 only");
+    let md = physics_speed_md(&rows);
+    assert!(md.contains("| 256 |"), "{md}");
+    let csv = String::from_utf8(physics_speed_csv(&rows)).unwrap();
+    assert_eq!(csv.lines().count(), 2);
+    assert!(csv.starts_with("parcels,threads,substep_ms,goal_ms\n"), "{csv}");
+}

@@ -13,6 +13,7 @@
 pub mod accuracy;
 pub mod measure;
 pub mod perf;
+pub mod physics_speed;
 pub mod plots;
 pub mod report;
 pub mod scenes;
@@ -87,6 +88,8 @@ pub struct Plan {
     pub physics_duration_s: f64,
     pub physics_dts: Vec<f64>,
     pub physics_reference_dt_s: f64,
+    /// Parcel counts of the physics speed table.
+    pub physics_speed_counts: Vec<usize>,
     pub scaling_counts: Vec<usize>,
     /// Largest count measured by brute force.
     pub brute_max: usize,
@@ -118,6 +121,7 @@ impl Plan {
                 physics_duration_s: 600.0,
                 physics_dts: vec![8.0, 4.0, 2.0, 1.0, 0.5, 0.25],
                 physics_reference_dt_s: 1.0 / 64.0,
+                physics_speed_counts: vec![1000, 10_000, 100_000],
                 scaling_counts: TABLE_COUNTS.to_vec(),
                 brute_max: 1024,
                 pruning_parcels: 85,
@@ -143,6 +147,7 @@ impl Plan {
                 physics_duration_s: 240.0,
                 physics_dts: vec![4.0, 2.0, 1.0, 0.5],
                 physics_reference_dt_s: 1.0 / 16.0,
+                physics_speed_counts: vec![1000, 10_000],
                 scaling_counts: TABLE_COUNTS.to_vec(),
                 brute_max: 85,
                 pruning_parcels: 85,
@@ -170,6 +175,7 @@ impl Plan {
                 physics_duration_s: 20.0,
                 physics_dts: vec![2.0, 1.0],
                 physics_reference_dt_s: 0.25,
+                physics_speed_counts: vec![256],
                 scaling_counts: vec![8, 85],
                 brute_max: 85,
                 pruning_parcels: 8,
@@ -190,6 +196,7 @@ impl Plan {
             + settings
             + 1
             + self.physics_dts.len()
+            + self.physics_speed_counts.len()
             + self.scaling_counts.len()
             + brute
             + 4) as u64
@@ -221,6 +228,7 @@ pub struct BenchResults {
     pub performance: Vec<PerfRow>,
     pub render_error: RenderError,
     pub physics_error: PhysicsError,
+    pub physics_speed: Vec<physics_speed::PhysicsSpeedRow>,
     pub scaling: Vec<ScalingRow>,
     pub pruning: Vec<PruningRow>,
 }
@@ -316,6 +324,8 @@ pub fn run_with(ctx: &GpuContext, opts: &Options) -> Result<BenchResults> {
         tick,
     )?;
 
+    let physics_speed = physics_speed::physics_speed(&plan.physics_speed_counts, 5, tick)?;
+
     let scaling = perf::scaling(
         ctx,
         size,
@@ -333,6 +343,7 @@ pub fn run_with(ctx: &GpuContext, opts: &Options) -> Result<BenchResults> {
         performance,
         render_error,
         physics_error,
+        physics_speed,
         scaling,
         pruning,
     };
