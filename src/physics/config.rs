@@ -38,7 +38,7 @@ pub struct PhysicsConfig {
     pub atmospheric_pressure: bool,
     /// Entrainment and detrainment with the environment (eqs 11–15).
     pub mixing: bool,
-    /// Vapour exchange between touching parcels (§5.3).
+    /// Exchange of vapour, liquid water and heat between touching parcels (§5.3).
     pub exchange: bool,
     /// Condensation and evaporation with latent heat (eqs 1, 3).
     pub condensation: bool,

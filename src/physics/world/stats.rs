@@ -18,7 +18,8 @@ pub struct ClampCounts {
     pub saturation_cap: u64,
     /// Detrainment limited to half the dry air in one sub-step.
     pub detrainment: u64,
-    /// Vapour exchange limited to half the equalising amount.
+    /// Pair exchanges bounded so that each parcel keeps at least half its
+    /// own air in the mix (no overshoot, no negative humidity).
     pub exchange: u64,
     /// Speed above max_speed_m_s.
     pub speed: u64,
