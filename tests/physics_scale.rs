@@ -111,5 +111,8 @@ fn the_bench_physics_speed_table_measures_one_sub_step() {
     assert!(md.contains("| 256 |"), "{md}");
     let csv = String::from_utf8(physics_speed_csv(&rows)).unwrap();
     assert_eq!(csv.lines().count(), 2);
-    assert!(csv.starts_with("parcels,threads,substep_ms,goal_ms\n"), "{csv}");
+    assert!(
+        csv.starts_with("parcels,threads,substep_ms,goal_ms\n"),
+        "{csv}"
+    );
 }
