@@ -74,6 +74,7 @@ impl SceneProfile {
         let text = read_text(path)?;
         let profile = Self::from_toml(&text, path)?;
         profile.validate().map_err(|e| locate(e, &text, path))?;
+        require_atmosphere(&text, path)?;
         Ok(profile)
     }
 
@@ -118,6 +119,25 @@ pub(crate) fn read_text(path: &Path) -> Result<String> {
             ),
         )
     })
+}
+
+/// A profile file must say what its atmosphere is: one without an
+/// `[atmosphere]` table (an empty file, say) would otherwise run on the
+/// built-in default without a word. (Parsed TOML text is given.)
+fn require_atmosphere(text: &str, path: &Path) -> Result<()> {
+    let table: toml::Table = toml::from_str(text).unwrap_or_default();
+    if table.contains_key("atmosphere") {
+        return Ok(());
+    }
+    Err(Error::parse(
+        path,
+        0,
+        0,
+        "the profile has no [atmosphere] table: say what the atmosphere is, either \
+         `[atmosphere]` with `sounding = \"soundings/FILE.txt\"` or with \
+         `[[atmosphere.points]]` (z_m, t_c, td_c)"
+            .to_string(),
+    ))
 }
 
 /// Turns a parameter error into one that names the profile file and the
@@ -233,10 +253,12 @@ pub fn load_scene_with(
             )?,
             SceneSource::Embedded,
         )),
-        Some(p) => Ok((
-            crate::scene_set::load_with_overrides(&read_text(p)?, p, overrides)?,
-            SceneSource::File(p.to_path_buf()),
-        )),
+        Some(p) => {
+            let text = read_text(p)?;
+            let profile = crate::scene_set::load_with_overrides(&text, p, overrides)?;
+            require_atmosphere(&text, p)?;
+            Ok((profile, SceneSource::File(p.to_path_buf())))
+        }
     }
 }
 

@@ -42,6 +42,42 @@ fn simulate_writes_one_row_per_frame() {
         assert!(!r.contains("NaN") && !r.contains("inf"), "{r}");
     }
     assert!(rows[59].starts_with("120.000,"));
+    // The clamp summary is a readable line, not Rust's Debug text.
+    let err = String::from_utf8_lossy(&status.stderr);
+    let line = err
+        .lines()
+        .find(|l| l.contains("clamps:"))
+        .expect("a clamp line");
+    assert!(
+        !line.contains("ClampCounts") && !line.contains('{'),
+        "{line}"
+    );
+    let counts = line.split("clamps: ").nth(1).unwrap();
+    assert!(
+        counts == "none" || counts.split(", ").all(|kv| kv.split(' ').count() == 2),
+        "{counts}"
+    );
+}
+
+#[test]
+fn an_empty_profile_says_what_is_missing() {
+    let dir = tempfile::tempdir().unwrap();
+    let (scene, out) = (dir.path().join("empty.toml"), dir.path().join("d.csv"));
+    std::fs::write(&scene, "").unwrap();
+    let o = cumulus()
+        .args(["simulate", "--duration", "10", "--out"])
+        .arg(&out)
+        .arg(&scene)
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("empty.toml"), "{err}");
+    assert!(
+        err.contains("[atmosphere]") && err.contains("sounding"),
+        "{err}"
+    );
+    assert!(!out.exists(), "nothing is written on error");
 }
 
 #[test]

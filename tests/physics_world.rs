@@ -3,93 +3,56 @@
 
 use cumulus::atmosphere::{Environment, PressureModel, thermo};
 use cumulus::physics::{
-    CloudParcel, EmissionConfig, Parcel, ParcelSpec, ParcelWorld, PhysicsConfig, WorldConfig,
+    CloudParcel, EmissionConfig, ParcelSpec, ParcelWorld, PhysicsConfig, WorldConfig,
 };
 use glam::DVec3;
 
 mod common;
+use common::physics::{centre_of_mass, lattice, max_speed, neutral, state_bits, world};
 use common::{fair_weather, level};
-
-/// Dry, isentropic: every dry parcel of θ = 300 K is neutral at every height.
-fn neutral() -> Environment {
-    Environment::new(
-        vec![level(0.0, 300.0, 0.0), level(10_000.0, 300.0, 0.0)],
-        100_000.0,
-        PressureModel::Hydrostatic,
-    )
-    .unwrap()
-}
-
-fn world(env: Environment, physics: PhysicsConfig, emission: bool, seed: u64) -> ParcelWorld {
-    let cfg = WorldConfig {
-        physics,
-        emission: EmissionConfig {
-            enabled: emission,
-            ..EmissionConfig::default()
-        },
-        ..WorldConfig::default()
-    };
-    ParcelWorld::new(env, cfg, seed).unwrap()
-}
-
-/// A cubic lattice of n³ neutral dry parcels of radius `r` at `spacing`, centred at 2 km.
-fn lattice(w: &mut ParcelWorld, n: usize, r: f64, spacing: f64) {
-    let off = 0.5 * (n as f64 - 1.0) * spacing;
-    for i in 0..n {
-        for j in 0..n {
-            for k in 0..n {
-                let pos = DVec3::new(
-                    i as f64 * spacing - off,
-                    j as f64 * spacing - off,
-                    2000.0 + k as f64 * spacing - off,
-                );
-                let spec = ParcelSpec::from_environment(w.environment(), pos, 0.0, 0.0, r);
-                w.spawn_parcel(spec).unwrap();
-            }
-        }
-    }
-}
-
-fn centre_of_mass(ps: &[Parcel]) -> DVec3 {
-    let m: f64 = ps.iter().map(|p| p.total_mass_kg()).sum();
-    ps.iter()
-        .map(|p| p.position_m * p.total_mass_kg())
-        .sum::<DVec3>()
-        / m
-}
-
-fn max_speed(ps: &[Parcel]) -> f64 {
-    ps.iter()
-        .map(|p| p.velocity_m_s.length())
-        .fold(0.0, f64::max)
-}
 
 #[test]
 fn resting_cluster_stays_at_rest() {
-    // Spheres that touch (spacing 2r = h): neutral buoyancy, no wind, all
-    // force terms on. Mixing is off because entrainment grows the spheres
-    // into each other, and an overlap is (rightly) a loss of buoyancy.
-    let physics = PhysicsConfig {
+    // Overlapping spheres (spacing 250 m < 2r = 300 m < h), identical
+    // neutral air, no wind: every pair is an SPH neighbour and a contact, so
+    // viscosity, exchange and the exposed-area tessellation all run, and
+    // none of them may inject momentum. SPH pressure is off because it
+    // would (rightly) push the overlap apart, the overlap's pressure
+    // correction has weight 0 because it (rightly) removes the caps'
+    // buoyancy (the tessellation still runs), mixing is off because
+    // entrainment grows the spheres.
+    let quiet = PhysicsConfig {
+        sph: false,
+        atm_pressure_weight: 0.0,
         mixing: false,
         ..PhysicsConfig::default()
     };
-    let mut w = world(neutral(), physics, false, 1);
-    lattice(&mut w, 3, 150.0, 300.0);
+    let mut w = world(neutral(), quiet.clone(), false, 1);
+    lattice(&mut w, 3, 150.0, 250.0);
     let c0 = centre_of_mass(w.parcels());
     for _ in 0..300 {
         w.step(2.0);
     }
-    // "Tiny": nothing may inject momentum into a neutral resting cluster;
-    // only rounding of the exactly-zero buoyancy could, far below 1e-9 m/s.
+    // The neighbours are real: the spheres hid parts of each other.
+    assert!(w.counters().exposed_area_evaluations >= 27 * 300);
+    // "At rest": only rounding of the exactly-zero buoyancy could move a
+    // parcel, far below 1e-9 m/s.
     assert!(max_speed(w.parcels()) < 1e-9, "{}", max_speed(w.parcels()));
     assert!((centre_of_mass(w.parcels()) - c0).length() < 1e-6);
     assert_eq!(w.parcels().len(), 27);
+    // The same cluster with SPH pressure on does move: the test can see motion.
+    let mut w = world(neutral(), PhysicsConfig { sph: true, ..quiet }, false, 1);
+    lattice(&mut w, 3, 150.0, 250.0);
+    for _ in 0..30 {
+        w.step(2.0);
+    }
+    assert!(max_speed(w.parcels()) > 1e-3, "{}", max_speed(w.parcels()));
 }
 
 #[test]
 fn sph_forces_conserve_momentum_in_an_overlapping_cluster() {
     // An overlapping cluster pushes itself apart by SPH pressure; viscosity
-    // damps relative motion. Both are pairwise antisymmetric (eqs 9–10), so
+    // (inert at the paper's μ) is on too. Both are pairwise antisymmetric (eqs 9–10), so
     // the total momentum stays zero and the centre of mass does not drift.
     let physics = PhysicsConfig {
         mixing: false,
@@ -207,30 +170,6 @@ fn overlap_removes_the_buoyancy_of_the_hidden_caps() {
     }
 }
 
-/// Every state bit of every parcel.
-fn state_bits(w: &ParcelWorld) -> Vec<u64> {
-    let mut out = Vec::new();
-    for p in w.parcels() {
-        for v in [p.position_m, p.velocity_m_s, p.accel_m_s2] {
-            out.extend([v.x.to_bits(), v.y.to_bits(), v.z.to_bits()]);
-        }
-        for v in [
-            p.dry_mass_kg,
-            p.qv_kg_per_kg,
-            p.ql_kg_per_kg,
-            p.theta_k,
-            p.theta_l_k,
-            p.volume_m3,
-            p.radius_m,
-            p.cond_plane_z_m,
-            p.fill,
-        ] {
-            out.push(v.to_bits());
-        }
-    }
-    out
-}
-
 fn run_scene(seed: u64, frames: usize) -> ParcelWorld {
     let mut w = world(fair_weather(), PhysicsConfig::default(), true, seed);
     for _ in 0..frames {
@@ -249,15 +188,16 @@ fn same_seed_is_bit_identical_and_another_seed_differs() {
     assert_ne!(state_bits(&a), state_bits(&c));
 }
 
-/// LCL by brute force: lift surface air dry-adiabatically in 0.1 m steps
-/// until its vapour reaches saturation (independent of the bisection used
-/// by the world).
-fn lcl_by_marching(env: &Environment, theta_k: f64, qv: f64) -> f64 {
+/// LCL by the dewpoint: lift surface air dry-adiabatically in 0.1 m steps
+/// until its temperature falls to its dewpoint (thermo's closed-form
+/// inverse of Tetens), a different route from the world's root search on
+/// the saturation mixing ratio.
+fn lcl_by_dewpoint(env: &Environment, theta_k: f64, qv: f64) -> f64 {
     let mut z = 0.0;
     loop {
         let p = env.pressure_pa(z);
         let t = thermo::temperature_from_theta_k(theta_k, p);
-        if thermo::saturation_mixing_ratio(t, p) <= qv {
+        if t <= thermo::dewpoint_from_mixing_ratio_k(qv, p) {
             return z;
         }
         z += 0.1;
@@ -267,7 +207,11 @@ fn lcl_by_marching(env: &Environment, theta_k: f64, qv: f64) -> f64 {
 #[test]
 fn fair_weather_clouds_sit_on_the_lifting_condensation_level() {
     // Without mixing and exchange every parcel keeps its surface air's θ_l
-    // and total water, so its condensation plane must be that air's LCL.
+    // and total water, so its condensation plane must be that air's LCL;
+    // and the plane must agree with where the parcel's own condensation
+    // (saturation adjustment at its centre, an independent computation)
+    // puts liquid water: above the plane a parcel centre holds liquid,
+    // below it none.
     let physics = PhysicsConfig {
         mixing: false,
         exchange: false,
@@ -275,14 +219,13 @@ fn fair_weather_clouds_sit_on_the_lifting_condensation_level() {
     };
     let env = fair_weather();
     let mut w = world(env.clone(), physics, true, 5);
-    let mut seen = 0;
+    let (mut seen, mut checked) = (0, 0);
     let mut out: Vec<CloudParcel> = Vec::new();
     for _ in 0..450 {
         w.step(2.0);
         w.cloud_parcels(&mut out);
-        for p in w.parcels().iter().filter(|p| p.fill > 0.0) {
-            seen += 1;
-            let lcl = lcl_by_marching(&env, p.origin_theta_k, p.origin_qv_kg_per_kg);
+        for p in w.parcels() {
+            let lcl = lcl_by_dewpoint(&env, p.origin_theta_k, p.origin_qv_kg_per_kg);
             // 0.5 m: the marching step (0.1 m) plus the hydrostatic table's
             // interpolation; it is 0.05 hPa, far inside "a few hPa".
             assert!(
@@ -291,8 +234,25 @@ fn fair_weather_clouds_sit_on_the_lifting_condensation_level() {
                 p.cond_plane_z_m,
                 lcl
             );
-            // Condensed parcels sit above their plane.
-            assert!(p.position_m.z + p.radius_m > p.cond_plane_z_m);
+            // 2 m around the plane: the centre's pressure is the table's,
+            // the plane's root is found to 1e-4 m; outside that band the
+            // two must agree.
+            let z = p.position_m.z;
+            if (z - p.cond_plane_z_m).abs() > 2.0 {
+                checked += 1;
+                assert_eq!(
+                    p.ql_kg_per_kg > 0.0,
+                    z > p.cond_plane_z_m,
+                    "centre {z} m, plane {} m, q_l {}",
+                    p.cond_plane_z_m,
+                    p.ql_kg_per_kg
+                );
+            }
+            if p.fill > 0.0 {
+                seen += 1;
+                // Condensed parcels sit above their plane.
+                assert!(p.position_m.z + p.radius_m > p.cond_plane_z_m);
+            }
         }
         assert_eq!(out.len(), w.diagnostics().condensed_parcels);
     }
@@ -300,8 +260,12 @@ fn fair_weather_clouds_sit_on_the_lifting_condensation_level() {
         seen > 0,
         "the fair-weather scene must grow condensed parcels"
     );
+    assert!(
+        checked > seen,
+        "parcels below and above the plane were checked"
+    );
     // The surface air of the environment itself condenses where the world says.
-    let env_lcl = lcl_by_marching(&env, env.theta_k(0.0), env.qv(0.0));
+    let env_lcl = lcl_by_dewpoint(&env, env.theta_k(0.0), env.qv(0.0));
     assert!((w.environment_condensation_level_m() - env_lcl).abs() < 0.5);
 }
 
@@ -471,8 +435,9 @@ fn drag_carries_a_neutral_parcel_with_the_wind() {
 #[test]
 fn overlapping_cluster_settles_to_rest() {
     // A cluster released overlapping (spacing 180 m < 2r = 300 m) pushes
-    // itself apart by SPH pressure; viscosity and drag against still air
-    // then take the energy out. Buoyancy is neutral and the overlap's
+    // itself apart by SPH pressure; drag against still air then takes the
+    // energy out (viscosity at the paper's μ = 0.01 is on but all but inert:
+    // see physics_fidelity.rs). Buoyancy is neutral and the overlap's
     // pressure correction is off, so once the spheres have moved apart
     // nothing may feed motion: kinetic energy never grows again and every
     // parcel slows at least as fast as quadratic drag alone allows,
@@ -514,9 +479,9 @@ fn overlapping_cluster_settles_to_rest() {
     let k = 3.0 * k_cd / (8.0 * p.radius_m);
     let bound = v0 / (1.0 + k * v0 * 1200.0);
     let end = max_speed(w.parcels());
-    // Viscosity moves momentum between neighbours (total KE still falls, as
-    // checked above), so one parcel may run a little above its lone
-    // drag-only bound: 2 % seen here; 5 % allowed. A force error feeding
+    // The parcels feel each other's SPH pressure until they are h apart,
+    // so one parcel may run a little above its lone drag-only bound: 2 %
+    // seen here; 5 % allowed. A force error feeding
     // motion would leave it far above (a tenfold slower decay or worse).
     assert!(
         end <= 1.05 * bound,

@@ -114,7 +114,8 @@ fn reports_replace_old_ones_whole() {
 }
 
 /// What fails a case: a NaN/Inf, kinetic energy beyond the bound, a caught
-/// panic, a setup error; escapes and clamps alone do not.
+/// panic, a setup error, a clamp kind it does not declare; escapes,
+/// declared clamps and `opaque` alone do not.
 #[test]
 fn failure_criteria() {
     let cases: Vec<_> = stability::matrix(Size::Quick)
@@ -127,8 +128,23 @@ fn failure_criteria() {
 
     let mut r = ok.clone();
     r.escaped_sides = 5;
+    r.clamps.opaque = 7;
+    assert!(
+        r.passed(),
+        "escapes and opaque parcels are reported, not failures"
+    );
     r.clamps.speed = 100;
-    assert!(r.passed(), "escapes and clamps are reported, not failures");
+    assert!(
+        !r.passed(),
+        "speed clamps the case does not declare fail it"
+    );
+    assert!(
+        r.failures()[0].contains("undeclared clamps: speed 100"),
+        "{:?}",
+        r.failures()
+    );
+    r.declared_clamps = vec!["speed"];
+    assert!(r.passed(), "declared clamps are reported, not failures");
 
     let mut r = ok.clone();
     r.non_finite = 1;

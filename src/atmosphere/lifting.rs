@@ -168,33 +168,18 @@ pub fn lift_at(env: &Environment, opts: &LiftOptions, heights: &[f64]) -> Result
 /// `theta_k` and total water `qt` (kg/kg), lifted dry-adiabatically through
 /// `env`, reaches saturation (ω_s(θ Π(P(z)), P(z)) = q_t; ω_s falls with
 /// height): `Some(lo_m)` if it is saturated there already, None if it is
-/// still unsaturated at `hi_m`. The one lifting-condensation-level routine
-/// of the program; bisection to 0.1 mm. units: m
+/// still unsaturated at `hi_m`. Its bisection is
+/// [`saturation_level_between`], the one saturation-level search of the
+/// program (the physics' condensation planes use it too). units: m
 pub fn lcl_height_m(env: &Environment, theta_k: f64, qt: f64, lo_m: f64, hi_m: f64) -> Option<f64> {
-    let excess = |z: f64| {
-        let p = env.pressure_pa(z);
-        qt - thermo::saturation_mixing_ratio(theta_k * thermo::exner(p), p)
-    };
-    if excess(lo_m) >= 0.0 {
+    if !(saturation_excess(env, theta_k, qt, lo_m) > 0.0) {
         return Some(lo_m);
     }
-    if !(excess(hi_m) >= 0.0) {
+    if saturation_excess(env, theta_k, qt, hi_m) > 0.0 {
         return None;
     }
-    let (mut lo, mut hi) = (lo_m, hi_m);
-    // 60 halvings bound the work; 1e-4 m is far below any use of the LCL.
-    for _ in 0..60 {
-        if hi - lo < 1e-4 {
-            break;
-        }
-        let mid = 0.5 * (lo + hi);
-        if excess(mid) >= 0.0 {
-            hi = mid
-        } else {
-            lo = mid
-        }
-    }
-    Some(0.5 * (lo + hi))
+    // 60 halvings: far below a millimetre for any bracket in the atmosphere.
+    Some(saturation_level_between(env, theta_k, qt, lo_m, hi_m, 60))
 }
 
 /// Lifts a parcel from `start` to the environment's top, recording it at
@@ -354,4 +339,48 @@ pub fn lift_from(
         el: el.map(mark),
         levels: out,
     })
+}
+
+/// Height at which air of liquid-water potential temperature `theta_l_k` and
+/// total water `qt` becomes saturated when lifted through `env` (bisection on
+/// ω_s(θ_l Π(P(z)), P(z)) = q_t, which decreases with height). 0 if it is
+/// saturated at the ground, `z_max_m` if it never saturates below it. units: m
+pub fn condensation_level_m(env: &Environment, theta_l_k: f64, qt: f64, z_max_m: f64) -> f64 {
+    if !(saturation_excess(env, theta_l_k, qt, 0.0) > 0.0) {
+        return 0.0;
+    }
+    if saturation_excess(env, theta_l_k, qt, z_max_m) > 0.0 {
+        return z_max_m;
+    }
+    // 40 halvings of ≤ 100 km: below a millimetre.
+    saturation_level_between(env, theta_l_k, qt, 0.0, z_max_m, 40)
+}
+
+/// ω_s − q_t of air with liquid-water potential temperature θ_l lifted to z.
+pub fn saturation_excess(env: &Environment, theta_l_k: f64, qt: f64, z_m: f64) -> f64 {
+    let p = env.pressure_pa(z_m);
+    thermo::saturation_mixing_ratio(theta_l_k * thermo::exner(p), p) - qt
+}
+
+/// Bisection for the saturation level inside [lo, hi] (unsaturated at lo):
+/// `n` halvings of the bracket. The one LCL search of the crate: the
+/// surface parcel's lifting and the physics' condensation planes use it.
+pub fn saturation_level_between(
+    env: &Environment,
+    theta_l_k: f64,
+    qt: f64,
+    lo: f64,
+    hi: f64,
+    n: u32,
+) -> f64 {
+    let (mut lo, mut hi) = (lo, hi);
+    for _ in 0..n {
+        let mid = 0.5 * (lo + hi);
+        if saturation_excess(env, theta_l_k, qt, mid) > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
 }

@@ -14,6 +14,7 @@ pub mod accuracy;
 pub mod measure;
 pub mod pathtraced;
 pub mod perf;
+pub mod physics_speed;
 pub mod plots;
 pub mod report;
 pub mod scenes;
@@ -95,6 +96,8 @@ pub struct Plan {
     pub physics_duration_s: f64,
     pub physics_dts: Vec<f64>,
     pub physics_reference_dt_s: f64,
+    /// Parcel counts of the physics speed table.
+    pub physics_speed_counts: Vec<usize>,
     pub scaling_counts: Vec<usize>,
     /// Largest count measured by brute force.
     pub brute_max: usize,
@@ -127,6 +130,7 @@ impl Plan {
                 physics_dts: vec![8.0, 4.0, 2.0, 1.0, 0.5, 0.25],
                 physics_reference_dt_s: 1.0 / 64.0,
                 scaling_counts: FULL_SCALING_COUNTS.to_vec(),
+                physics_speed_counts: vec![1000, 10_000, 100_000],
                 brute_max: 1024,
                 pruning_parcels: 85,
             },
@@ -152,6 +156,7 @@ impl Plan {
                 physics_dts: vec![4.0, 2.0, 1.0, 0.5],
                 physics_reference_dt_s: 1.0 / 16.0,
                 scaling_counts: QUICK_SCALING_COUNTS.to_vec(),
+                physics_speed_counts: vec![1000, 10_000],
                 brute_max: 85,
                 pruning_parcels: 85,
             },
@@ -178,6 +183,7 @@ impl Plan {
                 physics_duration_s: 20.0,
                 physics_dts: vec![2.0, 1.0],
                 physics_reference_dt_s: 0.25,
+                physics_speed_counts: vec![256],
                 scaling_counts: vec![8, 85],
                 brute_max: 85,
                 pruning_parcels: 8,
@@ -196,6 +202,7 @@ impl Plan {
             + settings
             + 1
             + self.physics_dts.len()
+            + self.physics_speed_counts.len()
             + self.scaling_counts.len()
             + brute
             + 4) as u64
@@ -227,6 +234,7 @@ pub struct BenchResults {
     pub performance: Vec<PerfRow>,
     pub render_error: RenderError,
     pub physics_error: PhysicsError,
+    pub physics_speed: Vec<physics_speed::PhysicsSpeedRow>,
     pub scaling: Vec<ScalingRow>,
     pub pruning: Vec<PruningRow>,
     /// Rows of error_vs_pathtraced.csv found in the output folder, if any.
@@ -327,6 +335,8 @@ pub fn run_with(ctx: &GpuContext, opts: &Options) -> Result<BenchResults> {
         tick,
     )?;
 
+    let physics_speed = physics_speed::physics_speed(&plan.physics_speed_counts, 5, tick)?;
+
     let scaling = perf::scaling(
         ctx,
         size,
@@ -350,6 +360,7 @@ pub fn run_with(ctx: &GpuContext, opts: &Options) -> Result<BenchResults> {
         performance,
         render_error,
         physics_error,
+        physics_speed,
         scaling,
         pruning,
         pathtraced: pathtraced::read(&opts.out)?,

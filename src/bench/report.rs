@@ -1,5 +1,5 @@
 //! Writes a bench run: performance.md/.csv, error_vs_runtime.csv/.png,
-//! physics_error_vs_runtime.csv/.png, scaling.csv/.png, pruning.csv,
+//! physics_error_vs_runtime.csv/.png, physics_speed.csv, scaling.csv/.png, pruning.csv,
 //! reference.png and report.md (every section and the targets), each file
 //! atomically. CSV cells left empty mean "not measured / undefined".
 
@@ -548,6 +548,7 @@ pub fn report_md(r: &BenchResults) -> String {
         );
     }
 
+    s.push_str(&super::physics_speed::physics_speed_md(&r.physics_speed));
     let _ = writeln!(
         s,
         "\n## Scaling\n\nGPU time of the whole frame (first to last timestamp, default \
@@ -785,6 +786,10 @@ pub fn write_all(dir: &Path, r: &BenchResults) -> Result<()> {
     write_atomic(
         &dir.join("physics_error_vs_runtime.csv"),
         &physics_error_csv(&r.physics_error)?,
+    )?;
+    write_atomic(
+        &dir.join("physics_speed.csv"),
+        &super::physics_speed::physics_speed_csv(&r.physics_speed),
     )?;
     write_atomic(&dir.join("scaling.csv"), &scaling_csv(&r.scaling)?)?;
     write_atomic(&dir.join("pruning.csv"), &pruning_csv(&r.pruning)?)?;

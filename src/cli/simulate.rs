@@ -159,7 +159,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let d = world.diagnostics();
     let c = world.counters();
     eprintln!(
-        "wrote {} ({} frames); {} parcels, {} condensed, cloud base {} m, top {} m; {} sub-steps; clamps {:?}",
+        "wrote {} ({} frames); {} parcels, {} condensed, cloud base {} m, top {} m; {} sub-steps; clamps: {}",
         args.out.display(),
         frames,
         d.parcels,

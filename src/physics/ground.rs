@@ -111,6 +111,11 @@ impl GroundMap {
 
     /// Draws the emissions of one frame of length `dt_s` starting at `t_s`:
     /// (x, y) positions in cell order, so the result depends only on the RNG state.
+    ///
+    /// Each cell emits a Poisson number of parcels with mean λ = rate ×
+    /// weight × area × dt (inverse transform of one uniform draw), so a
+    /// cell can emit several per frame, nothing is capped, and the count
+    /// over a time span does not depend on how it is cut into frames.
     pub fn draw(
         &self,
         emission: &EmissionConfig,
@@ -124,20 +129,42 @@ impl GroundMap {
         let mut out = Vec::new();
         for j in 0..CELLS {
             for i in 0..CELLS {
-                let p = base * self.cell_weight[j * CELLS + i] * cell_km2;
-                // One draw per cell per frame keeps the stream length fixed
-                // whatever the rates, so changing a rate never shifts other draws.
+                let lambda = base * self.cell_weight[j * CELLS + i] * cell_km2;
+                // Two draws per cell per frame keep the stream length fixed
+                // whatever the rates, so changing a rate never shifts other
+                // draws; the positions come from a generator seeded by the second.
                 let u = rng.next_f64();
-                let ux = rng.next_f64();
-                let uy = rng.next_f64();
-                if u < p {
-                    let (cx, cy) = self.cell_centre(i, j);
+                let seed = rng.next_u64();
+                let k = poisson_inverse(lambda, u);
+                let (cx, cy) = self.cell_centre(i, j);
+                let mut pos = SplitMix64::new(seed);
+                for _ in 0..k {
+                    let (ux, uy) = (pos.next_f64(), pos.next_f64());
                     out.push((cx + (ux - 0.5) * dx, cy + (uy - 0.5) * dy));
                 }
             }
         }
         out
     }
+}
+
+/// The smallest k with P(K ≤ k) > u for K ~ Poisson(λ): 0 when u < e^−λ.
+/// Capped at λ + 10√λ + 10 (a tail below 1e-20) so a rounding of the
+/// cumulative sum can never loop on.
+fn poisson_inverse(lambda: f64, u: f64) -> u64 {
+    if !(lambda > 0.0) {
+        return 0;
+    }
+    let cap = (lambda + 10.0 * lambda.sqrt() + 10.0) as u64;
+    let mut term = (-lambda).exp();
+    let mut cdf = term;
+    let mut k = 0;
+    while u >= cdf && k < cap {
+        k += 1;
+        term *= lambda / k as f64;
+        cdf += term;
+    }
+    k
 }
 
 #[cfg(test)]
@@ -191,6 +218,35 @@ mod tests {
         let hot_area = hot_cells as f64 / (CELLS * CELLS) as f64;
         assert!(hot_area < 0.2, "{hot_area}");
         assert!(hot as f64 > 0.5 * n as f64, "{hot} of {n}");
+    }
+
+    #[test]
+    fn long_frames_emit_as_many_parcels_as_short_ones() {
+        // Poisson counts per cell: ten 600 s frames and 3000 frames of 2 s
+        // must both match rate · Σ(weight · area) · time within 5 σ, even
+        // where a hot cell expects more than one parcel per long frame (a
+        // probability capped at 1 would emit too few there).
+        let g = GroundMap::new(&GroundConfig::default());
+        let e = EmissionConfig {
+            diurnal: false,
+            rate_per_km2_per_h: 3000.0,
+            ..EmissionConfig::default()
+        };
+        let (dx, dy) = g.cell_size();
+        let peak = g.cell_weight.iter().fold(0.0_f64, |a, &b| a.max(b));
+        assert!(e.rate_per_km2_per_h / 3600.0 * 600.0 * peak * dx * dy * 1e-6 > 1.0);
+        let weight_km2: f64 = g.cell_weight.iter().sum::<f64>() * dx * dy * 1e-6;
+        let expect = e.rate_per_km2_per_h * weight_km2 * 6000.0 / 3600.0;
+        for (frames, dt) in [(10, 600.0), (3000, 2.0)] {
+            let mut rng = SplitMix64::new(5);
+            let n: usize = (0..frames)
+                .map(|_| g.draw(&e, 0.0, dt, &mut rng).len())
+                .sum();
+            assert!(
+                (n as f64 - expect).abs() < 5.0 * expect.sqrt(),
+                "{frames} frames of {dt} s: {n} vs {expect}"
+            );
+        }
     }
 
     #[test]

@@ -6,11 +6,13 @@
 //! domain is centred on x = y = 0.
 //!
 //! - [`world`]: [`ParcelWorld`], Algorithm 1 and the kick–drift–kick
-//!   integrator with adaptive sub-steps;
+//!   integrator with adaptive sub-steps, one file per stage, parallel
+//!   (rayon) and bit-identical at any thread count;
 //! - [`single`]: one parcel released from the ground (`parcel --dynamic`);
 //! - [`config`]: the `[physics]`, `[ground]`, `[emission]`, `[wind]` tables;
 //! - [`ground`]: heat/humidity maps and the parcel generator;
-//! - [`sph`], [`tessellation`], [`rng`]: kernels, the 18 × 9 sphere, SplitMix64.
+//! - [`sph`], [`tessellation`], [`rng`]: kernels, the 18 × 9 sphere, SplitMix64;
+//! - [`scale_bench`]: the lattice worlds of the speed measurements.
 //!
 //! Where the paper is loose, what we do (details at each function):
 //! - SI units throughout; latent-heat factor α = 1 (the paper's 0.3 is
@@ -25,7 +27,9 @@
 //! - Entrained vapour (eq 12) at the environment's q_v, not ω_s (a typo);
 //!   |v + δv_t| as √(|v − w|² + δv_t²); detrainment from the lower of the
 //!   parcel's condensation plane and the scene's condensation level.
-//! - Vapour exchange through the analytic contact disk of overlapping spheres.
+//! - Exchange of vapour, liquid water and heat (θ, θ_l) through the analytic
+//!   contact disk of overlapping spheres, as a symmetric air-mass exchange
+//!   (eq 16), conserving each quantity; contacts beyond h are found too.
 //! - Filling ratio f = liquid water content / 0.5 g m⁻³ (`opaque_lwc_kg_m3`).
 //! - Condensation plane from the parcel's liquid-water potential temperature
 //!   θ_l and total water: the LCL of its own air, flat for a cluster.
@@ -37,6 +41,7 @@ pub mod config;
 pub mod ground;
 pub mod parcel;
 pub mod rng;
+pub mod scale_bench;
 pub mod single;
 pub mod sph;
 pub mod tessellation;

@@ -121,11 +121,21 @@ impl ParcelSpec {
     /// Dry-air mass of this parcel at pressure `p_pa`. units: Pa → kg
     pub(crate) fn dry_mass_kg(&self, p_pa: f64) -> f64 {
         let t = thermo::temperature_from_theta_k(self.theta_k, p_pa);
-        let v = 4.0 / 3.0 * std::f64::consts::PI * self.radius_m.powi(3);
+        let v = sphere_volume_m3(self.radius_m);
         // ρ = P/(R_d T_v) is the moist density; dry mass = total/(1 + q_v + q_l).
         let rho = p_pa
             / (thermo::R_DRY
                 * thermo::virtual_temperature_k(t, self.qv_kg_per_kg, self.ql_kg_per_kg));
         rho * v / (1.0 + self.qv_kg_per_kg + self.ql_kg_per_kg)
     }
+}
+
+/// Volume of a sphere of radius `r_m`: 4/3 π r³. units: m → m³
+pub fn sphere_volume_m3(r_m: f64) -> f64 {
+    4.0 / 3.0 * std::f64::consts::PI * r_m.powi(3)
+}
+
+/// Radius of a sphere of volume `v_m3` (the inverse of [`sphere_volume_m3`]). units: m³ → m
+pub fn sphere_radius_m(v_m3: f64) -> f64 {
+    (3.0 * v_m3 / (4.0 * std::f64::consts::PI)).cbrt()
 }

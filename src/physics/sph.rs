@@ -20,8 +20,10 @@ pub fn poly6(r2: f64, h: f64) -> f64 {
 }
 
 /// Gradient of the spiky kernel with respect to x_i, for r = x_i − x_j:
-/// −45/(π h⁶) (h − |r|)² r/|r|. Zero at r = 0 (coincident parcels get no
-/// direction; the guard counts them). units: m⁻⁴
+/// −45/(π h⁶) (h − |r|)² r/|r|. Zero at r = 0: exactly coincident parcels
+/// have no direction to push each other in, so they get no SPH force from
+/// each other (any other force that separates them brings it back; the
+/// exposed-area and exchange stages skip d = 0 too). units: m⁻⁴
 pub fn spiky_gradient(r: DVec3, h: f64) -> DVec3 {
     let len = r.length();
     if len >= h || len <= 0.0 {

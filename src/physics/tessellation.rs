@@ -21,6 +21,8 @@ pub struct UnitSphere {
     pub normal: Vec<DVec3>,
     /// Area of each quad on the unit sphere (they sum to 4π). units: 1 (m² per m² of r²)
     pub area: Vec<f64>,
+    /// cos and sin of each band's centre polar angle.
+    band_cos_sin: Vec<(f64, f64)>,
 }
 
 impl UnitSphere {
@@ -45,7 +47,38 @@ impl UnitSphere {
                 area.push(zone);
             }
         }
-        UnitSphere { normal, area }
+        let band_cos_sin = (0..BANDS)
+            .map(|b| {
+                let t = PI * (b as f64 + 0.5) / BANDS as f64;
+                (t.cos(), t.sin())
+            })
+            .collect();
+        UnitSphere {
+            normal,
+            area,
+            band_cos_sin,
+        }
+    }
+}
+
+impl UnitSphere {
+    /// Calls `f(q)` for every quad whose centre may lie inside the cap
+    /// {n : n·u > cos α} of unit axis `u`, in increasing q (the caller tests
+    /// each exactly): all quads of the bands whose polar angle is within α
+    /// of u's (the angle between a quad centre and u is at least their
+    /// polar difference), so a small cap skips most bands. No trigonometry:
+    /// cos(θ_b − θ_u) < cos α is tested with the bands' stored cos and sin.
+    pub fn cap_candidates(&self, u: DVec3, cos_alpha: f64, mut f: impl FnMut(usize)) {
+        let (cu, su) = (u.z, (1.0 - u.z * u.z).max(0.0).sqrt());
+        for (b, (cb, sb)) in self.band_cos_sin.iter().enumerate() {
+            // 1e-9: rounding margin, so a centre on the cap's edge is still tested.
+            if cb * cu + sb * su < cos_alpha - 1e-9 {
+                continue;
+            }
+            for s in 0..SLICES {
+                f(b * SLICES + s);
+            }
+        }
     }
 }
 
@@ -58,6 +91,34 @@ impl Default for UnitSphere {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn cap_candidates_hold_every_quad_inside_the_cap() {
+        // Against the brute-force test over all quads, for axes all over the
+        // sphere (poles included) and caps from tiny to more than a hemisphere.
+        let s = UnitSphere::new();
+        let mut fewer = 0;
+        for k in 0..400 {
+            let (t, p) = (
+                PI * (k % 20) as f64 / 19.0,
+                0.37 + 2.0 * PI * (k / 20) as f64 / 20.0,
+            );
+            let u = DVec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos());
+            for cos_a in [0.99, 0.9, 0.6, 0.2, -0.3] {
+                let mut cand = Vec::new();
+                s.cap_candidates(u, cos_a, |q| cand.push(q));
+                assert!(cand.windows(2).all(|w| w[0] < w[1]), "increasing order");
+                for (q, n) in s.normal.iter().enumerate() {
+                    if n.dot(u) > cos_a {
+                        assert!(cand.contains(&q), "quad {q} missing for u {u}, cos {cos_a}");
+                    }
+                }
+                fewer += (cand.len() < QUADS / 2) as usize;
+            }
+        }
+        // Small caps really are cheaper.
+        assert!(fewer > 500, "{fewer}");
+    }
 
     #[test]
     fn areas_sum_to_the_sphere_and_normals_balance() {

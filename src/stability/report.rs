@@ -8,35 +8,12 @@ use super::run::{CaseResult, KE_RATIO_BOUND};
 use crate::error::Result;
 use crate::physics::ClampCounts;
 
-/// Clamp kinds and their counts, in a fixed order.
-fn clamp_kinds(c: &ClampCounts) -> [(&'static str, u64); 12] {
-    [
-        ("negative_humidity", c.negative_humidity),
-        ("radius", c.radius),
-        ("mass", c.mass),
-        ("saturation_cap", c.saturation_cap),
-        ("detrainment", c.detrainment),
-        ("exchange", c.exchange),
-        ("speed", c.speed),
-        ("substep_budget", c.substep_budget),
-        ("non_finite", c.non_finite),
-        ("bad_frame_dt", c.bad_frame_dt),
-        ("atm_force", c.atm_force),
-        ("viscosity", c.viscosity),
-    ]
-}
-
 /// "speed 12, radius 3" (non-zero kinds only), or "–" when none was hit.
 pub fn clamp_summary(c: &ClampCounts) -> String {
-    let parts: Vec<String> = clamp_kinds(c)
-        .iter()
-        .filter(|(_, n)| *n > 0)
-        .map(|(k, n)| format!("{k} {n}"))
-        .collect();
-    if parts.is_empty() {
+    if c.total() == 0 {
         "–".into()
     } else {
-        parts.join(", ")
+        c.to_string()
     }
 }
 
@@ -74,20 +51,23 @@ pub fn to_markdown(results: &[CaseResult], title: &str) -> String {
          - **NaN/Inf**: parcels removed by the non-finite guard plus frames with a non-finite state; \
          any fails the case. A panic fails it too (caught, not propagated).\n\
          - **escaped**: parcels that left through the sides / the top (of the domain or the profile).\n\
-         - **clamps**: guards hit, by kind (see `physics::ClampCounts`).\n"
+         - **clamps**: guards hit, by kind (see `physics::ClampCounts`); a kind the case does not \
+         declare (listed under Cases) fails it. `opaque` (fill shown as 1) is information only.\n\
+         - **wall/sub-step**: wall-clock time in the physics stages per sub-step (the harness's \
+         set-up and energy sums left out).\n"
     );
     let _ = writeln!(
         s,
-        "| case | dt (s) | frames | parcels start/peak | NaN/Inf | KE ratio | KE step | e_phys (J/kg) | W_atm share | max speed (m/s) | escaped sides/top | sub-steps | clamps | wall (s) | result |"
+        "| case | dt (s) | frames | parcels start/peak | NaN/Inf | KE ratio | KE step | e_phys (J/kg) | W_atm share | max speed (m/s) | escaped sides/top | sub-steps | clamps | wall (s) | wall/sub-step (ms) | result |"
     );
     let _ = writeln!(
         s,
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---|"
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---|"
     );
     for r in results {
         let _ = writeln!(
             s,
-            "| {} | {} | {}/{} | {}/{} | {} | {:.3} | {:.3e} | {:.0} | {:.2} | {:.1} | {}/{} | {} | {} | {:.2} | {} |",
+            "| {} | {} | {}/{} | {}/{} | {} | {:.3} | {:.3e} | {:.0} | {:.2} | {:.1} | {}/{} | {} | {} | {:.2} | {:.2} | {} |",
             r.name,
             r.frame_dt_s,
             r.frames_run,
@@ -105,12 +85,22 @@ pub fn to_markdown(results: &[CaseResult], title: &str) -> String {
             r.substeps,
             clamp_summary(&r.clamps),
             r.wall_s,
+            r.wall_per_substep_ms(),
             verdict(r)
         );
     }
     let _ = writeln!(s, "\n## Cases\n");
     for r in results {
-        let _ = writeln!(s, "- `{}` ({}): {}", r.name, r.group, r.note);
+        let declared = if r.declared_clamps.is_empty() {
+            "none".to_string()
+        } else {
+            r.declared_clamps.join(", ")
+        };
+        let _ = writeln!(
+            s,
+            "- `{}` ({}): {}; declared clamps: {declared}",
+            r.name, r.group, r.note
+        );
     }
     s
 }
@@ -120,10 +110,10 @@ pub fn to_csv(results: &[CaseResult]) -> String {
     let mut s = String::from(
         "case,group,frame_dt_s,frames,frames_run,parcels_start,parcels_peak,completed,panic,non_finite,ke_max_j,ke_ratio,ke_step_growth,e_phys_j_per_kg,atm_work_j,atm_work_share,max_speed_m_s,escaped_sides,escaped_top,substeps",
     );
-    for (k, _) in clamp_kinds(&ClampCounts::default()) {
+    for (k, _) in ClampCounts::default().kinds() {
         let _ = write!(s, ",clamp_{k}");
     }
-    s.push_str(",wall_s,passed,failures\n");
+    s.push_str(",wall_s,wall_ms_per_substep,passed,failures\n");
     let quote = |t: &str| format!("\"{}\"", t.replace('"', "\"\""));
     for r in results {
         let _ = write!(
@@ -150,13 +140,14 @@ pub fn to_csv(results: &[CaseResult]) -> String {
             r.escaped_top,
             r.substeps
         );
-        for (_, n) in clamp_kinds(&r.clamps) {
+        for (_, n) in r.clamps.kinds() {
             let _ = write!(s, ",{n}");
         }
         let _ = writeln!(
             s,
-            ",{:.3},{},{}",
+            ",{:.3},{:.3},{},{}",
             r.wall_s,
+            r.wall_per_substep_ms(),
             r.passed(),
             quote(&r.failures().join("; "))
         );

@@ -27,9 +27,9 @@
 //! The bound is loose (a parcel never has all of it), so a correct
 //! integrator stays well under 1; a case fails when the ratio exceeds
 //! [`KE_RATIO_BOUND`] = 1. Parcels born overlapping others bring SPH energy
-//! too (an emission burst at K = 1e5 turns it into 80 m/s): the harness does
-//! the ground's emission itself — the same draws, from the same seed, as
-//! `ParcelWorld`'s own — and adds each frame's jump of E_sph at the births.
+//! too (an emission burst at K = 1e5 turns it into 80 m/s): the harness runs
+//! the world's own emission ahead of each step (`ParcelWorld::emit_now`)
+//! and adds each frame's jump of E_sph at the births.
 //!
 //! The table also shows the per-frame **KE growth**: max_n KE(n+1)/max(KE(n),
 //! ½ M (1 m/s)²), informational (a real start-up from rest legitimately
@@ -97,8 +97,24 @@ pub struct CaseResult {
     pub substeps: u64,
     /// Clamps by kind (cumulative).
     pub clamps: ClampCounts,
+    /// Clamp kinds the case declares (see `Case::declared_clamps`).
+    pub declared_clamps: Vec<&'static str>,
     /// Wall-clock time of the case. units: s
     pub wall_s: f64,
+    /// Wall-clock time inside the physics stages (the world's counters). units: s
+    pub physics_s: f64,
+}
+
+impl CaseResult {
+    /// Wall-clock time of the physics (the world's stage timers, without
+    /// the harness's set-up and energy sums) per sub-step (0 before any). units: ms
+    pub fn wall_per_substep_ms(&self) -> f64 {
+        if self.substeps == 0 {
+            0.0
+        } else {
+            self.physics_s * 1e3 / self.substeps as f64
+        }
+    }
 }
 
 impl CaseResult {
@@ -114,6 +130,16 @@ impl CaseResult {
         }
         if self.non_finite > 0 {
             f.push(format!("{} NaN/Inf", self.non_finite));
+        }
+        let undeclared: Vec<String> = self
+            .clamps
+            .kinds()
+            .iter()
+            .filter(|(k, n)| *n > 0 && *k != "opaque" && !self.declared_clamps.contains(k))
+            .map(|(k, n)| format!("{k} {n}"))
+            .collect();
+        if !undeclared.is_empty() {
+            f.push(format!("undeclared clamps: {}", undeclared.join(", ")));
         }
         if !(self.ke_ratio <= KE_RATIO_BOUND) {
             f.push(format!(
@@ -287,7 +313,9 @@ pub fn run_case(case: &Case, mut on_frame: impl FnMut(u32)) -> CaseResult {
         escaped_top: 0,
         substeps: 0,
         clamps: ClampCounts::default(),
+        declared_clamps: case.declared_clamps.clone(),
         wall_s: 0.0,
+        physics_s: 0.0,
     };
     let outcome = catch_unwind(AssertUnwindSafe(|| simulate(case, &mut res, &mut on_frame)));
     match outcome {
@@ -307,13 +335,7 @@ pub fn run_case(case: &Case, mut on_frame: impl FnMut(u32)) -> CaseResult {
 }
 
 fn simulate(case: &Case, res: &mut CaseResult, on_frame: &mut dyn FnMut(u32)) -> crate::Result<()> {
-    // The harness emits (see the module docs): the world's own emission off,
-    // the same generator the world would have used for it.
-    let emission = case.config.emission.clone();
-    let mut cfg = case.config.clone();
-    cfg.emission.enabled = false;
-    let mut world = ParcelWorld::new(case.env.clone(), cfg, case.seed)?;
-    let mut emit_rng = SplitMix64::new(case.seed);
+    let mut world = ParcelWorld::new(case.env.clone(), case.config.clone(), case.seed)?;
     let mut e_births = 0.0;
     let specs = case
         .cluster
@@ -345,28 +367,11 @@ fn simulate(case: &Case, res: &mut CaseResult, on_frame: &mut dyn FnMut(u32)) ->
     let mut power_prev: Option<f64> = None;
     let mut w_atm = 0.0;
     for f in 0..case.frames {
-        if emission.enabled {
-            let draws =
-                world
-                    .ground()
-                    .draw(&emission, world.time_s(), case.frame_dt_s, &mut emit_rng);
-            if !draws.is_empty() {
-                let before = sph_energy_j(world.parcels(), &case.config);
-                for (x, y) in draws {
-                    if world.parcels().len() >= emission.max_parcels as usize {
-                        continue;
-                    }
-                    let (dth, dq) = world.ground().excess(x, y);
-                    let spec = ParcelSpec::from_environment(
-                        world.environment(),
-                        DVec3::new(x, y, 0.0),
-                        dth,
-                        dq,
-                        emission.radius_m,
-                    );
-                    // As in the world's emission: a spec out of range is skipped.
-                    let _ = world.spawn_parcel(spec);
-                }
+        if case.config.emission.enabled {
+            // The world's own emission, done ahead of the step so that the
+            // SPH energy the births bring can be measured.
+            let before = sph_energy_j(world.parcels(), &case.config);
+            if world.emit_now(case.frame_dt_s).emitted > 0 {
                 e_births += sph_energy_j(world.parcels(), &case.config) - before;
             }
         }
@@ -410,6 +415,9 @@ fn simulate(case: &Case, res: &mut CaseResult, on_frame: &mut dyn FnMut(u32)) ->
     }
     let d = world.diagnostics();
     res.atm_work_j = w_atm;
+    let c = world.counters();
+    res.physics_s =
+        (c.neighbours + c.sph + c.exposed_area + c.mixing + c.thermo + c.integrate).as_secs_f64();
     res.clamps = d.clamps;
     res.escaped_sides = d.fates.escaped_sides;
     res.escaped_top = d.fates.escaped_top;

@@ -6,6 +6,8 @@
 use cumulus::atmosphere::{EnvLevel, Environment, PressureModel};
 use cumulus::render::GpuContext;
 
+pub mod physics;
+
 /// The CPU Vulkan adapter (lavapipe "llvmpipe"), or any adapter when that is
 /// absent. With none: a notice naming `what` and `None`, or a panic when
 /// CI=true (CI must not silently skip the GPU tests).

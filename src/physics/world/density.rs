@@ -1,0 +1,45 @@
+//! Stage 3: SPH density and pressure (eqs 7–8), gathered per parcel.
+
+use rayon::prelude::*;
+
+use super::PAR_MIN;
+
+use super::ParcelWorld;
+use crate::physics::sph;
+
+impl ParcelWorld {
+    /// ρ_i = Σ_j m_j W(x_i − x_j) (self included) and p_i = K(ρ_i − ρ0_i).
+    /// The rest density ρ0_i is the parcel's own isolated density m_i W(0):
+    /// parcels of different masses cannot share the paper's single ρ0 = 1.28
+    /// without isolated parcels feeling a pressure, so pressure here measures
+    /// overlap only, is never negative (no tensile clumping) and pushes
+    /// parcels apart "to prevent them getting too close" (paper §5).
+    pub(super) fn sph_density(&mut self) {
+        let h = self.cfg.physics.support_radius_m;
+        let k = self.cfg.physics.stiffness;
+        let w0 = sph::poly6(0.0, h);
+        let (parcels, grid) = (&self.parcels, &self.grid);
+        let mut out = std::mem::take(&mut self.scratch.density);
+        (0..parcels.len())
+            .into_par_iter()
+            .with_min_len(PAR_MIN)
+            .map(|i| {
+                let mi = parcels[i].total_mass_kg();
+                let mut rho = mi * w0;
+                for n in grid.of(i) {
+                    rho += parcels[n.j].total_mass_kg() * sph::poly6(n.dist * n.dist, h);
+                }
+                (rho, k * (rho - mi * w0))
+            })
+            .collect_into_vec(&mut out);
+        self.parcels
+            .par_iter_mut()
+            .with_min_len(PAR_MIN)
+            .zip(&out)
+            .for_each(|(p, &(rho, pr))| {
+                p.sph_density_kg_m3 = rho;
+                p.sph_pressure_pa = pr;
+            });
+        self.scratch.density = out;
+    }
+}
