@@ -6,11 +6,13 @@
 //! - [`state`]: the model the panel edits (scene, editor, simulation,
 //!   playback, settings), free of window and GPU types;
 //! - [`panel`]: the egui side panel;
+//! - [`progress`]: the pre-simulation to the start time on a terminal bar;
 //! - [`window`]: winit event loop, surface, frame loop and screenshot.
 
 pub mod camera;
 pub mod panel;
 pub mod profile_edit;
+pub mod progress;
 pub mod state;
 pub mod window;
 

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
-use cumulus::physics::{CloudParcel, ParcelWorld, WorldConfig};
+use cumulus::physics::{CloudParcel, ParcelWorld};
 use cumulus::render::headless::Headless;
 use cumulus::render::{Camera, FrameInput, GpuContext};
 
@@ -34,10 +34,17 @@ pub struct Args {
     /// Image height in pixels (1 to 16384; the device may allow less).
     #[arg(long, default_value_t = 540, value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub height: u32,
-    /// Simulated time before the (first) frame; half an hour lets the
-    /// shipped scenes' cloud fields form. units: s
-    #[arg(long, default_value_t = 1800.0, allow_negative_numbers = true)]
-    pub time: f64,
+    /// Simulated time of the (first) frame, counted from the start of the
+    /// simulation; default: the scene's [simulation] start_s. units: s
+    #[arg(long, allow_negative_numbers = true)]
+    pub time: Option<f64>,
+    /// Local clock time of the (first) frame (0 to 24, e.g. 18.5): moves the
+    /// scene's [sun] clock, so the sun and the ground's heating follow. units: h
+    #[arg(long, allow_negative_numbers = true)]
+    pub hour: Option<f64>,
+    /// Local date of the (first) frame, YYYY-MM-DD (moves the [sun] clock).
+    #[arg(long)]
+    pub date: Option<String>,
     /// Finite-difference normals (overrides the scene's [render] normals).
     #[arg(long, value_enum)]
     pub normals: Option<Switch>,
@@ -129,10 +136,6 @@ fn summary(parcels: &[CloudParcel]) -> String {
 pub fn run(args: Args) -> anyhow::Result<()> {
     anyhow::ensure!(args.frames >= 1, "--frames must be at least 1");
     anyhow::ensure!(
-        args.time.is_finite() && args.time >= 0.0,
-        "--time must be a finite number of seconds ≥ 0"
-    );
-    anyhow::ensure!(
         args.every.is_finite() && args.every > 0.0,
         "--every must be a positive number of seconds"
     );
@@ -140,7 +143,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         args.dt.is_finite() && args.dt > 0.0 && args.dt <= 600.0,
         "--dt must be a positive number of seconds up to 600"
     );
-    let (scene, source) = cumulus::scene::load_scene(args.scene.as_deref())?;
+    let (mut scene, source) = cumulus::scene::load_scene(args.scene.as_deref())?;
+    let time = args.time.unwrap_or(scene.simulation.start_s);
+    anyhow::ensure!(
+        time.is_finite() && time >= 0.0,
+        "invalid --time {time}: a finite number of seconds ≥ 0"
+    );
+    let clock = crate::cli::sun_args::apply(&mut scene, args.hour, args.date.as_deref(), time)?;
     let mut cfg = scene.render.clone();
     cfg.resolve_paths(&source.base_dir());
     if let Some(n) = args.normals {
@@ -165,7 +174,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .atmosphere
             .build(&source.base_dir())
             .context("building the atmosphere")?;
-        let world = ParcelWorld::new(env, WorldConfig::from_scene(&scene), args.seed)?;
+        let world = ParcelWorld::new(env, scene.world_config(&source.base_dir())?, args.seed)?;
         Clouds::World {
             world: Box::new(world),
             dt: args.dt,
@@ -178,9 +187,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 
     let mut parcels = Vec::new();
     if !args.stand_in {
-        eprintln!("simulating {:.0} s …", args.time);
+        eprintln!("simulating {time:.0} s …");
     }
-    clouds.at(args.time, &mut parcels)?;
+    clouds.at(time, &mut parcels)?;
     let bar = (args.frames > 1).then(|| {
         let b = indicatif::ProgressBar::new(args.frames as u64);
         b.set_style(
@@ -192,14 +201,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         b
     });
     for i in 0..args.frames {
-        let t = args.time + args.every * i as f64;
+        let t = time + args.every * i as f64;
         if i > 0 {
             clouds.at(t, &mut parcels)?;
         }
         let input = FrameInput {
             camera,
             parcels: &parcels,
-            sun: cfg.sun(),
+            sun: crate::cli::sun_args::frame_sun(clock.as_ref(), &cfg, t),
             time_s: t as f32,
         };
         let (rgba, timings) = headless.render(&ctx, &input)?;

@@ -523,7 +523,7 @@ impl ParcelWorld {
             let (dth, dq) = self.ground.excess(x, y);
             let spec = ParcelSpec::from_environment(
                 &self.env,
-                DVec3::new(x, y, 0.0),
+                DVec3::new(x, y, self.ground.height_m(x, y)),
                 dth,
                 dq,
                 self.cfg.emission.radius_m,
@@ -1152,6 +1152,8 @@ impl ParcelWorld {
         for i in 0..self.parcels.len() {
             let plane = self.condensation_plane_m(&self.parcels[i]);
             let fill = self.fill(&self.parcels[i]);
+            let pos = self.parcels[i].position_m;
+            let floor_m = self.ground.height_m(pos.x, pos.y);
             let p = &mut self.parcels[i];
             p.cond_plane_z_m = plane;
             p.fill = fill;
@@ -1165,7 +1167,7 @@ impl ParcelWorld {
                 fates.escaped_top += 1;
                 p.alive = false;
             } else if !self.deaths {
-            } else if x.z < 0.0 && sinking {
+            } else if x.z < floor_m && sinking {
                 fates.grounded += 1;
                 p.alive = false;
             } else if p.was_cloudy && p.ql_kg_per_kg <= 0.0 && sinking && x.z < plane - death_depth
