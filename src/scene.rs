@@ -184,6 +184,13 @@ impl SceneProfile {
             let mut render = self.render.clone();
             render.resolve_paths(base_dir);
             cfg.ground.terrain = crate::render::terrain::heightfield(&render.terrain)?;
+            if let Some(clock) = self.clock()? {
+                // Solar noon of the first day; a sun held 5° up in polar night.
+                let noon_s = (12.0 - clock.solar_time_h(0.0)) * 3600.0;
+                let p = clock.position(noon_s);
+                let d = crate::sun::direction(p.azimuth_deg, p.elevation_deg.max(5.0));
+                cfg.ground.midday_sun = d.as_dvec3().to_array();
+            }
         }
         Ok(cfg)
     }

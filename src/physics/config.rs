@@ -268,6 +268,11 @@ pub struct GroundConfig {
     /// terrain, set by `SceneProfile::world_config` (which reads heightmaps).
     #[serde(skip)]
     pub terrain: crate::landscape::Heightfield,
+    /// Unit vector toward the midday sun that heats the slopes (x east, y
+    /// north, z up): from the scene's [sun] clock (set by
+    /// `SceneProfile::world_config`), else from the south, 60° high.
+    #[serde(skip)]
+    pub midday_sun: [f64; 3],
 }
 
 impl Default for GroundConfig {
@@ -282,6 +287,7 @@ impl Default for GroundConfig {
             map_seed: 7,
             follow_terrain: false,
             terrain: crate::landscape::Heightfield::flat(),
+            midday_sun: [0.0, -0.5, 0.866_025_403_784_438_6],
         }
     }
 }

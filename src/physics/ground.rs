@@ -10,7 +10,7 @@
 //!
 //! With `follow_terrain` the maps follow the relief (the paper's "heat and
 //! humidity content of the region"): a patch heats by the midday sunshine on
-//! its slope (a sun from the south at 60°: sunny slopes hot, shaded ones
+//! its slope (the scene's sun at solar noon: sunny slopes hot, shaded ones
 //! cool) and more the higher and drier the ground; low ground is moist.
 
 use super::config::{EmissionConfig, GroundConfig};
@@ -97,9 +97,9 @@ impl GroundMap {
         if t.is_flat() || t.height_scale_m() <= 0.0 {
             return (h, q);
         }
-        // Midday sun from the south at 60° (northern mid-latitude summer):
-        // insolation of the slope over that of flat ground, 0 in its shade.
-        let sun = glam::DVec3::new(0.0, -0.5, 0.75f64.sqrt());
+        // Insolation of the slope under the midday sun over that of flat
+        // ground, 0 in its shade.
+        let sun = glam::DVec3::from(self.cfg.midday_sun);
         let n = t.normal(x_m as f32, y_m as f32, 100.0).as_dvec3();
         let insolation = n.dot(sun).max(0.0) / sun.z;
         let rel = (self.height_m(x_m, y_m) / t.height_scale_m() as f64).clamp(0.0, 1.0);
