@@ -88,8 +88,14 @@ enum Clouds {
 }
 
 impl Clouds {
-    /// The condensed parcels at simulated time `time_s` (≥ the last call's).
-    fn at(&mut self, time_s: f64, out: &mut Vec<CloudParcel>) -> anyhow::Result<()> {
+    /// The condensed parcels at simulated time `time_s` (≥ the last call's);
+    /// `bar` shows the simulated seconds.
+    fn at(
+        &mut self,
+        time_s: f64,
+        out: &mut Vec<CloudParcel>,
+        bar: Option<&indicatif::ProgressBar>,
+    ) -> anyhow::Result<()> {
         match self {
             Clouds::StandIn => *out = cumulus::render::standin::default_field(time_s as f32),
             Clouds::World { world, dt } => {
@@ -97,6 +103,9 @@ impl Clouds {
                 while world.time_s() < time_s - 1e-9 {
                     let step = dt.min(time_s - world.time_s());
                     let report = world.step(step);
+                    if let Some(b) = bar {
+                        b.set_position(world.time_s() as u64);
+                    }
                     anyhow::ensure!(
                         report.clamps.non_finite == 0,
                         "the physics produced a NaN/infinite state at t = {:.1} s; try a smaller --dt",
@@ -186,10 +195,24 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let mut headless = Headless::new(&ctx, &cfg, args.width, args.height)?;
 
     let mut parcels = Vec::new();
-    if !args.stand_in {
-        eprintln!("simulating {time:.0} s …");
+    let warm = (!args.stand_in).then(|| {
+        let b = indicatif::ProgressBar::new(time.ceil() as u64);
+        b.set_style(
+            indicatif::ProgressStyle::with_template(
+                "simulating to t = {len} s {bar:40} {pos} s  [{elapsed_precise} < {eta_precise}]",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b
+    });
+    clouds.at(time, &mut parcels, warm.as_ref())?;
+    if let Some(b) = warm {
+        b.finish_and_clear();
+        eprintln!(
+            "simulated {time:.0} s in {:.1} s",
+            b.elapsed().as_secs_f64()
+        );
     }
-    clouds.at(time, &mut parcels)?;
     let bar = (args.frames > 1).then(|| {
         let b = indicatif::ProgressBar::new(args.frames as u64);
         b.set_style(
@@ -203,7 +226,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     for i in 0..args.frames {
         let t = time + args.every * i as f64;
         if i > 0 {
-            clouds.at(t, &mut parcels)?;
+            clouds.at(t, &mut parcels, None)?;
         }
         let input = FrameInput {
             camera,
