@@ -4,6 +4,8 @@
 //! Layers, bottom up (each only reads the ones below it):
 //! - [`atmosphere`]: thermodynamics, environment profiles, sounding reader;
 //! - [`physics`]: parcels, SPH, mixing, condensation, emission, integrator;
+//! - [`landscape`] (ground height) and [`sun`] (solar position from the
+//!   clock): pure CPU, read by the physics and the renderer alike;
 //! - [`scene`]: a scene profile (TOML) → validated configuration;
 //! - [`render`]: wgpu renderer (headless or to a window surface);
 //! - front ends: [`app`] (window), [`bench`], [`stability`], and `cli` in the binary.
@@ -14,6 +16,7 @@ pub mod authored;
 pub mod bench;
 pub mod error;
 pub mod export;
+pub mod landscape;
 pub mod output;
 pub mod physics;
 pub mod plots;
@@ -21,5 +24,6 @@ pub mod render;
 pub mod scene;
 pub mod scene_set;
 pub mod stability;
+pub mod sun;
 
 pub use error::{Error, Result};

@@ -10,8 +10,9 @@ use serde::{Deserialize, Serialize};
 use crate::atmosphere::AtmosphereSpec;
 use crate::authored::{Ellipsoid, ParticleConfig};
 use crate::error::{Error, Result};
-use crate::physics::{EmissionConfig, GroundConfig, PhysicsConfig, WindConfig};
-use crate::render::{CameraConfig, RenderConfig};
+use crate::physics::{EmissionConfig, GroundConfig, PhysicsConfig, WindConfig, WorldConfig};
+use crate::render::{CameraConfig, RenderConfig, Sun};
+use crate::sun::{SolarClock, SunConfig};
 
 /// Name of the scene embedded in the binary and used when none is given.
 pub const DEFAULT_SCENE_NAME: &str = "fair_weather";
@@ -44,6 +45,73 @@ pub struct SceneProfile {
     pub ellipsoids: Vec<Ellipsoid>,
     /// Particle dynamics of the ellipsoids (the uniform wind).
     pub particles: ParticleConfig,
+    /// Place and clock of the sun; absent = the sun pinned by [render].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sun: Option<SunConfig>,
+    /// Where a run starts.
+    pub simulation: SimulationConfig,
+}
+
+/// Simulated time a scene opens at when nothing else says: the old default
+/// of `cumulus render --time`. The shipped scenes' first cloud forms after
+/// 270–540 s and by 1800 s each shows a developed field (fair_weather 118
+/// condensed parcels, towering_cumulus 250, high_based 169; `cumulus
+/// simulate`, seed 1, 2-s frames). units: s
+pub const DEFAULT_START_S: f64 = 1800.0;
+
+/// The `[simulation]` table.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SimulationConfig {
+    /// Simulated time the window opens at (pre-simulated before its first
+    /// frame) and `cumulus render`'s default `--time`: late enough that the
+    /// clouds have formed. units: s
+    pub start_s: f64,
+}
+
+impl Default for SimulationConfig {
+    fn default() -> Self {
+        Self {
+            start_s: DEFAULT_START_S,
+        }
+    }
+}
+
+impl SimulationConfig {
+    /// Checks `start_s`; the error names the key and the allowed range.
+    pub fn validate(&self) -> Result<()> {
+        if self.start_s.is_finite() && (0.0..=MAX_START_S).contains(&self.start_s) {
+            Ok(())
+        } else {
+            Err(Error::invalid(
+                "simulation.start_s",
+                self.start_s,
+                format!("a number of seconds from 0 to {MAX_START_S} (one day)"),
+            ))
+        }
+    }
+}
+
+/// Latest start time: a day of simulated time. units: s
+pub const MAX_START_S: f64 = 86_400.0;
+
+/// The sun the renderer draws at simulated time `t_s`: from `clock` when the
+/// scene has a `[sun]` table, else pinned by `render`. The second value says
+/// whether the sun was below [`crate::sun::MIN_LIGHT_ELEVATION_DEG`], so the
+/// light's direction was held there (front ends show it).
+pub fn render_sun(clock: Option<&SolarClock>, render: &RenderConfig, t_s: f64) -> (Sun, bool) {
+    let pinned = render.sun();
+    match clock {
+        None => (pinned, false),
+        Some(c) => {
+            let (direction, strength, held) = crate::sun::light(c.position(t_s));
+            let sun = Sun {
+                direction,
+                color: pinned.color * strength,
+            };
+            (sun, held)
+        }
+    }
 }
 
 /// Byte offset → 1-based (line, column).
@@ -87,7 +155,42 @@ impl SceneProfile {
         self.render.slices.validate()?;
         crate::authored::ellipsoid::validate_all(&self.ellipsoids)?;
         self.particles.validate()?;
+        if let Some(sun) = &self.sun {
+            sun.validate()?;
+        }
+        self.simulation.validate()?;
+        if self.ground.follow_terrain && !self.render.terrain.enabled {
+            return Err(Error::invalid(
+                "ground.follow_terrain",
+                true,
+                "false unless [render.terrain] has enabled = true (the parcels leave the drawn terrain)",
+            ));
+        }
         self.camera.validate()
+    }
+
+    /// The sun's clock, when the scene has a `[sun]` table.
+    pub fn clock(&self) -> Result<Option<SolarClock>> {
+        self.sun.as_ref().map(SunConfig::clock).transpose()
+    }
+
+    /// Everything the physics needs, with the ground's terrain read (a
+    /// heightmap relative to `base_dir`) when `[ground] follow_terrain`.
+    pub fn world_config(&self, base_dir: &Path) -> Result<WorldConfig> {
+        let mut cfg = WorldConfig::from_scene(self);
+        if self.ground.follow_terrain {
+            let mut render = self.render.clone();
+            render.resolve_paths(base_dir);
+            cfg.ground.terrain = crate::render::terrain::heightfield(&render.terrain)?;
+            if let Some(clock) = self.clock()? {
+                // Solar noon of the first day; a sun held 5° up in polar night.
+                let noon_s = (12.0 - clock.solar_time_h(0.0)) * 3600.0;
+                let p = clock.position(noon_s);
+                let d = crate::sun::direction(p.azimuth_deg, p.elevation_deg.max(5.0));
+                cfg.ground.midday_sun = d.as_dvec3().to_array();
+            }
+        }
+        Ok(cfg)
     }
 
     /// The embedded default scene.

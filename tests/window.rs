@@ -220,7 +220,9 @@ fn screenshot_shows_panel_and_clouds() {
     // and the same view has (next to) no such pixels.
     let clear = capture(
         &display,
-        &["--frames", "1", "--width", "900", "--height", "560"],
+        &[
+            "--frames", "1", "--warmup", "0", "--width", "900", "--height", "560",
+        ],
         "window-clear.png",
     )
     .expect("the adapter was there a moment ago");

@@ -8,12 +8,14 @@
 //! - [`panel`]: the egui side panel;
 //! - [`skewt_panel`]: the profile diagram's height–T and Skew-T views, the
 //!   panel's hodograph;
+//! - [`progress`]: the pre-simulation to the start time on a terminal bar;
 //! - [`window`]: winit event loop, surface, frame loop and screenshot.
 
 pub mod camera;
 pub mod panel;
 pub mod profile_edit;
 pub mod skewt_panel;
+pub mod progress;
 pub mod state;
 pub mod window;
 

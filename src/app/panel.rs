@@ -17,6 +17,8 @@ const PARCEL_COLOR: Color32 = Color32::from_rgb(240, 170, 30);
 const GRAB_RADIUS: f32 = 12.0;
 /// Width of the side panel. units: points (egui)
 pub const PANEL_WIDTH: f32 = 380.0;
+/// Speed of the "time-lapse" button: two simulated minutes per second.
+pub const TIME_LAPSE_SPEED: f64 = 120.0;
 
 /// What the panel asks the window to do beyond editing the model.
 #[derive(Debug, Default, Clone, Copy, PartialEq)]
@@ -344,6 +346,13 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
 
 fn simulation_section(ui: &mut egui::Ui, m: &mut Model) {
     ui.label(RichText::new("Simulation").strong());
+    if let Some(done) = m.warm_up_progress() {
+        ui.add(egui::ProgressBar::new(done as f32).text(format!(
+            "simulating to the start: {:.0} of {:.0} s",
+            m.world.time_s(),
+            m.start_s
+        )));
+    }
     ui.horizontal(|ui| {
         let label = if m.playback.playing { "Pause" } else { "Play" };
         if ui.button(label).clicked() {
@@ -360,11 +369,16 @@ fn simulation_section(ui: &mut egui::Ui, m: &mut Model) {
             report(m, r);
         }
     });
-    ui.add(
-        egui::Slider::new(&mut m.playback.speed, 0.1..=200.0)
-            .logarithmic(true)
-            .text("time speed (×)"),
-    );
+    ui.horizontal(|ui| {
+        ui.add(
+            egui::Slider::new(&mut m.playback.speed, 0.1..=600.0)
+                .logarithmic(true)
+                .text("time speed (×)"),
+        );
+        if ui.button("time-lapse").clicked() {
+            m.playback.speed = TIME_LAPSE_SPEED;
+        }
+    });
     let mut cfg = m.world_cfg.clone();
     let mut changed = ui
         .add(
@@ -389,6 +403,23 @@ fn simulation_section(ui: &mut egui::Ui, m: &mut Model) {
     {
         let r = m.set_time_of_day_h(hour);
         report(m, r);
+    }
+    if let Some(c) = m.clock {
+        let t = m.world.time_s();
+        let p = c.position(t);
+        let held = if p.elevation_deg < crate::sun::MIN_LIGHT_ELEVATION_DEG {
+            " (below the horizon: light held low, dimmed)"
+        } else {
+            ""
+        };
+        ui.label(format!(
+            "sun az {:.0}°  el {:.1}°  {}{held}",
+            p.azimuth_deg,
+            p.elevation_deg,
+            c.local_date(t)
+        ));
+    } else {
+        ui.label("sun pinned by the scene ([render] azimuth/elevation)");
     }
     let d = m.world.diagnostics();
     ui.label(format!(

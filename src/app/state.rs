@@ -14,6 +14,7 @@ use crate::error::{Error, Result};
 use crate::physics::{CloudParcel, ParcelWorld, WorldConfig};
 use crate::render::{Camera, RenderConfig, Sun};
 use crate::scene::{SceneProfile, SceneSource};
+use crate::sun::SolarClock;
 
 /// Seed of the simulation; fixed so that a reset replays the same run.
 pub const SIM_SEED: u64 = 1;
@@ -23,6 +24,13 @@ pub const FIXED_FRAME_DT_S: f64 = 1.0 / 30.0;
 /// Largest simulated step of one frame at speed 1: a stall (window dragged,
 /// slow frame) must not turn into one huge physics step. units: s
 pub const MAX_FRAME_DT_S: f64 = 0.1;
+/// Physics frame of the pre-simulation to the start time: the default
+/// `--dt` of `cumulus render` and `simulate`, so the window opens on the same
+/// world as `cumulus render --time START`. units: s
+pub const WARM_UP_DT_S: f64 = 2.0;
+/// Wall time one window frame spends pre-simulating, so the progress
+/// display stays live. units: s
+pub const WARM_UP_SLICE_S: f64 = 0.05;
 
 /// Playback of the simulation.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -121,13 +129,21 @@ pub struct Model {
     pub cond_level_m: f64,
     /// Surface mixing ratio the panel's handle shows. units: g/kg
     pub surface_qv_g_per_kg: f64,
+    /// The sun's clock (the scene's `[sun]`, as moved by the time slider);
+    /// None = the sun pinned by the render settings.
+    pub clock: Option<SolarClock>,
+    /// Simulated time a run opens at and Reset returns to. units: s
+    pub start_s: f64,
+    /// Pre-simulating toward this time (frames show progress, not playback). units: s
+    pub warming_to: Option<f64>,
 }
 
 impl Model {
     /// A model on a loaded scene.
     pub fn new(profile: SceneProfile, source: SceneSource) -> Result<Self> {
         let mut editor = ProfileEditor::from_spec(&profile.atmosphere, &source.base_dir())?;
-        let world_cfg = WorldConfig::from_scene(&profile);
+        let world_cfg = profile.world_config(&source.base_dir())?;
+        let clock = profile.clock()?;
         editor.set_lift_options(crate::atmosphere::lifting::LiftOptions {
             alpha: world_cfg.physics.latent_heat_alpha,
             condensate_loading: world_cfg.physics.condensate_loading,
@@ -135,6 +151,7 @@ impl Model {
         })?;
         let world = ParcelWorld::new(editor.environment().clone(), world_cfg.clone(), SIM_SEED)?;
         let render_cfg = profile.render.clone();
+        let profile_start_s = profile.simulation.start_s;
         render_cfg.validate()?;
         profile.camera.validate()?;
         let camera = default_camera(&profile);
@@ -164,6 +181,9 @@ impl Model {
             status: String::new(),
             cond_level_m: 0.0,
             surface_qv_g_per_kg: 0.0,
+            clock,
+            start_s: profile_start_s,
+            warming_to: None,
         };
         m.sync_handles();
         Ok(m)
@@ -195,6 +215,17 @@ impl Model {
     pub fn advance(&mut self, real_dt_s: f64) {
         self.push_edits();
         let t0 = Instant::now();
+        if let Some(target) = self.warming_to {
+            while t0.elapsed().as_secs_f64() < WARM_UP_SLICE_S {
+                if !self.warm_step(target) {
+                    self.warming_to = None;
+                    break;
+                }
+            }
+            self.world.cloud_parcels(&mut self.parcels);
+            self.stats.physics_ms = t0.elapsed().as_secs_f64() * 1000.0;
+            return;
+        }
         if self.playback.playing || self.playback.step_once {
             let dt = real_dt_s.min(MAX_FRAME_DT_S) * self.playback.speed;
             if dt > 0.0 {
@@ -220,19 +251,43 @@ impl Model {
         self.stats.physics_ms = t0.elapsed().as_secs_f64() * 1000.0;
     }
 
-    /// Simulates `seconds` at once (start-up warm-up), in frame-sized steps.
-    pub fn warm_up(&mut self, seconds: f64) {
-        self.push_edits();
-        let mut left = seconds;
-        let dt = MAX_FRAME_DT_S * self.playback.speed.max(1.0);
-        while left > 0.0 {
-            let d = left.min(dt);
-            self.world.step(d);
-            left -= d;
+    /// One pre-simulation frame toward `target_s` (the last one shortened
+    /// to land on it); false once there.
+    fn warm_step(&mut self, target_s: f64) -> bool {
+        let d = (target_s - self.world.time_s()).min(WARM_UP_DT_S);
+        if d <= 1e-9 {
+            return false;
         }
+        self.world.step(d);
+        true
     }
 
-    /// Restarts the simulation on the current (edited) profile.
+    /// Starts pre-simulating to the start time: the next frames advance
+    /// toward it as fast as they can and show progress (see [`Self::warm_up_progress`]).
+    pub fn begin_warm_up(&mut self) {
+        self.warming_to = (self.start_s > self.world.time_s()).then_some(self.start_s);
+    }
+
+    /// Fraction of the pre-simulation done, while there is one.
+    pub fn warm_up_progress(&self) -> Option<f64> {
+        self.warming_to
+            .map(|t| (self.world.time_s() / t).clamp(0.0, 1.0))
+    }
+
+    /// Simulates to `target_s` at once, calling `on_step` with the simulated
+    /// time after each frame (a progress bar). Same frames as [`Self::advance`]'s
+    /// pre-simulation, so both give the same world.
+    pub fn warm_up_to(&mut self, target_s: f64, mut on_step: impl FnMut(f64)) {
+        self.push_edits();
+        self.warming_to = None;
+        while self.warm_step(target_s) {
+            on_step(self.world.time_s());
+        }
+        self.world.cloud_parcels(&mut self.parcels);
+    }
+
+    /// Restarts the simulation on the current (edited) profile and
+    /// pre-simulates back to the start time.
     pub fn reset(&mut self) -> Result<()> {
         self.world = ParcelWorld::new(
             self.editor.environment().clone(),
@@ -240,6 +295,7 @@ impl Model {
             SIM_SEED,
         )?;
         self.pushed_revision = self.editor.revision();
+        self.begin_warm_up();
         Ok(())
     }
 
@@ -252,6 +308,7 @@ impl Model {
         p.emission = self.world_cfg.emission.clone();
         p.wind = self.world_cfg.wind.clone();
         p.render = self.render_cfg.clone();
+        p.sun = self.clock.map(|c| c.to_config());
         let eye = self.camera.eye_m();
         p.camera.position_m = eye.to_array();
         p.camera.target_m = self.camera.target_m.to_array();
@@ -268,16 +325,36 @@ impl Model {
         Ok(())
     }
 
-    /// Local solar time now. units: h
+    /// Time of day now: the `[sun]` clock's local time, or (sun pinned) the
+    /// ground's solar time. units: h
     pub fn time_of_day_h(&self) -> f64 {
-        (self.world_cfg.emission.start_hour + self.world.time_s() / 3600.0).rem_euclid(24.0)
+        match &self.clock {
+            Some(c) => c.local_time_h(self.world.time_s()),
+            None => {
+                (self.world_cfg.emission.start_hour + self.world.time_s() / 3600.0).rem_euclid(24.0)
+            }
+        }
     }
 
-    /// Sets the local solar time now (moves the start hour). units: h
+    /// Sets the time of day now: moves the `[sun]` clock (the sun, sky,
+    /// shadows and the ground's heating follow), or with a pinned sun only
+    /// the ground's solar start hour. units: h
     pub fn set_time_of_day_h(&mut self, hour: f64) -> Result<()> {
+        let t = self.world.time_s();
         let mut cfg = self.world_cfg.clone();
-        cfg.emission.start_hour = (hour - self.world.time_s() / 3600.0).rem_euclid(24.0);
-        self.apply_world_config(cfg)
+        match &self.clock {
+            Some(c) => {
+                let moved = c.with_local_time_at(hour, t);
+                cfg.emission.start_hour = moved.solar_time_h(0.0);
+                self.apply_world_config(cfg)?;
+                self.clock = Some(moved);
+                Ok(())
+            }
+            None => {
+                cfg.emission.start_hour = (hour - t / 3600.0).rem_euclid(24.0);
+                self.apply_world_config(cfg)
+            }
+        }
     }
 
     /// The render settings with file paths resolved against the scene's
@@ -299,9 +376,9 @@ impl Model {
         }
     }
 
-    /// The sun of the render settings.
+    /// The sun now: from the clock, or pinned by the render settings.
     pub fn sun(&self) -> Sun {
-        self.render_cfg.sun()
+        crate::scene::render_sun(self.clock.as_ref(), &self.render_cfg, self.world.time_s()).0
     }
 
     /// Saves the edited scene as a profile TOML, atomically.
@@ -313,7 +390,8 @@ impl Model {
     /// Loads a profile and restarts on it; on error nothing changes.
     pub fn load(&mut self, path: &Path) -> Result<()> {
         let (profile, source) = crate::scene::load_scene(Some(path))?;
-        let fresh = Model::new(profile, source)?;
+        let mut fresh = Model::new(profile, source)?;
+        fresh.begin_warm_up();
         let keep_path = std::mem::take(&mut self.path_text);
         *self = Self {
             path_text: keep_path,

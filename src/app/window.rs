@@ -30,8 +30,9 @@ pub struct WatchOptions {
     /// Frames to run before exiting; None = until closed (10 with a
     /// screenshot). Counted frames use a fixed time step.
     pub frames: Option<u32>,
-    /// Simulated time before the first frame. units: s
-    pub warmup_s: f64,
+    /// Simulated time of the first frame (pre-simulated); None = the
+    /// scene's `[simulation] start_s`. Reset returns to it. units: s
+    pub warmup_s: Option<f64>,
     /// Inner window size. units: logical pixels
     pub size: (u32, u32),
     /// Render method overriding the scene's `[render] method`.
@@ -44,7 +45,7 @@ impl Default for WatchOptions {
             scene: None,
             screenshot: None,
             frames: None,
-            warmup_s: 0.0,
+            warmup_s: None,
             size: (1280, 760),
             method: None,
         }
@@ -61,8 +62,16 @@ pub fn run(mut opts: WatchOptions) -> Result<()> {
     if let Some(m) = opts.method {
         model.render_cfg.method = m;
     }
-    if opts.warmup_s > 0.0 {
-        model.warm_up(opts.warmup_s);
+    if let Some(s) = opts.warmup_s {
+        model.start_s = s;
+    }
+    if opts.frames.is_some() {
+        // Counted frames (captures): the whole pre-simulation first, with a
+        // progress bar on the terminal, so the frames do not depend on speed.
+        super::progress::warm_up_with_bar(&mut model);
+    } else {
+        // Live: the window opens at once and shows the pre-simulation's progress.
+        model.begin_warm_up();
     }
     let event_loop = EventLoop::new()
         .map_err(|e| Error::Gpu(format!("cannot open a window (is DISPLAY set?): {e}")))?;

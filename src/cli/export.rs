@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Context as _;
 use cumulus::export::sidecar::Sidecar;
 use cumulus::export::{self, DEFAULT_MAX_MEMORY_MIB, GridSpec};
-use cumulus::physics::{ParcelWorld, WorldConfig};
+use cumulus::physics::ParcelWorld;
 use cumulus::render::Camera;
 use cumulus::render::field::CloudField;
 
@@ -119,7 +119,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .atmosphere
             .build(&source.base_dir())
             .context("building the atmosphere")?;
-        let world = ParcelWorld::new(env, WorldConfig::from_scene(&scene), args.seed)?;
+        let world = ParcelWorld::new(env, scene.world_config(&source.base_dir())?, args.seed)?;
         eprintln!("simulating {:.0} s …", args.time);
         Clouds::World {
             world: Box::new(world),
@@ -127,7 +127,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
     };
     let mut parcels = Vec::new();
-    clouds.at(args.time, &mut parcels)?;
+    clouds.at(args.time, &mut parcels, None)?;
     anyhow::ensure!(
         !parcels.is_empty(),
         "no cloud at t = {:.0} s in {scene_name}: nothing to export (try a later --time)",
@@ -186,6 +186,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
+    // The sun of the exported frame: the scene's [sun] clock, or the pinned one.
+    let clock = scene.sun.as_ref().map(|s| s.clock()).transpose()?;
+    let sun = super::sun_args::frame_sun(clock.as_ref(), &cfg, args.time);
     let sidecar = Sidecar::new(
         &scene_name,
         args.time,
@@ -193,7 +196,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         &spec,
         &cfg,
         &Camera::from(&scene.camera),
-        &cfg.sun(),
+        &sun,
     );
     let json = serde_json::to_vec_pretty(&sidecar).context("encoding the sidecar")?;
     if let Err(e) = cumulus::output::write_atomic(&sidecar_out, &json) {

@@ -7,4 +7,5 @@ pub mod parcel;
 pub mod render;
 pub mod simulate;
 pub mod stability;
+pub mod sun_args;
 pub mod watch;

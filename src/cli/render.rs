@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
-use cumulus::physics::{CloudParcel, ParcelWorld, WorldConfig};
+use cumulus::physics::{CloudParcel, ParcelWorld};
 use cumulus::render::headless::Headless;
 use cumulus::render::{Camera, FrameInput, GpuContext};
 
@@ -34,10 +34,17 @@ pub struct Args {
     /// Image height in pixels (1 to 16384; the device may allow less).
     #[arg(long, default_value_t = 540, value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub height: u32,
-    /// Simulated time before the (first) frame; half an hour lets the
-    /// shipped scenes' cloud fields form. units: s
-    #[arg(long, default_value_t = 1800.0, allow_negative_numbers = true)]
-    pub time: f64,
+    /// Simulated time of the (first) frame, counted from the start of the
+    /// simulation; default: the scene's [simulation] start_s. units: s
+    #[arg(long, allow_negative_numbers = true)]
+    pub time: Option<f64>,
+    /// Local clock time of the (first) frame (0 to 24, e.g. 18.5): moves the
+    /// scene's [sun] clock, so the sun and the ground's heating follow. units: h
+    #[arg(long, allow_negative_numbers = true)]
+    pub hour: Option<f64>,
+    /// Local date of the (first) frame, YYYY-MM-DD (moves the [sun] clock).
+    #[arg(long)]
+    pub date: Option<String>,
     /// Cloud render method (overrides the scene's [render] method): baked
     /// (default) or exact.
     #[arg(long, value_parser = super::watch::parse_method)]
@@ -85,8 +92,14 @@ pub(crate) enum Clouds {
 }
 
 impl Clouds {
-    /// The condensed parcels at simulated time `time_s` (≥ the last call's).
-    pub(crate) fn at(&mut self, time_s: f64, out: &mut Vec<CloudParcel>) -> anyhow::Result<()> {
+    /// The condensed parcels at simulated time `time_s` (≥ the last call's);
+    /// `bar` shows the simulated seconds.
+    pub(crate) fn at(
+        &mut self,
+        time_s: f64,
+        out: &mut Vec<CloudParcel>,
+        bar: Option<&indicatif::ProgressBar>,
+    ) -> anyhow::Result<()> {
         match self {
             Clouds::StandIn => *out = cumulus::render::standin::default_field(time_s as f32),
             Clouds::World { world, dt } => {
@@ -94,6 +107,9 @@ impl Clouds {
                 while world.time_s() < time_s - 1e-9 {
                     let step = dt.min(time_s - world.time_s());
                     let report = world.step(step);
+                    if let Some(b) = bar {
+                        b.set_position(world.time_s() as u64);
+                    }
                     anyhow::ensure!(
                         report.clamps.non_finite == 0,
                         "the physics produced a NaN/infinite state at t = {:.1} s; try a smaller --dt",
@@ -133,10 +149,6 @@ fn summary(parcels: &[CloudParcel]) -> String {
 pub fn run(args: Args) -> anyhow::Result<()> {
     anyhow::ensure!(args.frames >= 1, "--frames must be at least 1");
     anyhow::ensure!(
-        args.time.is_finite() && args.time >= 0.0,
-        "--time must be a finite number of seconds ≥ 0"
-    );
-    anyhow::ensure!(
         args.every.is_finite() && args.every > 0.0,
         "--every must be a positive number of seconds"
     );
@@ -144,7 +156,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         args.dt.is_finite() && args.dt > 0.0 && args.dt <= 600.0,
         "--dt must be a positive number of seconds up to 600"
     );
-    let (scene, source) = cumulus::scene::load_scene(args.scene.as_deref())?;
+    let (mut scene, source) = cumulus::scene::load_scene(args.scene.as_deref())?;
+    let time = args.time.unwrap_or(scene.simulation.start_s);
+    anyhow::ensure!(
+        time.is_finite() && time >= 0.0,
+        "invalid --time {time}: a finite number of seconds ≥ 0"
+    );
+    let clock = crate::cli::sun_args::apply(&mut scene, args.hour, args.date.as_deref(), time)?;
     let mut cfg = scene.render.clone();
     cfg.resolve_paths(&source.base_dir());
     if let Some(m) = args.method {
@@ -172,7 +190,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .atmosphere
             .build(&source.base_dir())
             .context("building the atmosphere")?;
-        let world = ParcelWorld::new(env, WorldConfig::from_scene(&scene), args.seed)?;
+        let world = ParcelWorld::new(env, scene.world_config(&source.base_dir())?, args.seed)?;
         Clouds::World {
             world: Box::new(world),
             dt: args.dt,
@@ -184,10 +202,24 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let mut headless = Headless::new(&ctx, &cfg, args.width, args.height)?;
 
     let mut parcels = Vec::new();
-    if !args.stand_in {
-        eprintln!("simulating {:.0} s …", args.time);
+    let warm = (!args.stand_in).then(|| {
+        let b = indicatif::ProgressBar::new(time.ceil() as u64);
+        b.set_style(
+            indicatif::ProgressStyle::with_template(
+                "simulating to t = {len} s {bar:40} {pos} s  [{elapsed_precise} < {eta_precise}]",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b
+    });
+    clouds.at(time, &mut parcels, warm.as_ref())?;
+    if let Some(b) = warm {
+        b.finish_and_clear();
+        eprintln!(
+            "simulated {time:.0} s in {:.1} s",
+            b.elapsed().as_secs_f64()
+        );
     }
-    clouds.at(args.time, &mut parcels)?;
     let bar = (args.frames > 1).then(|| {
         let b = indicatif::ProgressBar::new(args.frames as u64);
         b.set_style(
@@ -199,14 +231,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         b
     });
     for i in 0..args.frames {
-        let t = args.time + args.every * i as f64;
+        let t = time + args.every * i as f64;
         if i > 0 {
-            clouds.at(t, &mut parcels)?;
+            clouds.at(t, &mut parcels, None)?;
         }
         let input = FrameInput {
             camera,
             parcels: &parcels,
-            sun: cfg.sun(),
+            sun: crate::cli::sun_args::frame_sun(clock.as_ref(), &cfg, t),
             time_s: t as f32,
         };
         let (rgba, timings) = headless.render(&ctx, &input)?;

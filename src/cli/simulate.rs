@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use anyhow::bail;
-use cumulus::physics::{Diagnostics, ParcelWorld, StepReport, WorldConfig};
+use cumulus::physics::{Diagnostics, ParcelWorld, StepReport};
 use cumulus::scene::{load_scene_with, locate_key};
 
 /// Arguments of `cumulus simulate`.
@@ -113,13 +113,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let at = place(&e);
         anyhow::Error::new(e).context(format!("{at}: building the atmosphere"))
     })?;
-    let mut world =
-        ParcelWorld::new(env, WorldConfig::from_scene(&profile), args.seed).map_err(|e| {
-            let at = place(&e);
-            anyhow::Error::new(e).context(format!(
-                "{at}: checking [physics], [ground], [emission], [wind]"
-            ))
-        })?;
+    let world_cfg = profile.world_config(&source.base_dir()).map_err(|e| {
+        anyhow::Error::new(e).context("reading the terrain ([ground] follow_terrain)")
+    })?;
+    let mut world = ParcelWorld::new(env, world_cfg, args.seed).map_err(|e| {
+        let at = place(&e);
+        anyhow::Error::new(e).context(format!(
+            "{at}: checking [physics], [ground], [emission], [wind]"
+        ))
+    })?;
 
     let bar = indicatif::ProgressBar::new(frames);
     bar.set_style(
@@ -130,6 +132,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     );
     let mut lines = Vec::with_capacity(frames as usize + 1);
     lines.push(HEADER.to_string());
+    // When the first cloud forms and when the cloud field peaks: what a
+    // scene's [simulation] start_s is chosen from.
+    let mut first_cloud_s: Option<f64> = None;
+    let mut peak = (0usize, 0.0f64);
     for _ in 0..frames {
         let report = world.step(args.dt);
         let d = world.diagnostics();
@@ -146,6 +152,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             );
         }
         lines.push(row(&d, &report));
+        if d.condensed_parcels > 0 && first_cloud_s.is_none() {
+            first_cloud_s = Some(d.time_s);
+        }
+        if d.condensed_parcels > peak.0 {
+            peak = (d.condensed_parcels, d.time_s);
+        }
         bar.set_message(format!(
             "{} parcels, {} cloudy",
             d.parcels, d.condensed_parcels
@@ -168,6 +180,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         opt(d.cloud_top_m),
         c.substeps,
         d.clamps
+    );
+    eprintln!(
+        "first condensed parcel at t = {}; peak {} condensed parcels at t = {:.0} s; {:.1} s of wall time",
+        first_cloud_s.map_or("never".to_string(), |t| format!("{t:.0} s")),
+        peak.0,
+        peak.1,
+        bar.elapsed().as_secs_f64()
     );
     eprintln!(
         "CPU: neighbours {:?}, sph {:?}, exposed area {:?} ({} evaluations), mixing {:?}, thermo {:?}, integrate {:?}",

@@ -20,10 +20,11 @@ pub struct Args {
     /// time speed, so a capture does not depend on the machine's speed.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub frames: Option<u32>,
-    /// Seconds of simulated time to run before the first frame, so clouds
-    /// have formed when the window opens.
-    #[arg(long, value_name = "S", default_value_t = 0.0)]
-    pub warmup: f64,
+    /// Simulated time of the first frame, pre-simulated (with a progress
+    /// display) so clouds have formed when the window opens; Reset returns
+    /// to it. Default: the scene's [simulation] start_s.
+    #[arg(long, value_name = "S")]
+    pub warmup: Option<f64>,
     /// Window width in logical pixels.
     #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(200..=8192))]
     pub width: u32,
@@ -58,8 +59,13 @@ impl Default for Args {
 
 /// Runs `cumulus watch`.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    if !(args.warmup.is_finite() && args.warmup >= 0.0) {
-        anyhow::bail!("invalid --warmup {}: a number of seconds ≥ 0", args.warmup);
+    if let Some(w) = args.warmup
+        && !(w.is_finite() && (0.0..=cumulus::scene::MAX_START_S).contains(&w))
+    {
+        anyhow::bail!(
+            "invalid --warmup {w}: a number of seconds from 0 to {}",
+            cumulus::scene::MAX_START_S
+        );
     }
     let opts = cumulus::app::WatchOptions {
         scene: args.scene,

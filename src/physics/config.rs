@@ -269,6 +269,19 @@ pub struct GroundConfig {
     /// Seed of the patch layout (independent of the world seed, so that the
     /// same ground can be rerun with other emission draws).
     pub map_seed: u64,
+    /// The ground is the scene's terrain ([render.terrain]) rather than flat
+    /// z = 0: parcels leave it at its height, sink back into it, and the
+    /// heat/humidity maps follow it (see `ground`).
+    pub follow_terrain: bool,
+    /// The ground's height: flat unless `follow_terrain`, then the scene's
+    /// terrain, set by `SceneProfile::world_config` (which reads heightmaps).
+    #[serde(skip)]
+    pub terrain: crate::landscape::Heightfield,
+    /// Unit vector toward the midday sun that heats the slopes (x east, y
+    /// north, z up): from the scene's [sun] clock (set by
+    /// `SceneProfile::world_config`), else from the south, 60° high.
+    #[serde(skip)]
+    pub midday_sun: [f64; 3],
 }
 
 impl Default for GroundConfig {
@@ -281,6 +294,9 @@ impl Default for GroundConfig {
             heat_excess_k: 2.0,
             moisture_excess_kg_per_kg: 2.0e-3,
             map_seed: 7,
+            follow_terrain: false,
+            terrain: crate::landscape::Heightfield::flat(),
+            midday_sun: [0.0, -0.5, 0.866_025_403_784_438_6],
         }
     }
 }
@@ -434,10 +450,15 @@ pub struct WorldConfig {
 impl WorldConfig {
     /// The physics tables of a scene profile.
     pub fn from_scene(scene: &crate::scene::SceneProfile) -> Self {
+        let mut emission = scene.emission.clone();
+        // One clock: with a [sun] table the ground heats by its solar time.
+        if let Some(Ok(clock)) = scene.sun.as_ref().map(|s| s.clock()) {
+            emission.start_hour = clock.solar_time_h(0.0);
+        }
         WorldConfig {
             physics: scene.physics.clone(),
             ground: scene.ground.clone(),
-            emission: scene.emission.clone(),
+            emission,
             wind: scene.wind.clone(),
         }
     }

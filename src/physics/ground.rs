@@ -7,6 +7,11 @@
 //! background. Emission is a Poisson process per map cell: in a frame of
 //! length dt, a cell emits with probability λ A dt where
 //! λ = rate · heat · (0.5 + 0.5 humidity) · sun(t).
+//!
+//! With `follow_terrain` the maps follow the relief (the paper's "heat and
+//! humidity content of the region"): a patch heats by the midday sunshine on
+//! its slope (the scene's sun at solar noon: sunny slopes hot, shaded ones
+//! cool) and more the higher and drier the ground; low ground is moist.
 
 use super::config::{EmissionConfig, GroundConfig};
 use super::rng::SplitMix64;
@@ -88,7 +93,25 @@ impl GroundMap {
             h = h.max(p.heat * g);
             q = q.max(p.humidity * g);
         }
-        (h, q)
+        let t = &self.cfg.terrain;
+        if t.is_flat() || t.height_scale_m() <= 0.0 {
+            return (h, q);
+        }
+        // Insolation of the slope under the midday sun over that of flat
+        // ground, 0 in its shade.
+        let sun = glam::DVec3::from(self.cfg.midday_sun);
+        let n = t.normal(x_m as f32, y_m as f32, 100.0).as_dvec3();
+        let insolation = n.dot(sun).max(0.0) / sun.z;
+        let rel = (self.height_m(x_m, y_m) / t.height_scale_m() as f64).clamp(0.0, 1.0);
+        (
+            (h * insolation * (0.6 + 0.8 * rel)).clamp(0.0, 1.0),
+            q.max(0.8 * (1.0 - rel).powi(2)),
+        )
+    }
+
+    /// Height of the ground at (x, y) (0 unless `follow_terrain`). units: m → m
+    pub fn height_m(&self, x_m: f64, y_m: f64) -> f64 {
+        self.cfg.terrain.height_m(x_m as f32, y_m as f32) as f64
     }
 
     /// θ and q_v excess of air leaving the ground at (x, y). units: m → (K, kg/kg)

@@ -9,25 +9,9 @@ const BASE_PERIOD: u32 = 4;
 /// Octaves baked into the texture (the shader sums a few more at run time).
 const OCTAVES: u32 = 4;
 
-/// Integer lattice hash to [0, 1]; also the terrain's 2D hills
-/// (`terrain::value2`, with z = seed and seed = 0).
-pub(crate) fn hash(x: u32, y: u32, z: u32, seed: u32) -> f32 {
-    let mut h = x.wrapping_mul(0x8da6_b343)
-        ^ y.wrapping_mul(0xd816_3841)
-        ^ z.wrapping_mul(0xcb1a_b31f)
-        ^ seed.wrapping_mul(0x1656_67b1);
-    h ^= h >> 15;
-    h = h.wrapping_mul(0x2c1b_3c6d);
-    h ^= h >> 12;
-    h = h.wrapping_mul(0x297a_2d39);
-    h ^= h >> 15;
-    (h & 0xff_ffff) as f32 / 0xff_ffff as f32
-}
-
-/// Smooth-step interpolation weight of value noise.
-pub(crate) fn fade(t: f32) -> f32 {
-    t * t * (3.0 - 2.0 * t)
-}
+// The lattice hash and fade of the terrain's hills, shared (written once in
+// the CPU-only landscape module).
+pub(crate) use crate::landscape::{fade, lattice_hash as hash};
 
 /// Periodic value noise in [0, 1] at `p` (lattice units), period `period`.
 fn value_noise(p: [f32; 3], period: u32, seed: u32) -> f32 {

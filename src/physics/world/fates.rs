@@ -45,7 +45,7 @@ impl ParcelWorld {
             let (dth, dq) = self.ground.excess(x, y);
             let spec = ParcelSpec::from_environment(
                 &self.env,
-                DVec3::new(x, y, 0.0),
+                DVec3::new(x, y, self.ground.height_m(x, y)),
                 dth,
                 dq,
                 self.cfg.emission.radius_m,
@@ -71,7 +71,7 @@ impl ParcelWorld {
         let max_age = self.cfg.physics.max_age_s;
         let death_depth = self.cfg.physics.death_depth_m;
         let opaque = self.cfg.physics.opaque_lwc_kg_m3;
-        let (env, deaths) = (&self.env, self.deaths);
+        let (env, deaths, ground) = (&self.env, self.deaths, &self.ground);
         let (counted, opaque_count) = self
             .parcels
             .par_iter_mut()
@@ -90,7 +90,7 @@ impl ParcelWorld {
                 } else if x.z > top {
                     f.escaped_top += 1;
                 } else if !deaths {
-                } else if x.z < 0.0 && sinking {
+                } else if x.z < ground.height_m(x.x, x.y) && sinking {
                     f.grounded += 1;
                 } else if p.was_cloudy
                     && p.ql_kg_per_kg <= 0.0
