@@ -5,6 +5,7 @@
 //! - [`atmosphere`]: thermodynamics, environment profiles, sounding reader;
 //! - [`physics`]: parcels, SPH, mixing, condensation, emission, integrator;
 //! - [`scene`]: a scene profile (TOML) → validated configuration;
+//! - [`sprites_model`]: Wang 2003's sprite clouds, CPU side (reads the physics);
 //! - [`render`]: wgpu renderer (headless or to a window surface);
 //! - front ends: [`app`] (window), [`bench`], [`stability`], and `cli` in the binary.
 
@@ -17,6 +18,7 @@ pub mod physics;
 pub mod plots;
 pub mod render;
 pub mod scene;
+pub mod sprites_model;
 pub mod stability;
 
 pub use error::{Error, Result};

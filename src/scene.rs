@@ -39,6 +39,10 @@ pub struct SceneProfile {
     pub camera: CameraConfig,
     /// Render settings and feature switches.
     pub render: RenderConfig,
+    /// Sprite clouds authored from boxes (Wang 2003, `sprites` method).
+    pub sprite_clouds: Vec<crate::sprites_model::SpriteCloudSpec>,
+    /// Layers of preset cloud types expanded into sprite clouds (Wang 2003).
+    pub layers: Vec<crate::sprites_model::LayerSpec>,
 }
 
 /// Byte offset → 1-based (line, column).
@@ -89,6 +93,7 @@ impl SceneProfile {
         self.atmosphere.validate()?;
         crate::physics::WorldConfig::from_scene(self).validate()?;
         self.render.validate()?;
+        crate::sprites_model::validate_scene(&self.sprite_clouds, &self.layers)?;
         self.camera.validate()
     }
 
