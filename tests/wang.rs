@@ -238,3 +238,27 @@ fn atlas_writes_a_png_that_reads_back_the_same() {
     let err = a.write_png(&path.join("a.png")).unwrap_err().to_string();
     assert!(err.contains("atlas.png"), "{err}");
 }
+
+#[test]
+fn sprite_quads_face_the_camera_and_carry_the_shading() {
+    use cumulus::sprites_model::vertices::{corners, shade_cloud};
+    // A 2 × 4 quad facing a camera on −y, unrotated: x spans ±1, z spans ±2;
+    // that camera's right is +x, so bottom-left is (−1, −2), counter-clockwise.
+    let q = corners(Vec3::ZERO, -Vec3::Y, 2.0, 4.0, 0.0);
+    let want = [Vec3::new(-1.0, 0.0, -2.0), Vec3::new(1.0, 0.0, -2.0), Vec3::new(1.0, 0.0, 2.0), Vec3::new(-1.0, 0.0, 2.0)];
+    for (a, b) in q.iter().zip(want) {
+        assert!(a.abs_diff_eq(b, 1e-5), "{q:?}");
+    }
+    // Turned 90°: the quad's width now runs vertically.
+    let r = corners(Vec3::ZERO, -Vec3::Y, 2.0, 4.0, std::f32::consts::FRAC_PI_2);
+    assert!((r[2] - r[0]).abs().abs_diff_eq(Vec3::new(4.0, 0.0, 2.0), 1e-5), "{r:?}");
+    let cloud = cumulus::sprites_model::CloudType::Cirrus.spec("c", 0.0, 0.0, 8000.0, 1).build();
+    let v = shade_cloud(&cloud, &Lighting::new(Vec3::Z, 12.0), Vec3::ZERO, 1.0);
+    assert_eq!(v.len(), 4 * cloud.sprites.len());
+    // Cirrus quads are flat: all four corners at their sprite's height.
+    for (s, quad) in cloud.sprites.iter().zip(v.chunks(4)) {
+        assert!(quad.iter().all(|p| (p.position_m.z - s.center_m.z).abs() < 1e-2));
+    }
+    // Not yet formed: every vertex transparent.
+    assert!(shade_cloud(&cloud, &Lighting::new(Vec3::Z, 12.0), Vec3::ZERO, 0.0).iter().all(|p| p.color == Vec4::ZERO));
+}

@@ -11,6 +11,7 @@
 //! - [`presets`]: the dozen cloud types and `[[layers]]`;
 //! - [`impostor`]: the ring of 8 impostors and the vertex-shading cache (§6);
 //! - [`facing`]: locked facing inside a sprite (§3.3);
+//! - [`vertices`]: a cloud's camera-facing quads, shaded per corner;
 //! - [`order`]: back-to-front sorting and the paper's "cloud block overdraw".
 
 pub mod atlas;
@@ -21,6 +22,7 @@ pub mod impostor;
 pub mod order;
 pub mod presets;
 pub mod shading;
+pub mod vertices;
 
 pub use atlas::{Atlas, TileKind};
 pub use cloud::{Sprite, SpriteBox, SpriteCloud, SpriteCloudSpec, parcel_cloud};
