@@ -124,7 +124,12 @@ impl Atlas {
             for (col, px) in line.chunks_exact_mut(4).enumerate() {
                 let (tx, pxx) = (col as u32 / tile, col as u32 % tile);
                 let i = (ty * GRID + tx) as u8;
-                let t = texel(i, (pxx as f32 + 0.5) / tile as f32, (py as f32 + 0.5) / tile as f32, seed);
+                let t = texel(
+                    i,
+                    (pxx as f32 + 0.5) / tile as f32,
+                    (py as f32 + 0.5) / tile as f32,
+                    seed,
+                );
                 for (o, c) in px.iter_mut().zip(t) {
                     *o = (c * 255.0).round() as u8;
                 }

@@ -128,7 +128,9 @@ pub struct SpriteCloud {
 impl SpriteBox {
     /// Checks the box; errors name `key` ("sprite_clouds[0].boxes") and the box.
     pub fn validate(&self, key: &str, i: usize) -> Result<()> {
-        let bad = |what: &str, allowed: &str| Err(Error::invalid(key, format!("box {i}: {what}"), allowed));
+        let bad = |what: &str, allowed: &str| {
+            Err(Error::invalid(key, format!("box {i}: {what}"), allowed))
+        };
         let corners = self.min_m.iter().chain(&self.max_m);
         if !corners.clone().all(|v| v.is_finite() && v.abs() <= 1.0e6) {
             return bad("min_m/max_m", "finite corners within ±1000 km");
@@ -139,12 +141,35 @@ impl SpriteBox {
         match (self.count, self.density_per_km3) {
             (Some(n), None) if (1..=MAX_SPRITES_PER_BOX).contains(&n) => {}
             (None, Some(d)) if d.is_finite() && d > 0.0 => {}
-            _ => return bad("count/density_per_km3", "exactly one of count (1–100) or density_per_km3 (> 0)"),
+            _ => {
+                return bad(
+                    "count/density_per_km3",
+                    "exactly one of count (1–100) or density_per_km3 (> 0)",
+                );
+            }
         }
-        range_in(&format!("{key}[{i}].width_m"), self.width_m, 1.0, 1.0e5, "m")
-            .and(range_in(&format!("{key}[{i}].height_m"), self.height_m, 1.0, 1.0e5, "m"))
-            .and(range_in(&format!("{key}[{i}].rotation_deg"), self.rotation_deg, -360.0, 720.0, "degrees"))
-            .map_err(|e| Error::invalid(key, format!("box {i}"), e.to_string()))?;
+        range_in(
+            &format!("{key}[{i}].width_m"),
+            self.width_m,
+            1.0,
+            1.0e5,
+            "m",
+        )
+        .and(range_in(
+            &format!("{key}[{i}].height_m"),
+            self.height_m,
+            1.0,
+            1.0e5,
+            "m",
+        ))
+        .and(range_in(
+            &format!("{key}[{i}].rotation_deg"),
+            self.rotation_deg,
+            -360.0,
+            720.0,
+            "degrees",
+        ))
+        .map_err(|e| Error::invalid(key, format!("box {i}"), e.to_string()))?;
         if self.textures.is_empty() || self.textures.iter().any(|&t| t >= TEXTURES) {
             return bad("textures", "a non-empty list of atlas tiles 0–15");
         }
@@ -156,7 +181,9 @@ impl SpriteBox {
         match (self.count, self.density_per_km3) {
             (Some(n), _) => n,
             (None, Some(d)) => {
-                let km3 = (0..3).map(|a| (self.max_m[a] - self.min_m[a]) / 1000.0).product::<f32>();
+                let km3 = (0..3)
+                    .map(|a| (self.max_m[a] - self.min_m[a]) / 1000.0)
+                    .product::<f32>();
                 ((d * km3).round() as u32).clamp(1, MAX_SPRITES_PER_BOX)
             }
             (None, None) => 0,
@@ -168,9 +195,21 @@ impl SpriteCloudSpec {
     /// Checks the cloud; `key` is "sprite_clouds[i]".
     pub fn validate(&self, key: &str) -> Result<()> {
         for (a, v) in self.center_m.iter().enumerate() {
-            finite_in(&format!("{key}.center_m"), *v, -1.0e6, 1.0e6, &format!("finite, within ±1000 km (component {a})"))?;
+            finite_in(
+                &format!("{key}.center_m"),
+                *v,
+                -1.0e6,
+                1.0e6,
+                &format!("finite, within ±1000 km (component {a})"),
+            )?;
         }
-        finite_in(&format!("{key}.prune_fraction"), self.prune_fraction, 0.0, 1.0, "a fraction of the sprite height in [0, 1] (paper: 0.2 typical, 0.1 dense)")?;
+        finite_in(
+            &format!("{key}.prune_fraction"),
+            self.prune_fraction,
+            0.0,
+            1.0,
+            "a fraction of the sprite height in [0, 1] (paper: 0.2 typical, 0.1 dense)",
+        )?;
         for (i, b) in self.boxes.iter().enumerate() {
             b.validate(&format!("{key}.boxes"), i)?;
         }
@@ -197,14 +236,25 @@ impl SpriteCloudSpec {
             fill_box(&mut rng, center, b, &mut sprites);
         }
         let levels = self.levels.clone().unwrap_or_else(|| self.kind.levels());
-        finish(self.name.clone(), self.kind, center, levels, sprites, self.prune_fraction)
+        finish(
+            self.name.clone(),
+            self.kind,
+            center,
+            levels,
+            sprites,
+            self.prune_fraction,
+        )
     }
 }
 
 fn fill_box(rng: &mut SplitMix64, center: Vec3, b: &SpriteBox, out: &mut Vec<Sprite>) {
     let mut r = |lo: f32, hi: f32| rng.range(lo as f64, hi as f64) as f32;
     for _ in 0..b.sprite_count() {
-        let p = Vec3::new(r(b.min_m[0], b.max_m[0]), r(b.min_m[1], b.max_m[1]), r(b.min_m[2], b.max_m[2]));
+        let p = Vec3::new(
+            r(b.min_m[0], b.max_m[0]),
+            r(b.min_m[1], b.max_m[1]),
+            r(b.min_m[2], b.max_m[2]),
+        );
         let width_m = r(b.width_m[0], b.width_m[1]);
         let height_m = r(b.height_m[0], b.height_m[1]);
         let rot = r(b.rotation_deg[0], b.rotation_deg[1]);
@@ -242,7 +292,16 @@ fn finish(
     for l in &mut levels {
         l.height_m += center.z;
     }
-    SpriteCloud { name, kind, center_m: center, radius_m, levels, sprites, pruned, capped }
+    SpriteCloud {
+        name,
+        kind,
+        center_m: center,
+        radius_m,
+        levels,
+        sprites,
+        pruned,
+        capped,
+    }
 }
 
 /// Keeps a sprite only when no kept sprite lies within `fraction` × its
@@ -252,7 +311,10 @@ pub fn prune(all: Vec<Sprite>, fraction: f32) -> (Vec<Sprite>, usize) {
     let mut kept: Vec<Sprite> = Vec::with_capacity(n);
     for s in all {
         let min_d = fraction * s.height_m;
-        if kept.iter().all(|k| k.center_m.distance_squared(s.center_m) >= min_d * min_d) {
+        if kept
+            .iter()
+            .all(|k| k.center_m.distance_squared(s.center_m) >= min_d * min_d)
+        {
             kept.push(s);
         }
     }
@@ -304,4 +366,15 @@ pub fn parcel_cloud(p: &CloudParcel, seed: u64) -> SpriteCloud {
         boxes: vec![body, bottom],
     };
     spec.build()
+}
+
+/// Every condensed parcel (fill > 0) as a sprite cloud, seeded by its index
+/// in `parcels`, so the same physics state gives the same sprites.
+pub fn parcel_clouds(parcels: &[CloudParcel]) -> Vec<SpriteCloud> {
+    parcels
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.fill > 0.0 && p.radius_m.is_finite() && p.center_m.is_finite())
+        .map(|(i, p)| parcel_cloud(p, i as u64))
+        .collect()
 }

@@ -50,7 +50,12 @@ pub struct Listing1 {
 impl Listing1 {
     /// A cloud about to dissipate.
     pub fn new(time_to_fade_cloud_edges: f32, time_to_fade_cloud_core: f32) -> Self {
-        Listing1 { alpha_at_edges: 0.0, alpha_of_cloud: 255.0, time_to_fade_cloud_edges, time_to_fade_cloud_core }
+        Listing1 {
+            alpha_at_edges: 0.0,
+            alpha_of_cloud: 255.0,
+            time_to_fade_cloud_edges,
+            time_to_fade_cloud_core,
+        }
     }
 
     /// Alpha of a vertex at `vertex` (relative to the cloud centre), as the
@@ -61,7 +66,8 @@ impl Listing1 {
     /// with [`formation_alpha`], which follows the text.
     pub fn alpha(&self, vertex: Vec3, cloud_radius: f32) -> f32 {
         let radial = (cloud_radius - vertex.length()).max(0.0);
-        ((self.alpha_of_cloud - radial * self.alpha_at_edges / cloud_radius) / 255.0).clamp(0.0, 1.0)
+        ((self.alpha_of_cloud - radial * self.alpha_at_edges / cloud_radius) / 255.0)
+            .clamp(0.0, 1.0)
     }
 
     /// Advances the listing by `time_delta` seconds.
@@ -86,14 +92,21 @@ pub struct ParcelFade {
 impl ParcelFade {
     /// A cloud not yet visible.
     pub fn new(time_to_form_s: f32) -> Self {
-        ParcelFade { progress: 0.0, time_to_form_s }
+        ParcelFade {
+            progress: 0.0,
+            time_to_form_s,
+        }
     }
 
     /// Moves towards `fill` (the parcel's condensed fraction in [0, 1]) by at
     /// most `dt / time_to_form_s`: rising fill (condensation) forms the
     /// cloud core first, falling fill (evaporation) dissipates its edges first.
     pub fn update(&mut self, fill: f32, dt_s: f32) -> f32 {
-        let target = if fill.is_finite() { fill.clamp(0.0, 1.0) } else { 0.0 };
+        let target = if fill.is_finite() {
+            fill.clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
         let step = (dt_s / self.time_to_form_s.max(1e-3)).max(0.0);
         self.progress += (target - self.progress).clamp(-step, step);
         self.progress

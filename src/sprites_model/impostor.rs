@@ -31,7 +31,10 @@ pub const VERTICAL_FRACTION: f32 = 0.02;
 
 /// The 16 km² block holding `p` (blocks aligned on the world origin).
 pub fn block_of(p: Vec3) -> (i32, i32) {
-    ((p.x / BLOCK_SIDE_M).floor() as i32, (p.y / BLOCK_SIDE_M).floor() as i32)
+    (
+        (p.x / BLOCK_SIDE_M).floor() as i32,
+        (p.y / BLOCK_SIDE_M).floor() as i32,
+    )
 }
 
 /// Ground centre of a block. units: m
@@ -77,7 +80,11 @@ pub struct RingConfig {
 
 impl Default for RingConfig {
     fn default() -> Self {
-        RingConfig { radius_m: 20_000.0, sun_threshold_rad: 2.0_f32.to_radians(), crossfade_s: 1.0 }
+        RingConfig {
+            radius_m: 20_000.0,
+            sun_threshold_rad: 2.0_f32.to_radians(),
+            crossfade_s: 1.0,
+        }
     }
 }
 
@@ -108,7 +115,13 @@ pub struct ImpostorRing {
 
 impl ImpostorRing {
     pub fn new(config: RingConfig) -> Self {
-        ImpostorRing { config, built: None, pending: None, fade_s: None, has_old: false }
+        ImpostorRing {
+            config,
+            built: None,
+            pending: None,
+            fade_s: None,
+            has_old: false,
+        }
     }
 
     /// Whether the camera or sun moved past a threshold since the newest set
@@ -158,7 +171,11 @@ impl ImpostorRing {
         }
         let new_weight = if self.built.is_some() { w } else { 0.0 };
         let old_weight = if self.has_old { 1.0 - w } else { 0.0 };
-        RingFrame { render, old_weight, new_weight }
+        RingFrame {
+            render,
+            old_weight,
+            new_weight,
+        }
     }
 }
 
@@ -181,7 +198,12 @@ pub struct ShadeCacheConfig {
 impl Default for ShadeCacheConfig {
     fn default() -> Self {
         // Half a degree of turn stays below a texel's shift on a 256 px sprite.
-        ShadeCacheConfig { max_turn_rad: 0.5_f32.to_radians(), time_s_per_km: 0.1, time_min_s: 0.05, time_max_s: 5.0 }
+        ShadeCacheConfig {
+            max_turn_rad: 0.5_f32.to_radians(),
+            time_s_per_km: 0.1,
+            time_min_s: 0.05,
+            time_max_s: 5.0,
+        }
     }
 }
 
@@ -198,14 +220,21 @@ impl ShadeCacheConfig {
     pub fn thresholds(&self, distance_m: f32, forming: bool) -> (f32, f32) {
         let k = if forming { 0.5 } else { 1.0 };
         let dist = self.max_turn_rad * distance_m;
-        let time = (self.time_s_per_km * distance_m / 1000.0).clamp(self.time_min_s, self.time_max_s);
+        let time =
+            (self.time_s_per_km * distance_m / 1000.0).clamp(self.time_min_s, self.time_max_s);
         (k * dist, k * time)
     }
 
     /// Whether a cloud at `cloud_m`, shaded at `stamp`, needs its vertices recomputed.
-    pub fn stale(&self, stamp: ShadeStamp, now_s: f32, camera_m: Vec3, cloud_m: Vec3, forming: bool) -> bool {
+    pub fn stale(
+        &self,
+        stamp: ShadeStamp,
+        now_s: f32,
+        camera_m: Vec3,
+        cloud_m: Vec3,
+        forming: bool,
+    ) -> bool {
         let (d, t) = self.thresholds(cloud_m.distance(camera_m), forming);
         camera_m.distance(stamp.camera_m) > d || now_s - stamp.time_s > t
     }
 }
-

@@ -25,7 +25,7 @@ pub mod shading;
 pub mod vertices;
 
 pub use atlas::{Atlas, TileKind};
-pub use cloud::{Sprite, SpriteBox, SpriteCloud, SpriteCloudSpec, parcel_cloud};
+pub use cloud::{Sprite, SpriteBox, SpriteCloud, SpriteCloudSpec, parcel_cloud, parcel_clouds};
 pub use presets::{CloudType, LayerSpec};
 pub use shading::{ColorLevel, TimeTable};
 
@@ -70,5 +70,7 @@ pub fn validate_scene(clouds: &[SpriteCloudSpec], layers: &[LayerSpec]) -> Resul
 /// `[[layers]]` expanded, in file order (deterministic).
 pub fn scene_clouds(scene: &crate::scene::SceneProfile) -> Vec<SpriteCloud> {
     let authored = scene.sprite_clouds.iter().map(SpriteCloudSpec::build);
-    authored.chain(scene.layers.iter().flat_map(LayerSpec::build)).collect()
+    authored
+        .chain(scene.layers.iter().flat_map(LayerSpec::build))
+        .collect()
 }

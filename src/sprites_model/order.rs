@@ -43,5 +43,9 @@ pub fn view_overdraw(sprites: &[Sprite], camera_m: Vec3, range_m: f32) -> f32 {
         .copied()
         .collect();
     let blocks = block_overdraw(&near);
-    if blocks.is_empty() { 0.0 } else { blocks.values().sum::<f32>() / blocks.len() as f32 }
+    if blocks.is_empty() {
+        0.0
+    } else {
+        blocks.values().sum::<f32>() / blocks.len() as f32
+    }
 }

@@ -58,9 +58,18 @@ const PUFF_WISP: [u8; 8] = [10, 11, 12, 13, 14, 15, 6, 7];
 impl CloudType {
     /// All twelve, in the order of `profiles/cloud_types.toml`.
     pub const ALL: [CloudType; 12] = [
-        CloudType::Stratus, CloudType::Nimbostratus, CloudType::Altostratus, CloudType::Stratocumulus,
-        CloudType::Altocumulus, CloudType::CumulusHumilis, CloudType::CumulusCongestus, CloudType::Cumulonimbus,
-        CloudType::Cirrostratus, CloudType::Cirrocumulus, CloudType::Cirrus, CloudType::Fog,
+        CloudType::Stratus,
+        CloudType::Nimbostratus,
+        CloudType::Altostratus,
+        CloudType::Stratocumulus,
+        CloudType::Altocumulus,
+        CloudType::CumulusHumilis,
+        CloudType::CumulusCongestus,
+        CloudType::Cumulonimbus,
+        CloudType::Cirrostratus,
+        CloudType::Cirrocumulus,
+        CloudType::Cirrus,
+        CloudType::Fog,
     ];
 
     /// Cirrus sprites are flat horizontal rectangles, not camera-facing.
@@ -71,24 +80,181 @@ impl CloudType {
     fn look(self) -> Look {
         use CloudType::*;
         let l = |base_m, thick_m, width_m, sprite_m, count, textures, bottom, top, alpha| Look {
-            base_m, thick_m, width_m, sprite_m, stretch: 1.0, count, textures, flat_base: false, bottom, top, alpha,
+            base_m,
+            thick_m,
+            width_m,
+            sprite_m,
+            stretch: 1.0,
+            count,
+            textures,
+            flat_base: false,
+            bottom,
+            top,
+            alpha,
         };
         match self {
             // §5.1: stratus light grey and partly transparent, nimbostratus darker.
-            Stratus => Look { stretch: 1.5, ..l(500.0, 300.0, 4000.0, [500.0, 800.0], 60, &FOG_WISP, [0.72; 3], [0.85; 3], 0.7) },
-            Nimbostratus => Look { stretch: 1.5, ..l(700.0, 1500.0, 4000.0, [700.0, 1000.0], 90, &FOGGY_TILES, [0.38; 3], [0.55; 3], 0.95) },
-            Altostratus => Look { stretch: 1.5, ..l(3000.0, 500.0, 4000.0, [600.0, 900.0], 50, &FOG_WISP, [0.68, 0.7, 0.75], [0.82, 0.84, 0.88], 0.6) },
-            Stratocumulus => l(900.0, 400.0, 2000.0, [300.0, 500.0], 50, &PUFF_WISP, [0.62; 3], [0.88; 3], 0.85),
-            Altocumulus => l(3500.0, 250.0, 1200.0, [150.0, 250.0], 40, &PUFFY_TILES, [0.78; 3], [0.96; 3], 0.85),
+            Stratus => Look {
+                stretch: 1.5,
+                ..l(
+                    500.0,
+                    300.0,
+                    4000.0,
+                    [500.0, 800.0],
+                    60,
+                    &FOG_WISP,
+                    [0.72; 3],
+                    [0.85; 3],
+                    0.7,
+                )
+            },
+            Nimbostratus => Look {
+                stretch: 1.5,
+                ..l(
+                    700.0,
+                    1500.0,
+                    4000.0,
+                    [700.0, 1000.0],
+                    90,
+                    &FOGGY_TILES,
+                    [0.38; 3],
+                    [0.55; 3],
+                    0.95,
+                )
+            },
+            Altostratus => Look {
+                stretch: 1.5,
+                ..l(
+                    3000.0,
+                    500.0,
+                    4000.0,
+                    [600.0, 900.0],
+                    50,
+                    &FOG_WISP,
+                    [0.68, 0.7, 0.75],
+                    [0.82, 0.84, 0.88],
+                    0.6,
+                )
+            },
+            Stratocumulus => l(
+                900.0,
+                400.0,
+                2000.0,
+                [300.0, 500.0],
+                50,
+                &PUFF_WISP,
+                [0.62; 3],
+                [0.88; 3],
+                0.85,
+            ),
+            Altocumulus => l(
+                3500.0,
+                250.0,
+                1200.0,
+                [150.0, 250.0],
+                40,
+                &PUFFY_TILES,
+                [0.78; 3],
+                [0.96; 3],
+                0.85,
+            ),
             // Humilis puffs are nearly uniformly white.
-            CumulusHumilis => Look { flat_base: true, ..l(1000.0, 500.0, 800.0, [200.0, 300.0], 30, &PUFFY_TILES, [0.92; 3], [1.0; 3], 1.0) },
-            CumulusCongestus => Look { flat_base: true, ..l(1000.0, 2500.0, 2000.0, [400.0, 700.0], 100, &PUFF_WISP, [0.6; 3], [1.0; 3], 1.0) },
+            CumulusHumilis => Look {
+                flat_base: true,
+                ..l(
+                    1000.0,
+                    500.0,
+                    800.0,
+                    [200.0, 300.0],
+                    30,
+                    &PUFFY_TILES,
+                    [0.92; 3],
+                    [1.0; 3],
+                    1.0,
+                )
+            },
+            CumulusCongestus => Look {
+                flat_base: true,
+                ..l(
+                    1000.0,
+                    2500.0,
+                    2000.0,
+                    [400.0, 700.0],
+                    100,
+                    &PUFF_WISP,
+                    [0.6; 3],
+                    [1.0; 3],
+                    1.0,
+                )
+            },
             // "A black look from top to bottom."
-            Cumulonimbus => Look { flat_base: true, ..l(900.0, 9000.0, 6000.0, [900.0, 1500.0], 100, &PUFFY_TILES, [0.22; 3], [0.42; 3], 1.0) },
-            Cirrostratus => Look { stretch: 2.0, ..l(7500.0, 200.0, 5000.0, [1000.0, 1500.0], 30, &WISPY_TILES, [0.9, 0.92, 0.96], [0.95, 0.96, 1.0], 0.35) },
-            Cirrocumulus => l(6500.0, 150.0, 1500.0, [100.0, 200.0], 50, &PUFF_WISP, [0.9; 3], [0.98; 3], 0.6),
-            Cirrus => Look { stretch: 3.0, ..l(8000.0, 50.0, 3000.0, [600.0, 900.0], 12, &WISPY_TILES, [0.95; 3], [1.0; 3], 0.5) },
-            Fog => Look { stretch: 1.5, ..l(0.0, 150.0, 3000.0, [400.0, 600.0], 60, &FOGGY_TILES, [0.78, 0.8, 0.86], [0.85, 0.87, 0.92], 0.6) },
+            Cumulonimbus => Look {
+                flat_base: true,
+                ..l(
+                    900.0,
+                    9000.0,
+                    6000.0,
+                    [900.0, 1500.0],
+                    100,
+                    &PUFFY_TILES,
+                    [0.22; 3],
+                    [0.42; 3],
+                    1.0,
+                )
+            },
+            Cirrostratus => Look {
+                stretch: 2.0,
+                ..l(
+                    7500.0,
+                    200.0,
+                    5000.0,
+                    [1000.0, 1500.0],
+                    30,
+                    &WISPY_TILES,
+                    [0.9, 0.92, 0.96],
+                    [0.95, 0.96, 1.0],
+                    0.35,
+                )
+            },
+            Cirrocumulus => l(
+                6500.0,
+                150.0,
+                1500.0,
+                [100.0, 200.0],
+                50,
+                &PUFF_WISP,
+                [0.9; 3],
+                [0.98; 3],
+                0.6,
+            ),
+            Cirrus => Look {
+                stretch: 3.0,
+                ..l(
+                    8000.0,
+                    50.0,
+                    3000.0,
+                    [600.0, 900.0],
+                    12,
+                    &WISPY_TILES,
+                    [0.95; 3],
+                    [1.0; 3],
+                    0.5,
+                )
+            },
+            Fog => Look {
+                stretch: 1.5,
+                ..l(
+                    0.0,
+                    150.0,
+                    3000.0,
+                    [400.0, 600.0],
+                    60,
+                    &FOGGY_TILES,
+                    [0.78, 0.8, 0.86],
+                    [0.85, 0.87, 0.92],
+                    0.6,
+                )
+            },
         }
     }
 
@@ -109,7 +275,10 @@ impl CloudType {
             .map(|i| {
                 let t = i as f32 / 4.0;
                 let c = |a: usize| k.bottom[a] + (k.top[a] - k.bottom[a]) * t;
-                ColorLevel { height_m: (t - 0.5) * k.thick_m, rgba: [c(0), c(1), c(2), k.alpha] }
+                ColorLevel {
+                    height_m: (t - 0.5) * k.thick_m,
+                    rgba: [c(0), c(1), c(2), k.alpha],
+                }
             })
             .collect()
     }
@@ -121,8 +290,16 @@ impl CloudType {
         let s = k.sprite_m;
         let w = [s[0] * k.stretch, s[1] * k.stretch];
         let body = SpriteBox {
-            min_m: [-hw + 0.5 * s[1], -hw + 0.5 * s[1], -ht + 0.5 * s[0].min(k.thick_m)],
-            max_m: [hw - 0.5 * s[1], hw - 0.5 * s[1], (ht - 0.5 * s[0]).max(-ht + 0.5 * s[0].min(k.thick_m))],
+            min_m: [
+                -hw + 0.5 * s[1],
+                -hw + 0.5 * s[1],
+                -ht + 0.5 * s[0].min(k.thick_m),
+            ],
+            max_m: [
+                hw - 0.5 * s[1],
+                hw - 0.5 * s[1],
+                (ht - 0.5 * s[0]).max(-ht + 0.5 * s[0].min(k.thick_m)),
+            ],
             count: Some(k.count.min(100)),
             density_per_km3: None,
             width_m: w,
@@ -194,19 +371,46 @@ impl LayerSpec {
     /// Checks the layer; `key` is "layers[i]".
     pub fn validate(&self, key: &str) -> Result<()> {
         if let Some(a) = self.altitude_m {
-            finite_in(&format!("{key}.altitude_m"), a, 0.0, 20_000.0, "a cloud base in [0, 20000] m")?;
+            finite_in(
+                &format!("{key}.altitude_m"),
+                a,
+                0.0,
+                20_000.0,
+                "a cloud base in [0, 20000] m",
+            )?;
         }
-        finite_in(&format!("{key}.coverage"), self.coverage, 0.0, 1.0, "a fraction in [0, 1]")?;
-        finite_in(&format!("{key}.extent_m"), self.extent_m, 1.0, 400_000.0, "a side in [1, 400000] m")?;
+        finite_in(
+            &format!("{key}.coverage"),
+            self.coverage,
+            0.0,
+            1.0,
+            "a fraction in [0, 1]",
+        )?;
+        finite_in(
+            &format!("{key}.extent_m"),
+            self.extent_m,
+            1.0,
+            400_000.0,
+            "a side in [1, 400000] m",
+        )?;
         for c in self.center_m {
-            finite_in(&format!("{key}.center_m"), c, -1.0e6, 1.0e6, "finite, within ±1000 km")?;
+            finite_in(
+                &format!("{key}.center_m"),
+                c,
+                -1.0e6,
+                1.0e6,
+                "finite, within ±1000 km",
+            )?;
         }
         let n = self.cells_per_side();
         if n * n > MAX_LAYER_CELLS {
             return Err(Error::invalid(
                 format!("{key}.extent_m"),
                 self.extent_m,
-                format!("at most {MAX_LAYER_CELLS} clouds of {} m per layer", self.kind.width_m()),
+                format!(
+                    "at most {MAX_LAYER_CELLS} clouds of {} m per layer",
+                    self.kind.width_m()
+                ),
             ));
         }
         Ok(())
@@ -226,7 +430,12 @@ impl LayerSpec {
         let mut out = Vec::new();
         for j in 0..n {
             for i in 0..n {
-                let (draw, jx, jy, seed) = (rng.next_f64() as f32, rng.range(-0.25, 0.25) as f32, rng.range(-0.25, 0.25) as f32, rng.next_u64());
+                let (draw, jx, jy, seed) = (
+                    rng.next_f64() as f32,
+                    rng.range(-0.25, 0.25) as f32,
+                    rng.range(-0.25, 0.25) as f32,
+                    rng.next_u64(),
+                );
                 if draw >= self.coverage {
                     continue;
                 }

@@ -28,14 +28,30 @@ pub struct ColorLevel {
 /// Checks that `levels` are five, with finite increasing heights and RGBA in [0, 1].
 pub fn validate_levels(key: &str, levels: &[ColorLevel]) -> Result<()> {
     if levels.len() != LEVELS {
-        return Err(Error::invalid(key, format!("{} levels", levels.len()), "exactly 5 colour levels (§5.1)"));
+        return Err(Error::invalid(
+            key,
+            format!("{} levels", levels.len()),
+            "exactly 5 colour levels (§5.1)",
+        ));
     }
     for (i, l) in levels.iter().enumerate() {
         if !l.height_m.is_finite() || (i > 0 && l.height_m <= levels[i - 1].height_m) {
-            return Err(Error::invalid(key, format!("level {i} height_m = {}", l.height_m), "finite heights, strictly increasing"));
+            return Err(Error::invalid(
+                key,
+                format!("level {i} height_m = {}", l.height_m),
+                "finite heights, strictly increasing",
+            ));
         }
-        if !l.rgba.iter().all(|c| c.is_finite() && (0.0..=1.0).contains(c)) {
-            return Err(Error::invalid(key, format!("level {i} rgba = {:?}", l.rgba), "RGBA components in [0, 1]"));
+        if !l
+            .rgba
+            .iter()
+            .all(|c| c.is_finite() && (0.0..=1.0).contains(c))
+        {
+            return Err(Error::invalid(
+                key,
+                format!("level {i} rgba = {:?}", l.rgba),
+                "RGBA components in [0, 1]",
+            ));
         }
     }
     Ok(())
@@ -53,7 +69,10 @@ pub fn level_color(levels: &[ColorLevel], z_m: f32) -> Vec4 {
     if z_m >= last.height_m {
         return Vec4::from(last.rgba);
     }
-    let i = levels.windows(2).position(|w| z_m <= w[1].height_m).unwrap_or(0);
+    let i = levels
+        .windows(2)
+        .position(|w| z_m <= w[1].height_m)
+        .unwrap_or(0);
     let (l0, l1) = (levels[i], levels[i + 1]);
     // A_V = (V1 − Vy) / (V1 − V0): weight of the lower level.
     let a = (l1.height_m - z_m) / (l1.height_m - l0.height_m);
@@ -78,8 +97,16 @@ where
         let h = hour.rem_euclid(24.0);
         let s = &self.samples;
         let next = s.iter().position(|(t, _)| *t > h).unwrap_or(s.len());
-        let (t0, c0) = if next == 0 { (s[s.len() - 1].0 - 24.0, s[s.len() - 1].1) } else { s[next - 1] };
-        let (t1, c1) = if next == s.len() { (s[0].0 + 24.0, s[0].1) } else { s[next] };
+        let (t0, c0) = if next == 0 {
+            (s[s.len() - 1].0 - 24.0, s[s.len() - 1].1)
+        } else {
+            s[next - 1]
+        };
+        let (t1, c1) = if next == s.len() {
+            (s[0].0 + 24.0, s[0].1)
+        } else {
+            s[next]
+        };
         if t1 <= t0 {
             return c0;
         }
@@ -93,8 +120,20 @@ where
 pub fn default_ambient_table() -> TimeTable<f32> {
     TimeTable {
         samples: vec![
-            (0.0, 0.08), (4.5, 0.08), (5.0, 0.15), (5.5, 0.3), (6.0, 0.5), (6.5, 0.7), (7.0, 0.85),
-            (8.0, 1.0), (16.0, 1.0), (17.0, 0.85), (17.5, 0.7), (18.0, 0.5), (18.5, 0.3), (19.0, 0.15),
+            (0.0, 0.08),
+            (4.5, 0.08),
+            (5.0, 0.15),
+            (5.5, 0.3),
+            (6.0, 0.5),
+            (6.5, 0.7),
+            (7.0, 0.85),
+            (8.0, 1.0),
+            (16.0, 1.0),
+            (17.0, 0.85),
+            (17.5, 0.7),
+            (18.0, 0.5),
+            (18.5, 0.3),
+            (19.0, 0.15),
             (19.5, 0.08),
         ],
     }
@@ -105,10 +144,18 @@ pub fn default_ambient_table() -> TimeTable<f32> {
 pub fn default_sun_table() -> TimeTable<Vec3> {
     TimeTable {
         samples: vec![
-            (0.0, Vec3::ZERO), (5.0, Vec3::ZERO), (5.5, Vec3::new(0.35, 0.12, 0.05)),
-            (6.0, Vec3::new(0.7, 0.35, 0.15)), (6.5, Vec3::new(0.8, 0.55, 0.35)), (7.5, Vec3::new(0.7, 0.65, 0.55)),
-            (9.0, Vec3::new(0.6, 0.6, 0.58)), (15.0, Vec3::new(0.6, 0.6, 0.58)), (16.5, Vec3::new(0.7, 0.65, 0.55)),
-            (17.5, Vec3::new(0.8, 0.55, 0.35)), (18.0, Vec3::new(0.7, 0.35, 0.15)), (18.5, Vec3::new(0.35, 0.12, 0.05)),
+            (0.0, Vec3::ZERO),
+            (5.0, Vec3::ZERO),
+            (5.5, Vec3::new(0.35, 0.12, 0.05)),
+            (6.0, Vec3::new(0.7, 0.35, 0.15)),
+            (6.5, Vec3::new(0.8, 0.55, 0.35)),
+            (7.5, Vec3::new(0.7, 0.65, 0.55)),
+            (9.0, Vec3::new(0.6, 0.6, 0.58)),
+            (15.0, Vec3::new(0.6, 0.6, 0.58)),
+            (16.5, Vec3::new(0.7, 0.65, 0.55)),
+            (17.5, Vec3::new(0.8, 0.55, 0.35)),
+            (18.0, Vec3::new(0.7, 0.35, 0.15)),
+            (18.5, Vec3::new(0.35, 0.12, 0.05)),
             (19.0, Vec3::ZERO),
         ],
     }
@@ -124,7 +171,11 @@ pub struct DirectionalMap {
 
 impl Default for DirectionalMap {
     fn default() -> Self {
-        DirectionalMap { min: 0.0, median: 0.45, max: 1.0 }
+        DirectionalMap {
+            min: 0.0,
+            median: 0.45,
+            max: 1.0,
+        }
     }
 }
 
@@ -172,13 +223,21 @@ impl Lighting {
 
     /// Directional colour of a vertex (eq. 2), from its shading group centre.
     pub fn directional(&self, vertex_m: Vec3, group_center_m: Vec3) -> Vec3 {
-        let dot = (vertex_m - group_center_m).normalize_or_zero().dot(self.sun_dir);
+        let dot = (vertex_m - group_center_m)
+            .normalize_or_zero()
+            .dot(self.sun_dir);
         self.sun.at(self.hour) * self.map.map(dot)
     }
 
     /// Vertex colour (eq. 3 without the texture): (ambient + directional) ×
     /// formation alpha; the alpha channel is the ambient alpha × formation.
-    pub fn vertex_color(&self, levels: &[ColorLevel], vertex_m: Vec3, group_center_m: Vec3, alpha_morph: f32) -> Vec4 {
+    pub fn vertex_color(
+        &self,
+        levels: &[ColorLevel],
+        vertex_m: Vec3,
+        group_center_m: Vec3,
+        alpha_morph: f32,
+    ) -> Vec4 {
         let amb = self.ambient(levels, vertex_m.z);
         let dir = self.directional(vertex_m, group_center_m);
         (amb + dir.extend(0.0)) * alpha_morph
@@ -187,12 +246,18 @@ impl Lighting {
 
 /// Centre of each shading group of a cloud's sprites (mean sprite centre).
 pub fn group_centers(sprites: &[super::Sprite]) -> Vec<Vec3> {
-    let n = sprites.iter().map(|s| s.group as usize + 1).max().unwrap_or(0);
+    let n = sprites
+        .iter()
+        .map(|s| s.group as usize + 1)
+        .max()
+        .unwrap_or(0);
     let mut sum = vec![(Vec3::ZERO, 0u32); n];
     for s in sprites {
         let e = &mut sum[s.group as usize];
         e.0 += s.center_m;
         e.1 += 1;
     }
-    sum.into_iter().map(|(p, k)| if k == 0 { Vec3::ZERO } else { p / k as f32 }).collect()
+    sum.into_iter()
+        .map(|(p, k)| if k == 0 { Vec3::ZERO } else { p / k as f32 })
+        .collect()
 }
