@@ -271,3 +271,13 @@ fn only_condensed_parcels_become_clouds() {
         "seeded by the parcel's index"
     );
 }
+
+#[test]
+fn sprite_scenes_survive_the_windows_save_round_trip() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles");
+    for name in ["overcast.toml", "cloud_types.toml"] {
+        let s = SceneProfile::load(&dir.join(name)).unwrap();
+        let back = SceneProfile::from_toml(&s.to_toml().unwrap(), Path::new(name)).unwrap();
+        assert_eq!(back, s, "{name}");
+    }
+}
