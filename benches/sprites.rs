@@ -36,7 +36,7 @@ fn sprites(c: &mut Criterion) {
         b.iter(|| black_box(back_to_front(black_box(&all), cam)))
     });
 
-    let light = Lighting::new(Vec3::new(0.3, 0.2, 0.9), 16.5);
+    let light = Lighting::new(Vec3::new(0.3, 0.2, 0.9), 16.5).expect("valid sun");
     let big = cb.build();
     group.bench_function(
         format!("shade/cumulonimbus_{}_sprites", big.sprites.len()),

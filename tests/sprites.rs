@@ -281,3 +281,24 @@ fn sprite_scenes_survive_the_windows_save_round_trip() {
         assert_eq!(back, s, "{name}");
     }
 }
+
+#[test]
+fn dropped_sprites_are_counted_and_shown() {
+    use cumulus::sprites_model::FillCounts;
+    // Ten sprites in a 1 m box, 100 m tall: all but the first are within 20 m.
+    let text = ONE_BOX.replace(
+        "min_m = [-300.0, -300.0, -200.0], max_m = [300.0, 300.0, 200.0], count = 60",
+        "min_m = [0.0, 0.0, 0.0], max_m = [1.0, 1.0, 1.0], count = 10",
+    );
+    let clouds = scene_clouds(&profile(&text).unwrap());
+    let n = FillCounts::of(&clouds);
+    assert_eq!((n.clouds, n.capped), (1, 0));
+    // The flat second box has no volume: its density gives the minimum, 1 sprite.
+    assert_eq!(
+        n.pruned + n.sprites,
+        10 + 1,
+        "every placed sprite is kept or counted"
+    );
+    assert!(n.pruned >= 9, "{n}");
+    assert!(n.to_string().contains(&format!("{} pruned", n.pruned)));
+}

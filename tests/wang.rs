@@ -97,7 +97,7 @@ fn vertex_colour_is_ambient_plus_directional_times_formation_alpha() {
         rgba: [1.0, 1.0, 1.0, 0.8],
     }))
     .collect::<Vec<_>>();
-    let light = Lighting::new(Vec3::X, 12.0);
+    let light = Lighting::new(Vec3::X, 12.0).unwrap();
     let g = Vec3::new(0.0, 0.0, 2.0);
     // Noon: ambient 100 %, sun (0.6, 0.6, 0.58); the sunward vertex gets max (1.0).
     let c = light.vertex_color(&white, g + Vec3::X * 10.0, g, 0.5);
@@ -363,7 +363,12 @@ fn sprite_quads_face_the_camera_and_carry_the_shading() {
     let cloud = cumulus::sprites_model::CloudType::Cirrus
         .spec("c", 0.0, 0.0, 8000.0, 1)
         .build();
-    let v = shade_cloud(&cloud, &Lighting::new(Vec3::Z, 12.0), Vec3::ZERO, 1.0);
+    let v = shade_cloud(
+        &cloud,
+        &Lighting::new(Vec3::Z, 12.0).unwrap(),
+        Vec3::ZERO,
+        1.0,
+    );
     assert_eq!(v.len(), 4 * cloud.sprites.len());
     // Cirrus quads are flat: all four corners at their sprite's height.
     for (s, quad) in cloud.sprites.iter().zip(v.chunks(4)) {
@@ -374,8 +379,28 @@ fn sprite_quads_face_the_camera_and_carry_the_shading() {
     }
     // Not yet formed: every vertex transparent.
     assert!(
-        shade_cloud(&cloud, &Lighting::new(Vec3::Z, 12.0), Vec3::ZERO, 0.0)
-            .iter()
-            .all(|p| p.color == Vec4::ZERO)
+        shade_cloud(
+            &cloud,
+            &Lighting::new(Vec3::Z, 12.0).unwrap(),
+            Vec3::ZERO,
+            0.0
+        )
+        .iter()
+        .all(|p| p.color == Vec4::ZERO)
     );
+}
+
+#[test]
+fn a_bad_sun_or_hour_is_an_error_not_a_default() {
+    for (sun, hour) in [
+        (Vec3::ZERO, 12.0),
+        (Vec3::new(f32::NAN, 0.0, 1.0), 12.0),
+        (Vec3::Z, f32::INFINITY),
+    ] {
+        let err = Lighting::new(sun, hour).unwrap_err().to_string();
+        assert!(
+            err.contains("sun direction") || err.contains("time of day"),
+            "{err}"
+        );
+    }
 }

@@ -74,3 +74,43 @@ pub fn scene_clouds(scene: &crate::scene::SceneProfile) -> Vec<SpriteCloud> {
         .chain(scene.layers.iter().flat_map(LayerSpec::build))
         .collect()
 }
+
+/// Sprites built and dropped over a set of clouds, for the panel and the
+/// render log (every dropped sprite is counted and shown).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct FillCounts {
+    pub clouds: usize,
+    pub sprites: usize,
+    /// Dropped by the pruning distance (§3.1).
+    pub pruned: usize,
+    /// Dropped beyond [`cloud::MAX_SPRITES_PER_CLOUD`].
+    pub capped: usize,
+}
+
+impl FillCounts {
+    /// The counts over `clouds`.
+    pub fn of(clouds: &[SpriteCloud]) -> Self {
+        clouds
+            .iter()
+            .fold(FillCounts::default(), |c, k| FillCounts {
+                clouds: c.clouds + 1,
+                sprites: c.sprites + k.sprites.len(),
+                pruned: c.pruned + k.pruned,
+                capped: c.capped + k.capped,
+            })
+    }
+}
+
+impl std::fmt::Display for FillCounts {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} sprite clouds, {} sprites ({} pruned as too close, {} over the {}-sprite cap)",
+            self.clouds,
+            self.sprites,
+            self.pruned,
+            self.capped,
+            cloud::MAX_SPRITES_PER_CLOUD
+        )
+    }
+}

@@ -205,15 +205,31 @@ pub struct Lighting {
 }
 
 impl Lighting {
-    /// The default tables with the sun direction and hour given.
-    pub fn new(sun_dir: Vec3, hour: f32) -> Self {
-        Lighting {
-            sun_dir: sun_dir.normalize_or_zero(),
+    /// The default tables with the sun direction and hour given; a sun
+    /// direction that is not a finite non-zero vector, or an hour that is
+    /// not finite, is an error (never a silent default).
+    pub fn new(sun_dir: Vec3, hour: f32) -> Result<Self> {
+        let Some(sun_dir) = sun_dir.try_normalize() else {
+            return Err(Error::invalid(
+                "sun direction",
+                sun_dir,
+                "a finite, non-zero vector",
+            ));
+        };
+        if !hour.is_finite() {
+            return Err(Error::invalid(
+                "time of day",
+                hour,
+                "a finite hour (wrapped into [0, 24))",
+            ));
+        }
+        Ok(Lighting {
+            sun_dir,
             hour,
             ambient: default_ambient_table(),
             sun: default_sun_table(),
             map: DirectionalMap::default(),
-        }
+        })
     }
 
     /// Ambient colour of a vertex (eq. 1).
