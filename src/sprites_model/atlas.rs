@@ -98,7 +98,7 @@ fn texel(i: u8, u: f32, v: f32, seed: u32) -> [f32; 4] {
         TileKind::Foggy => {
             let a = smoothstep(1.0, 0.3, r) * (0.35 + 0.5 * n);
             // §3.2: a subtle bluish-grey tinge.
-            ([0.80 + 0.06 * n, 0.83 + 0.06 * n, 0.92 + 0.05 * n], a)
+            ([0.84 + 0.06 * n, 0.86 + 0.06 * n, 0.92 + 0.05 * n], a)
         }
         TileKind::Wispy => {
             // Streaks: noise stretched along a seeded direction.
