@@ -7,6 +7,7 @@
 //! - [`landscape`] (ground height) and [`sun`] (solar position from the
 //!   clock): pure CPU, read by the physics and the renderer alike;
 //! - [`scene`]: a scene profile (TOML) → validated configuration;
+//! - [`sprites_model`]: Wang 2003's sprite clouds, CPU side (reads the physics);
 //! - [`render`]: wgpu renderer (headless or to a window surface);
 //! - front ends: [`app`] (window), [`bench`], [`stability`], and `cli` in the binary.
 
@@ -23,6 +24,7 @@ pub mod plots;
 pub mod render;
 pub mod scene;
 pub mod scene_set;
+pub mod sprites_model;
 pub mod stability;
 pub mod sun;
 

@@ -50,6 +50,10 @@ pub struct SceneProfile {
     pub sun: Option<SunConfig>,
     /// Where a run starts.
     pub simulation: SimulationConfig,
+    /// Sprite clouds authored from boxes (Wang 2003, `sprites` method).
+    pub sprite_clouds: Vec<crate::sprites_model::SpriteCloudSpec>,
+    /// Layers of preset cloud types expanded into sprite clouds (Wang 2003).
+    pub layers: Vec<crate::sprites_model::LayerSpec>,
 }
 
 /// Simulated time a scene opens at when nothing else says: the old default
@@ -166,6 +170,7 @@ impl SceneProfile {
                 "false unless [render.terrain] has enabled = true (the parcels leave the drawn terrain)",
             ));
         }
+        crate::sprites_model::validate_scene(&self.sprite_clouds, &self.layers)?;
         self.camera.validate()
     }
 

@@ -1,0 +1,61 @@
+//! The CPU work of Wang 2003's sprite clouds at the paper's sizes: filling
+//! and pruning clouds (5–400 sprites each) and a 200 km overcast deck,
+//! sorting its sprites back to front, and shading the 4 corners of every
+//! sprite of a 400-sprite cloud and of one 16 km² overcast block.
+
+use std::hint::black_box;
+use std::path::Path;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use cumulus::scene::SceneProfile;
+use cumulus::sprites_model::order::back_to_front;
+use cumulus::sprites_model::shading::Lighting;
+use cumulus::sprites_model::vertices::shade_cloud;
+use cumulus::sprites_model::{CloudType, Sprite, scene_clouds};
+use glam::Vec3;
+
+fn sprites(c: &mut Criterion) {
+    let overcast =
+        SceneProfile::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles/overcast.toml"))
+            .expect("overcast profile loads");
+    let cb = CloudType::Cumulonimbus.spec("cb", 0.0, 0.0, 900.0, 1);
+    let mut group = c.benchmark_group("sprites");
+    group.sample_size(10);
+    group.bench_function("fill/cumulonimbus", |b| b.iter(|| black_box(cb.build())));
+    group.bench_function("fill/overcast_200km", |b| {
+        b.iter(|| black_box(scene_clouds(black_box(&overcast))))
+    });
+
+    let clouds = scene_clouds(&overcast);
+    let all: Vec<Sprite> = clouds
+        .iter()
+        .flat_map(|c| c.sprites.iter().copied())
+        .collect();
+    let cam = Vec3::from(overcast.camera.position_m);
+    group.bench_function(format!("sort/overcast_{}_sprites", all.len()), |b| {
+        b.iter(|| black_box(back_to_front(black_box(&all), cam)))
+    });
+
+    let light = Lighting::new(Vec3::new(0.3, 0.2, 0.9), 16.5).expect("valid sun");
+    let big = cb.build();
+    group.bench_function(
+        format!("shade/cumulonimbus_{}_sprites", big.sprites.len()),
+        |b| b.iter(|| black_box(shade_cloud(black_box(&big), &light, cam, 1.0))),
+    );
+    // One 16 km² block of the deck: the clouds whose centre lies in the camera's block.
+    let block: Vec<_> = clouds
+        .iter()
+        .filter(|c| (c.center_m - cam).truncate().abs().max_element() < 2000.0)
+        .collect();
+    group.bench_function("shade/overcast_block", |b| {
+        b.iter(|| {
+            for c in &block {
+                black_box(shade_cloud(c, &light, cam, 1.0));
+            }
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, sprites);
+criterion_main!(benches);

@@ -1,0 +1,380 @@
+//! Sprite clouds (paper §3.1): an artist's boxes, each filled with randomly
+//! placed sprites at load (seeded, so the same scene gives the same sprites),
+//! then pruned of sprites too close to another to be worth their overdraw.
+//! A condensed physics parcel becomes a cloud of one box sized by its radius
+//! and filled in proportion to its fill, so a physics scene can be drawn as
+//! sprites too.
+
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+use super::presets::CloudType;
+use super::shading::ColorLevel;
+use super::{finite_in, range_in};
+use crate::error::{Error, Result};
+use crate::physics::CloudParcel;
+use crate::physics::rng::SplitMix64;
+
+/// Pruning distance as a fraction of the sprite height for typical clouds.
+/// The paper's number (§3.1, "a radius of ⅕ of the sprite height works well
+/// for typical clouds") is garbled in our text extract; ⅕ is its reading.
+pub const PRUNE_TYPICAL: f32 = 0.2;
+/// Pruning fraction that "yields dense clouds" (§3.1, read as ⅒).
+pub const PRUNE_DENSE: f32 = 0.1;
+/// Most sprites in one cloud: the paper's clouds hold 5–400 sprites.
+pub const MAX_SPRITES_PER_CLOUD: usize = 400;
+/// Most sprites one box may ask for: the paper uses 1–100 per box.
+pub const MAX_SPRITES_PER_BOX: u32 = 100;
+/// Textures on the atlas (§3.2).
+pub const TEXTURES: u8 = 16;
+
+/// One box of a sprite cloud, as written in `boxes = [{ ... }]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpriteBox {
+    /// Lower corner relative to the cloud centre (z up). units: m
+    pub min_m: [f32; 3],
+    /// Upper corner relative to the cloud centre. units: m
+    pub max_m: [f32; 3],
+    /// Sprites to place; give this or `density_per_km3`.
+    #[serde(default)]
+    pub count: Option<u32>,
+    /// Sprites per cubic kilometre of box; the count is rounded, at least 1.
+    #[serde(default)]
+    pub density_per_km3: Option<f32>,
+    /// Sprite width range. units: m
+    pub width_m: [f32; 2],
+    /// Sprite height range. units: m
+    pub height_m: [f32; 2],
+    /// Rotation range in the sprite plane (narrow for flat bottoms). units: degrees
+    #[serde(default = "full_turn")]
+    pub rotation_deg: [f32; 2],
+    /// Atlas tiles to choose from (0–15).
+    pub textures: Vec<u8>,
+    /// Shading group the box's sprites belong to (§5.2).
+    #[serde(default)]
+    pub group: u32,
+}
+
+fn full_turn() -> [f32; 2] {
+    [0.0, 360.0]
+}
+
+/// A `[[sprite_clouds]]` table: boxes around a centre, a type for colours.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpriteCloudSpec {
+    /// Label shown next to the cloud.
+    #[serde(default)]
+    pub name: String,
+    /// Cloud type: its colour levels and alpha (§5.1).
+    #[serde(rename = "type")]
+    pub kind: CloudType,
+    /// Cloud centre (x, y horizontal, z up). units: m
+    pub center_m: [f32; 3],
+    /// Seed of the sprite placement.
+    #[serde(default)]
+    pub seed: u64,
+    /// Pruning distance as a fraction of the sprite height.
+    #[serde(default = "prune_typical")]
+    pub prune_fraction: f32,
+    /// Five colour levels overriding the type's (heights relative to the centre).
+    #[serde(default)]
+    pub levels: Option<Vec<ColorLevel>>,
+    /// The boxes; when empty, the type's preset boxes around `center_m`.
+    #[serde(default)]
+    pub boxes: Vec<SpriteBox>,
+}
+
+fn prune_typical() -> f32 {
+    PRUNE_TYPICAL
+}
+
+/// One sprite, ready for shading and drawing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sprite {
+    /// Centre in the world. units: m
+    pub center_m: Vec3,
+    /// units: m
+    pub width_m: f32,
+    /// units: m
+    pub height_m: f32,
+    /// Rotation in the sprite plane. units: radians
+    pub rotation_rad: f32,
+    /// Atlas tile (0–15).
+    pub texture: u8,
+    /// Shading group index within its cloud.
+    pub group: u32,
+}
+
+/// A filled sprite cloud.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpriteCloud {
+    pub name: String,
+    pub kind: CloudType,
+    /// units: m
+    pub center_m: Vec3,
+    /// Radius of the cloud's bounding box around its centre (Listing 1). units: m
+    pub radius_m: f32,
+    /// Colour levels with world heights.
+    pub levels: Vec<ColorLevel>,
+    pub sprites: Vec<Sprite>,
+    /// Sprites the pruning removed (shown, like every clamp).
+    pub pruned: usize,
+    /// Sprites dropped beyond [`MAX_SPRITES_PER_CLOUD`] (shown).
+    pub capped: usize,
+}
+
+impl SpriteBox {
+    /// Checks the box; errors name `key` ("sprite_clouds[0].boxes") and the box.
+    pub fn validate(&self, key: &str, i: usize) -> Result<()> {
+        let bad = |what: &str, allowed: &str| {
+            Err(Error::invalid(key, format!("box {i}: {what}"), allowed))
+        };
+        let corners = self.min_m.iter().chain(&self.max_m);
+        if !corners.clone().all(|v| v.is_finite() && v.abs() <= 1.0e6) {
+            return bad("min_m/max_m", "finite corners within ±1000 km");
+        }
+        if (0..3).any(|a| self.min_m[a] > self.max_m[a]) {
+            return bad("min_m > max_m", "min_m ≤ max_m on every axis");
+        }
+        match (self.count, self.density_per_km3) {
+            (Some(n), None) if (1..=MAX_SPRITES_PER_BOX).contains(&n) => {}
+            (None, Some(d)) if d.is_finite() && d > 0.0 => {}
+            _ => {
+                return bad(
+                    "count/density_per_km3",
+                    "exactly one of count (1–100) or density_per_km3 (> 0)",
+                );
+            }
+        }
+        range_in(
+            &format!("{key}[{i}].width_m"),
+            self.width_m,
+            1.0,
+            1.0e5,
+            "m",
+        )
+        .and(range_in(
+            &format!("{key}[{i}].height_m"),
+            self.height_m,
+            1.0,
+            1.0e5,
+            "m",
+        ))
+        .and(range_in(
+            &format!("{key}[{i}].rotation_deg"),
+            self.rotation_deg,
+            -360.0,
+            720.0,
+            "degrees",
+        ))
+        .map_err(|e| Error::invalid(key, format!("box {i}"), e.to_string()))?;
+        if self.textures.is_empty() || self.textures.iter().any(|&t| t >= TEXTURES) {
+            return bad("textures", "a non-empty list of atlas tiles 0–15");
+        }
+        Ok(())
+    }
+
+    /// Sprites this box asks for.
+    pub fn sprite_count(&self) -> u32 {
+        match (self.count, self.density_per_km3) {
+            (Some(n), _) => n,
+            (None, Some(d)) => {
+                let km3 = (0..3)
+                    .map(|a| (self.max_m[a] - self.min_m[a]) / 1000.0)
+                    .product::<f32>();
+                ((d * km3).round() as u32).clamp(1, MAX_SPRITES_PER_BOX)
+            }
+            (None, None) => 0,
+        }
+    }
+}
+
+impl SpriteCloudSpec {
+    /// Checks the cloud; `key` is "sprite_clouds[i]".
+    pub fn validate(&self, key: &str) -> Result<()> {
+        for (a, v) in self.center_m.iter().enumerate() {
+            finite_in(
+                &format!("{key}.center_m"),
+                *v,
+                -1.0e6,
+                1.0e6,
+                &format!("finite, within ±1000 km (component {a})"),
+            )?;
+        }
+        finite_in(
+            &format!("{key}.prune_fraction"),
+            self.prune_fraction,
+            0.0,
+            1.0,
+            "a fraction of the sprite height in [0, 1] (paper: 0.2 typical, 0.1 dense)",
+        )?;
+        for (i, b) in self.boxes.iter().enumerate() {
+            b.validate(&format!("{key}.boxes"), i)?;
+        }
+        if let Some(levels) = &self.levels {
+            super::shading::validate_levels(&format!("{key}.levels"), levels)?;
+        }
+        Ok(())
+    }
+
+    /// Fills the boxes with seeded random sprites and prunes them.
+    pub fn build(&self) -> SpriteCloud {
+        let center = Vec3::from(self.center_m);
+        let mut rng = SplitMix64::new(self.seed);
+        let mut sprites = Vec::new();
+        let preset;
+        let boxes = if self.boxes.is_empty() {
+            let [x, y, z] = self.center_m;
+            preset = self.kind.spec("", x, y, z, self.seed).boxes;
+            &preset
+        } else {
+            &self.boxes
+        };
+        for b in boxes {
+            fill_box(&mut rng, center, b, &mut sprites);
+        }
+        let levels = self.levels.clone().unwrap_or_else(|| self.kind.levels());
+        finish(
+            self.name.clone(),
+            self.kind,
+            center,
+            levels,
+            sprites,
+            self.prune_fraction,
+        )
+    }
+}
+
+fn fill_box(rng: &mut SplitMix64, center: Vec3, b: &SpriteBox, out: &mut Vec<Sprite>) {
+    let mut r = |lo: f32, hi: f32| rng.range(lo as f64, hi as f64) as f32;
+    for _ in 0..b.sprite_count() {
+        let p = Vec3::new(
+            r(b.min_m[0], b.max_m[0]),
+            r(b.min_m[1], b.max_m[1]),
+            r(b.min_m[2], b.max_m[2]),
+        );
+        let width_m = r(b.width_m[0], b.width_m[1]);
+        let height_m = r(b.height_m[0], b.height_m[1]);
+        let rot = r(b.rotation_deg[0], b.rotation_deg[1]);
+        // §3.2: non-square sprites are not rotated (their stretch is horizontal).
+        let square = (width_m - height_m).abs() <= 0.05 * height_m.max(width_m);
+        let pick = (r(0.0, 1.0) * b.textures.len() as f32) as usize;
+        out.push(Sprite {
+            center_m: center + p,
+            width_m,
+            height_m,
+            rotation_rad: if square { rot.to_radians() } else { 0.0 },
+            texture: b.textures[pick.min(b.textures.len() - 1)],
+            group: b.group,
+        });
+    }
+}
+
+/// Prunes (§3.1: walk the list, drop a sprite closer than `fraction` × its
+/// height to one already kept), caps the count and measures the radius.
+fn finish(
+    name: String,
+    kind: CloudType,
+    center: Vec3,
+    mut levels: Vec<ColorLevel>,
+    all: Vec<Sprite>,
+    fraction: f32,
+) -> SpriteCloud {
+    let (mut sprites, pruned) = prune(all, fraction);
+    let capped = sprites.len().saturating_sub(MAX_SPRITES_PER_CLOUD);
+    sprites.truncate(MAX_SPRITES_PER_CLOUD);
+    let radius_m = sprites
+        .iter()
+        .map(|s| (s.center_m - center).length() + 0.5 * s.height_m.max(s.width_m))
+        .fold(0.0, f32::max);
+    for l in &mut levels {
+        l.height_m += center.z;
+    }
+    SpriteCloud {
+        name,
+        kind,
+        center_m: center,
+        radius_m,
+        levels,
+        sprites,
+        pruned,
+        capped,
+    }
+}
+
+/// Keeps a sprite only when no kept sprite lies within `fraction` × its
+/// height (3-D distance). Returns the kept sprites and how many were dropped.
+pub fn prune(all: Vec<Sprite>, fraction: f32) -> (Vec<Sprite>, usize) {
+    let n = all.len();
+    let mut kept: Vec<Sprite> = Vec::with_capacity(n);
+    for s in all {
+        let min_d = fraction * s.height_m;
+        if kept
+            .iter()
+            .all(|k| k.center_m.distance_squared(s.center_m) >= min_d * min_d)
+        {
+            kept.push(s);
+        }
+    }
+    let dropped = n - kept.len();
+    (kept, dropped)
+}
+
+/// Sprites of a parcel at fill 1: a parcel sphere is drawn with up to this
+/// many sprites, fewer as its fill drops (never fewer than the paper's 5).
+pub const PARCEL_SPRITES: u32 = 40;
+
+/// A condensed parcel as a sprite cloud: one box spanning its sphere down to
+/// its condensation plane (the flat base), `fill` × [`PARCEL_SPRITES`]
+/// sprites of a third of its diameter, cumulus tiles, a flat-bottomed tile on
+/// the base row. `seed` makes it deterministic (use the parcel's index).
+pub fn parcel_cloud(p: &CloudParcel, seed: u64) -> SpriteCloud {
+    let r = p.radius_m.max(1.0);
+    let base = (p.cond_plane_z_m - p.center_m.z).clamp(-r, r);
+    let size = [2.0 * r / 3.0, 2.0 * r / 3.0];
+    let count = ((p.fill.clamp(0.0, 1.0) * PARCEL_SPRITES as f32).round() as u32).max(5);
+    let body = SpriteBox {
+        min_m: [-0.7 * r, -0.7 * r, base + 0.2 * r],
+        max_m: [0.7 * r, 0.7 * r, 0.7 * r],
+        count: Some(count),
+        density_per_km3: None,
+        width_m: size,
+        height_m: size,
+        rotation_deg: full_turn(),
+        textures: super::atlas::PUFFY_TILES.to_vec(),
+        group: 0,
+    };
+    // §3.2: flat bottoms with a narrow rotation range (±5°).
+    let bottom = SpriteBox {
+        min_m: [-0.6 * r, -0.6 * r, base + size[1] * 0.3],
+        max_m: [0.6 * r, 0.6 * r, base + size[1] * 0.35],
+        count: Some((count / 4).max(1)),
+        rotation_deg: [-5.0, 5.0],
+        textures: vec![super::atlas::FLAT_BOTTOM_TILE],
+        group: 1,
+        ..body.clone()
+    };
+    let spec = SpriteCloudSpec {
+        name: String::new(),
+        kind: CloudType::CumulusHumilis,
+        center_m: p.center_m.to_array(),
+        seed,
+        prune_fraction: PRUNE_TYPICAL,
+        levels: None,
+        boxes: vec![body, bottom],
+    };
+    spec.build()
+}
+
+/// Every condensed parcel (fill > 0) as a sprite cloud, seeded by its index
+/// in `parcels`, so the same physics state gives the same sprites.
+pub fn parcel_clouds(parcels: &[CloudParcel]) -> Vec<SpriteCloud> {
+    parcels
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.fill > 0.0 && p.radius_m.is_finite() && p.center_m.is_finite())
+        .map(|(i, p)| parcel_cloud(p, i as u64))
+        .collect()
+}
