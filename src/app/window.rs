@@ -37,6 +37,8 @@ pub struct WatchOptions {
     pub size: (u32, u32),
     /// Render method overriding the scene's `[render] method`.
     pub method: Option<crate::render::RenderMethod>,
+    /// `--set TABLE.KEY=VALUE` scene overrides (see `crate::scene_set`).
+    pub set: Vec<String>,
 }
 
 impl Default for WatchOptions {
@@ -48,6 +50,7 @@ impl Default for WatchOptions {
             warmup_s: None,
             size: (1280, 760),
             method: None,
+            set: Vec::new(),
         }
     }
 }
@@ -57,7 +60,7 @@ pub fn run(mut opts: WatchOptions) -> Result<()> {
     if opts.screenshot.is_some() && opts.frames.is_none() {
         opts.frames = Some(10);
     }
-    let (profile, source) = crate::scene::load_scene(opts.scene.as_deref())?;
+    let (profile, source) = crate::scene::load_scene_with(opts.scene.as_deref(), &opts.set)?;
     let mut model = Model::new(profile, source)?;
     if let Some(m) = opts.method {
         model.render_cfg.method = m;

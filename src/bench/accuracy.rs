@@ -84,7 +84,9 @@ pub fn with_step(cfg: &RenderConfig, step_m: f32) -> RenderConfig {
 pub fn with_light_steps(cfg: &RenderConfig, n: u32) -> RenderConfig {
     RenderConfig {
         light_steps: n,
-        light_step_m: if n == 0 {
+        // Zero steps march nothing, and the setting's own count keeps its own
+        // step exactly (solving it back from the length would round).
+        light_step_m: if n == 0 || n == cfg.light_steps {
             cfg.light_step_m
         } else {
             (light_march_m() / light_march_length_m(n, 1.0)).max(MIN_LIGHT_STEP_M)

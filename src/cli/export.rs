@@ -28,6 +28,8 @@ x scale(bounds_max_m - bounds_min_m), scale = extinction_scale_per_m."
 pub struct Args {
     /// Scene profile (TOML); the embedded fair-weather scene when omitted.
     pub scene: Option<PathBuf>,
+    #[command(flatten)]
+    pub overrides: super::SetArgs,
     /// Output grid (.vol); the sidecar goes beside it with the extension .json.
     #[arg(long)]
     pub out: PathBuf,
@@ -99,7 +101,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     );
     check_writable(&args.out)?;
 
-    let (scene, source) = cumulus::scene::load_scene(args.scene.as_deref())?;
+    let (scene, source) = cumulus::scene::load_scene_with(args.scene.as_deref(), &args.overrides.set)?;
     let scene_name = args.scene.as_ref().map_or_else(
         || "<embedded fair_weather.toml>".to_string(),
         |p| p.display().to_string(),

@@ -9,3 +9,14 @@ pub mod simulate;
 pub mod stability;
 pub mod sun_args;
 pub mod watch;
+
+/// `--set TABLE.KEY=VALUE`: scene overrides for every command that loads a
+/// scene, applied to the TOML and validated exactly like the file
+/// (`cumulus::scene_set`).
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct SetArgs {
+    /// Override a scene value, validated like the file (repeatable), e.g.
+    /// `--set physics.mixing=false --set render.method=exact`.
+    #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
+    pub set: Vec<String>,
+}

@@ -49,6 +49,8 @@ pub struct Args {
     /// (default) or exact.
     #[arg(long, value_parser = super::watch::parse_method)]
     pub method: Option<cumulus::render::RenderMethod>,
+    #[command(flatten)]
+    pub overrides: super::SetArgs,
     /// Finite-difference normals (overrides the scene's [render] normals).
     #[arg(long, value_enum)]
     pub normals: Option<Switch>,
@@ -156,7 +158,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         args.dt.is_finite() && args.dt > 0.0 && args.dt <= 600.0,
         "--dt must be a positive number of seconds up to 600"
     );
-    let (mut scene, source) = cumulus::scene::load_scene(args.scene.as_deref())?;
+    let (mut scene, source) = cumulus::scene::load_scene_with(args.scene.as_deref(), &args.overrides.set)?;
     let time = args.time.unwrap_or(scene.simulation.start_s);
     anyhow::ensure!(
         time.is_finite() && time >= 0.0,

@@ -25,10 +25,8 @@ pub struct Args {
     /// Seed of the emission draws.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Override a scene value, validated like the file (repeatable), e.g.
-    /// `--set physics.mixing=false --set wind.aloft_m_s=[4.0,0.0]`.
-    #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
-    pub set: Vec<String>,
+    #[command(flatten)]
+    pub overrides: super::SetArgs,
 }
 
 /// Most frames one run may ask for: the CSV holds one row per frame in
@@ -87,7 +85,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     let frames = frames as u64;
-    let (profile, source) = load_scene_with(args.scene.as_deref(), &args.set)?;
+    let (profile, source) = load_scene_with(args.scene.as_deref(), &args.overrides.set)?;
     // Validation errors name the field; say which file (and line) it is in.
     let scene_text = args
         .scene

@@ -35,6 +35,8 @@ pub struct Args {
     /// (default) or exact.
     #[arg(long, value_parser = parse_method)]
     pub method: Option<cumulus::render::RenderMethod>,
+    #[command(flatten)]
+    pub overrides: super::SetArgs,
 }
 
 /// Parses `--method` (the error names the allowed values).
@@ -53,6 +55,7 @@ impl Default for Args {
             width: d.size.0,
             height: d.size.1,
             method: d.method,
+            overrides: super::SetArgs { set: d.set },
         }
     }
 }
@@ -74,6 +77,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         warmup_s: args.warmup,
         size: (args.width, args.height),
         method: args.method,
+        set: args.overrides.set,
     };
     cumulus::app::run(opts).context("cumulus watch")
 }
