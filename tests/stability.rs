@@ -156,6 +156,13 @@ fn failure_criteria() {
     r.ke_ratio = f64::NAN;
     assert!(!r.passed(), "a NaN ratio is not within the bound");
     let mut r = ok.clone();
+    r.atm_work_share = 1.01;
+    assert!(
+        r.failures()[0].contains("a-priori bound E_cap"),
+        "cap work above its a-priori bound fails: {:?}",
+        r.failures()
+    );
+    let mut r = ok.clone();
     r.panic = Some("boom".into());
     r.completed = false;
     assert!(r.failures()[0].contains("boom"));
