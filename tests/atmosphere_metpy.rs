@@ -1,15 +1,22 @@
 //! Parcel theory against MetPy on the two shipped soundings: the LCL within
-//! 5 hPa and the parcel temperature within 1 K at every level up to 300 hPa.
+//! 0.5 hPa and the parcel temperature within 0.5 K at every level up to
+//! 300 hPa.
 //!
 //! Reference numbers come from tests/reference/metpy/parcel_reference.py run
 //! with MetPy 1.7.1 (numpy 2.4.6); its output is in parcel_reference.txt
 //! beside it. MetPy lifts dry to its `lcl` and then along the pseudo-adiabat
 //! (`moist_lapse`, Bolton saturation vapour pressure, c_p = 1004.67); we use
 //! Tetens, c_p = 1005.7 and a reversible ascent with dry c_p (see
-//! atmosphere::lifting). The tolerances are the ones parcel theory users
-//! accept between implementations: 5 hPa ≈ the spread of LCL formulas, 1 K
-//! ≈ the spread of saturation-pressure fits and constants over a 700 hPa ascent.
-
+//! atmosphere::lifting). The tolerances are what is achieved plus a margin,
+//! so a change of constants, saturation fit or ascent scheme shows:
+//! - LCL: 0.12 hPa (1999) and 0.05 hPa (2011) achieved. Both find where the
+//!   dry adiabat meets saturation; only the es fit and c_p differ, which move
+//!   the crossing by a tenth of a hPa. 0.5 hPa is a 4× margin and still well
+//!   inside the ~5 hPa spread of the approximate LCL formulas.
+//! - Parcel T: 0.35 K (1999) and 0.31 K (2011) achieved, worst at 300 hPa:
+//!   the es fit and c_p differences accumulate over a 650 hPa moist ascent.
+//!   0.5 K keeps a 40 % margin; 1 K (the spread between implementations
+//!   that parcel-theory users accept) would hide a doubling of that error.
 use std::path::Path;
 
 use cumulus::atmosphere::Sounding;
@@ -135,7 +142,8 @@ fn check(file: &str, lcl_ref_hpa: f64, profile: &[(f64, f64)]) {
     let ascent = lift_surface_parcel(&env, &LiftOptions::default()).unwrap();
     let lcl_hpa = ascent.lcl.expect("the surface parcel saturates").p_pa / 100.0;
     assert!(
-        (lcl_hpa - lcl_ref_hpa).abs() < 5.0,
+        // 0.5 hPa: see the module comment (0.12 hPa achieved).
+        (lcl_hpa - lcl_ref_hpa).abs() < 0.5,
         "{file}: LCL {lcl_hpa:.2} hPa vs MetPy {lcl_ref_hpa:.2} hPa"
     );
     assert_eq!(
@@ -154,8 +162,9 @@ fn check(file: &str, lcl_ref_hpa: f64, profile: &[(f64, f64)]) {
         }
         let d = lvl.t_k - t_ref;
         worst = worst.max(d.abs());
+        // 0.5 K: see the module comment (0.35 K achieved).
         assert!(
-            d.abs() < 1.0,
+            d.abs() < 0.5,
             "{file}: at {p_hpa} hPa parcel T {:.3} K vs MetPy {t_ref:.3} K",
             lvl.t_k
         );
@@ -207,9 +216,10 @@ fn lfc_and_el_differ_from_metpy_only_by_virtual_temperature_and_loading() {
     );
     // Near the tropopause vapour is ~0.1 g/kg (0.01 K of T_v): the EL moves
     // only by the constants (Tetens vs Bolton, c_p), ~0.3 K on a crossing
-    // that is sharp at the tropopause; 5 hPa.
+    // that is sharp at the tropopause: 1.4 hPa achieved (193.4 vs 194.8);
+    // 2.5 hPa keeps a ~2× margin.
     assert!(
-        (el - metpy_el).abs() < 5.0,
+        (el - metpy_el).abs() < 2.5,
         "EL {el:.1} hPa vs MetPy {metpy_el:.1}"
     );
     // With condensate loading the parcel carries ~16 g/kg of liquid near the

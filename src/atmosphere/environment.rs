@@ -149,31 +149,48 @@ impl Environment {
             wind: None,
         };
         if model == PressureModel::Hydrostatic {
-            env.exner_table = env.integrate_exner();
+            env.exner_table = env.integrate_exner()?;
         }
         Ok(env)
     }
 
     /// Hydrostatic Exner function on a uniform grid, by the trapezoid rule
     /// on dΠ/dz = −g/(c_p θ_v). θ_v is linear within a 10 m cell to far below
-    /// the trapezoid error, so the table is accurate to ~1e-6 in Π.
-    fn integrate_exner(&self) -> Vec<f64> {
+    /// the trapezoid error, so the table is accurate to ~1e-6 in Π. Π must
+    /// stay positive: a profile too cold for its height (Π ≤ 0, zero pressure,
+    /// below its top) is an error; above the top the table stops before Π
+    /// would reach 0 and `pressure_pa` continues it isothermally (no floor).
+    fn integrate_exner(&self) -> Result<Vec<f64>> {
         let n = ((self.top_m() + TABLE_MARGIN_M) / TABLE_DZ_M).ceil() as usize + 1;
         let mut table = Vec::with_capacity(n);
         let mut pi = thermo::exner(self.surface_pressure_pa);
         table.push(pi);
         let mut prev = self.theta_v_k(0.0);
         for i in 1..n {
-            let next = self.theta_v_k(i as f64 * TABLE_DZ_M);
+            let z = i as f64 * TABLE_DZ_M;
+            let next = self.theta_v_k(z);
             let mean_inv = 0.5 * (1.0 / prev + 1.0 / next);
             pi -= thermo::GRAVITY / thermo::CP_DRY * mean_inv * TABLE_DZ_M;
-            // Π must stay positive; a profile this cold and tall is rejected
-            // upstream, the floor only keeps the table finite.
-            pi = pi.max(1e-6);
+            // Above the top, stop where the air would fall below 150 K (the
+            // coldest θ at 1000 hPa): the continuation is then at least as
+            // warm and its pressure decays too slowly to underflow.
+            if pi <= 0.0 || (z > self.top_m() && next * pi < 150.0) {
+                if pi <= 0.0 && z - TABLE_DZ_M < self.top_m() {
+                    return Err(Error::invalid(
+                        "atmosphere profile (hydrostatic pressure)",
+                        format!(
+                            "zero pressure at z = {z} m, below the top at {} m",
+                            self.top_m()
+                        ),
+                        "a profile warm enough (θ) for its height that the hydrostatic pressure stays positive to its top",
+                    ));
+                }
+                break;
+            }
             table.push(pi);
             prev = next;
         }
-        table
+        Ok(table)
     }
 
     /// The same environment with this wind profile (None: no wind data).
@@ -256,10 +273,20 @@ impl Environment {
             PressureModel::Hydrostatic => {
                 let x = (z_m / TABLE_DZ_M).max(0.0);
                 let last = self.exner_table.len() - 1;
-                let i = (x as usize).min(last - 1);
-                let w = (x - i as f64).min(1.0 + (x - last as f64).max(0.0));
-                let pi = self.exner_table[i] + (self.exner_table[i + 1] - self.exner_table[i]) * w;
-                thermo::P0_PA * pi.max(1e-6).powf(1.0 / thermo::KAPPA)
+                let pi = if x <= last as f64 {
+                    let i = (x as usize).min(last - 1);
+                    let w = x - i as f64;
+                    self.exner_table[i] + (self.exner_table[i + 1] - self.exner_table[i]) * w
+                } else {
+                    // Above the table, an isothermal layer at the table top's
+                    // T_v: dΠ/dz = −g/(c_p θ_v) with θ_v = T_v/Π, so Π decays
+                    // exponentially and stays positive (a linear extrapolation
+                    // reached Π = 0 and needed a floor).
+                    let (z_top, pi_top) = (last as f64 * TABLE_DZ_M, self.exner_table[last]);
+                    let tv_top = self.theta_v_k(z_top) * pi_top;
+                    pi_top * (-thermo::GRAVITY / (thermo::CP_DRY * tv_top) * (z_m - z_top)).exp()
+                };
+                thermo::P0_PA * pi.powf(1.0 / thermo::KAPPA)
             }
             PressureModel::PaperExponential => {
                 self.surface_pressure_pa * (-0.143 * z_m / 1000.0).exp()

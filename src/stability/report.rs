@@ -40,13 +40,14 @@ pub fn to_markdown(results: &[CaseResult], title: &str) -> String {
     );
     let _ = writeln!(
         s,
-        "- **KE ratio**: max over frames of KE(t) / (KE₀ + E_sph,0 + E_births + M(t)·e_phys + W_atm), \
+        "- **KE ratio**: max over frames of KE(t) / (KE₀ + E_sph,0 + E_births + M(t)·e_phys + E_cap), \
          the kinetic energy over all the energy the case can supply (initial SPH compression, SPH \
          energy of parcels born overlapping others, CAPE of the \
          hottest and downdraft CAPE of the coldest parcel possible, ½|wind|²); a case fails above \
-         {KE_RATIO_BOUND}. `e_phys` is that energy per kg. W_atm, the work of the atmospheric \
-         pressure on hidden caps (paper §5.1: overlapping parcels weigh their lens volume), is \
-         measured and added; **W_atm share** is its largest share of the budget.\n\
+         {KE_RATIO_BOUND}. `e_phys` is that energy per kg. E_cap bounds a priori the work of the \
+         atmospheric pressure on hidden caps (paper §5.1: overlapping parcels weigh their lens \
+         volume): the force's cap w ρ_env(0) g ΣV over the column height plus an overlap; \
+         **W_atm share** is the measured work W_atm over E_cap (the bound holds below 1).\n\
          - **KE step**: largest per-frame factor KE(n+1)/max(KE(n), ½M·(1 m/s)²) (information only).\n\
          - **NaN/Inf**: parcels removed by the non-finite guard plus frames with a non-finite state; \
          any fails the case. A panic fails it too (caught, not propagated).\n\
