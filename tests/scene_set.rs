@@ -2,6 +2,8 @@
 //! the TOML before validation, so they pass the file's checks; errors name
 //! the key, the value and what is allowed; wired into `cumulus simulate`.
 
+mod common;
+
 use std::path::Path;
 use std::process::Command;
 
@@ -116,7 +118,14 @@ fn bad_overrides_name_the_key_the_value_and_what_is_allowed() {
 fn the_file_keeps_its_own_errors_and_overrides_can_fix_them() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("bad.toml");
-    std::fs::write(&path, "name = \"x\"\n\n[render.slices]\nquality = 2\n").unwrap();
+    std::fs::write(
+        &path,
+        format!(
+            "name = \"x\"\n\n[render.slices]\nquality = 2\n{}",
+            common::ATMOSPHERE_TOML
+        ),
+    )
+    .unwrap();
     let e = load_scene_with(Some(&path), &["render.slices.opacity=0.5".to_string()])
         .unwrap_err()
         .to_string();

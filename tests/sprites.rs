@@ -3,6 +3,8 @@
 //! presets and `[[layers]]`, the shipped profiles, back-to-front order and
 //! the paper's cloud block overdraw.
 
+mod common;
+
 use std::path::Path;
 
 use cumulus::physics::CloudParcel;
@@ -26,7 +28,7 @@ fn sprite(x: f32, y: f32, z: f32, h: f32) -> Sprite {
 fn profile(text: &str) -> Result<SceneProfile, String> {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("s.toml");
-    std::fs::write(&path, text).unwrap();
+    std::fs::write(&path, format!("{text}\n{}", common::ATMOSPHERE_TOML)).unwrap();
     SceneProfile::load(&path)
         .map_err(|e| e.to_string().replace(&path.display().to_string(), "s.toml"))
 }

@@ -18,6 +18,8 @@
 //! larger because refraction near the horizon differs between the two
 //! models by up to ~0.2° (NOAA's fit gives 24′ where SPA's standard gives 34′).
 
+mod common;
+
 use std::path::Path;
 use std::process::Command;
 
@@ -176,7 +178,11 @@ fn the_north_pole_in_june_has_the_sun_at_the_declination() {
 
 fn write_scene(dir: &Path, sun: &str) -> std::path::PathBuf {
     let path = dir.join("s.toml");
-    std::fs::write(&path, format!("name = \"s\"\n\n[sun]\n{sun}")).unwrap();
+    std::fs::write(
+        &path,
+        format!("name = \"s\"\n\n[sun]\n{sun}\n{}", common::ATMOSPHERE_TOML),
+    )
+    .unwrap();
     path
 }
 
@@ -280,7 +286,11 @@ fn render_hour_and_date_are_checked_before_any_work() {
     }
     // A scene that pins the sun has no clock to move.
     let pinned = dir.path().join("pinned.toml");
-    std::fs::write(&pinned, "name = \"pinned\"\n").unwrap();
+    std::fs::write(
+        &pinned,
+        format!("name = \"pinned\"\n{}", common::ATMOSPHERE_TOML),
+    )
+    .unwrap();
     let o = cumulus(&[
         "render",
         pinned.to_str().unwrap(),

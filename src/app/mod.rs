@@ -14,8 +14,8 @@
 pub mod camera;
 pub mod panel;
 pub mod profile_edit;
-pub mod skewt_panel;
 pub mod progress;
+pub mod skewt_panel;
 pub mod state;
 pub mod window;
 

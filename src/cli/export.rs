@@ -101,7 +101,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     );
     check_writable(&args.out)?;
 
-    let (scene, source) = cumulus::scene::load_scene_with(args.scene.as_deref(), &args.overrides.set)?;
+    let (scene, source) =
+        cumulus::scene::load_scene_with(args.scene.as_deref(), &args.overrides.set)?;
     let scene_name = args.scene.as_ref().map_or_else(
         || "<embedded fair_weather.toml>".to_string(),
         |p| p.display().to_string(),

@@ -158,7 +158,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         args.dt.is_finite() && args.dt > 0.0 && args.dt <= 600.0,
         "--dt must be a positive number of seconds up to 600"
     );
-    let (mut scene, source) = cumulus::scene::load_scene_with(args.scene.as_deref(), &args.overrides.set)?;
+    let (mut scene, source) =
+        cumulus::scene::load_scene_with(args.scene.as_deref(), &args.overrides.set)?;
     let time = args.time.unwrap_or(scene.simulation.start_s);
     anyhow::ensure!(
         time.is_finite() && time >= 0.0,

@@ -8,6 +8,21 @@ use cumulus::render::GpuContext;
 
 pub mod physics;
 
+/// A minimal `[atmosphere]` table (two levels) for test profiles: a profile
+/// file must say what its atmosphere is. Append it after the lines a test
+/// pins error positions on.
+pub const ATMOSPHERE_TOML: &str = "
+[[atmosphere.points]]
+z_m = 0.0
+t_c = 20.0
+td_c = 10.0
+
+[[atmosphere.points]]
+z_m = 10000.0
+t_c = -45.0
+td_c = -60.0
+";
+
 /// The CPU Vulkan adapter (lavapipe "llvmpipe"), or any adapter when that is
 /// absent. With none: a notice naming `what` and `None`, or a panic when
 /// CI=true (CI must not silently skip the GPU tests).
