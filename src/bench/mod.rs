@@ -11,6 +11,7 @@
 //! run the sweeps; [`report`] and [`plots`] write the files.
 
 pub mod accuracy;
+mod charts;
 pub mod measure;
 pub mod pathtraced;
 pub mod perf;

@@ -14,7 +14,8 @@ use super::accuracy::{PhysicsError, RenderError};
 use super::measure::timing_label;
 use super::pathtraced::PathTracedRow;
 use super::perf::{PerfRow, PruningRow, ScalingRow, on_off};
-use super::plots::{Chart, PALETTE, Series, write_chart_png, write_charts_png};
+use super::charts::{pathtraced_chart, physics_error_chart, render_error_chart, scaling_chart};
+use super::plots::{write_chart_png, write_charts_png};
 use super::{BenchResults, Mode, RunInfo};
 
 /// Plot size. units: px
@@ -619,35 +620,6 @@ pub fn report_md(r: &BenchResults) -> String {
     s
 }
 
-fn render_error_chart(e: &RenderError) -> Chart<'static> {
-    let mut params: Vec<&str> = Vec::new();
-    for r in &e.rows {
-        if !params.contains(&r.parameter.as_str()) {
-            params.push(&r.parameter);
-        }
-    }
-    let series = params
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let rows: Vec<_> = e.rows.iter().filter(|r| r.parameter == *p).collect();
-            Series {
-                label: p.to_string(),
-                points: rows.iter().map(|r| (r.time_ms, r.mean_flip)).collect(),
-                highlight: rows.iter().map(|r| r.pareto).collect(),
-                line: false,
-                color: PALETTE[i % PALETTE.len()],
-            }
-        })
-        .collect();
-    Chart {
-        title: "Render: mean FLIP against frame time",
-        x_label: "frame time, ms (log)",
-        y_label: "mean FLIP vs reference (log)",
-        series,
-    }
-}
-
 /// The "against the path tracer" section of report.md.
 fn pathtraced_md(rows: Option<&[PathTracedRow]>) -> String {
     let mut s = String::from("\n### Against a path tracer\n\n");
@@ -681,66 +653,6 @@ fn pathtraced_md(rows: Option<&[PathTracedRow]>) -> String {
         );
     }
     s
-}
-
-/// Our settings against the path tracer (its own row left out: error 0).
-fn pathtraced_chart(rows: &[PathTracedRow]) -> Chart<'static> {
-    let ours: Vec<&PathTracedRow> = rows.iter().filter(|r| r.setting != "pathtraced").collect();
-    Chart {
-        title: "Render: mean FLIP against the path tracer",
-        x_label: "frame time, ms (log)",
-        y_label: "mean FLIP vs Mitsuba volpath (log)",
-        series: vec![Series {
-            label: "settings (default ringed)".into(),
-            points: ours.iter().map(|r| (r.time_ms, r.mean_flip)).collect(),
-            highlight: ours.iter().map(|r| r.setting == "default").collect(),
-            line: false,
-            color: PALETTE[0],
-        }],
-    }
-}
-
-fn physics_error_chart(e: &PhysicsError) -> Chart<'static> {
-    Chart {
-        title: "Physics: position error against run time",
-        x_label: "run time, ms (log)",
-        y_label: "RMS position error, m (log)",
-        series: vec![Series {
-            label: "time-step sweep".into(),
-            points: e
-                .rows
-                .iter()
-                .map(|r| (r.time_ms, r.position_rms_m))
-                .collect(),
-            highlight: e.rows.iter().map(|r| r.pareto).collect(),
-            line: true,
-            color: PALETTE[0],
-        }],
-    }
-}
-
-fn scaling_chart(rows: &[ScalingRow]) -> Chart<'static> {
-    let series = ["baked", "exact", "brute"]
-        .into_iter()
-        .enumerate()
-        .map(|(i, method)| Series {
-            label: method.into(),
-            points: rows
-                .iter()
-                .filter(|r| r.method == method)
-                .map(|r| (r.parcels as f64, r.frame_ms))
-                .collect(),
-            highlight: vec![],
-            line: true,
-            color: PALETTE[i],
-        })
-        .collect();
-    Chart {
-        title: "GPU frame time against condensed parcels",
-        x_label: "condensed parcels (log)",
-        y_label: "frame time, ms (log)",
-        series,
-    }
 }
 
 /// The scaling targets for `baked`, as ratios within this run.
