@@ -11,10 +11,10 @@ use crate::output::{write_atomic, write_png_atomic};
 use crate::render::shaders::Pass;
 
 use super::accuracy::{PhysicsError, RenderError};
+use super::charts::{pathtraced_chart, physics_error_chart, render_error_chart, scaling_chart};
 use super::measure::timing_label;
 use super::pathtraced::PathTracedRow;
 use super::perf::{PerfRow, PruningRow, ScalingRow, on_off};
-use super::charts::{pathtraced_chart, physics_error_chart, render_error_chart, scaling_chart};
 use super::plots::{write_chart_png, write_charts_png};
 use super::{BenchResults, Mode, RunInfo};
 
