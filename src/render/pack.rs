@@ -117,6 +117,16 @@ pub struct GridInfo {
 }
 
 impl GridInfo {
+    /// The grid of no parcels: one unit cell at the origin, nothing listed.
+    pub const EMPTY: GridInfo = GridInfo {
+        min: Vec3::ZERO,
+        cell: Vec3::ONE,
+        dims: [1, 1, 1],
+        parcel_count: 0,
+        entry_count: 0,
+        coarsened: 0,
+    };
+
     /// Grid's highest corner. units: m
     pub fn max(&self) -> Vec3 {
         self.min
@@ -241,14 +251,7 @@ pub fn pack(parcels: &[CloudParcel], shell_m: f32, radius_scale: f32) -> Result<
 
     let mut grid = zeroed_box::<GridUniform>();
     if n == 0 {
-        let info = GridInfo {
-            min: Vec3::ZERO,
-            cell: Vec3::ONE,
-            dims: [1, 1, 1],
-            parcel_count: 0,
-            entry_count: 0,
-            coarsened: 0,
-        };
+        let info = GridInfo::EMPTY;
         return Ok(Packed {
             parcels: out_parcels,
             grid,

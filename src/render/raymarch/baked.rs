@@ -366,14 +366,7 @@ impl BakedField {
                 entry_count: 0,
                 coarsened: r.coarsened,
             },
-            None => GridInfo {
-                min: Vec3::ZERO,
-                cell: Vec3::ONE,
-                dims: [1, 1, 1],
-                parcel_count: 0,
-                entry_count: 0,
-                coarsened: 0,
-            },
+            None => GridInfo::EMPTY,
         }
     }
 
