@@ -1,7 +1,7 @@
 // Lighting of a cloud sample, tuned so clouds read as cumulus (sunlit
 // domes bright, bases grey-blue): the sun, attenuated by a light march
 // toward it whose steps grow geometrically (so it crosses a whole cloud)
-// with a denser medium than the view rays see, scattered with a two-lobe
+// through the same medium the view rays see, scattered with a two-lobe
 // Henyey–Greenstein phase in three multiple-scattering octaves; plus sky
 // ambient shaded by a cheap look upward and, with the multiple scattering,
 // darkened toward the sample's condensation plane (the flat base); plus a
