@@ -1,7 +1,7 @@
 // Lighting of a cloud sample, tuned so clouds read as cumulus (sunlit
 // domes bright, bases grey-blue): the sun, attenuated by a light march
 // toward it whose steps grow geometrically (so it crosses a whole cloud)
-// with a denser medium than the view rays see, scattered with a two-lobe
+// through the same medium the view rays see, scattered with a two-lobe
 // Henyey–Greenstein phase in three multiple-scattering octaves; plus sky
 // ambient shaded by a cheap look upward and, with the multiple scattering,
 // darkened toward the sample's condensation plane (the flat base); plus a
@@ -23,11 +23,17 @@ fn henyey_greenstein(cos_theta: f32, g: f32) -> f32 {
 // defaults) while the first ones resolve the crisp sunlit edge.
 const LIGHT_GROWTH: f32 = 1.6;
 
-// Extinction toward the sun over the view rays' extinction: the soft,
-// noise-eroded edges the view rays need would let the sun through too
-// easily; real cumulus is optically thicker (σ ≈ 0.05–0.1 m⁻¹) than what
-// reads well along view rays.
-const LIGHT_DENSITY: f32 = 2.5;
+// Extinction toward the sun over the view rays' extinction: 1, the same
+// medium both ways (as the path tracer sees it). A denser light march
+// (2.5 before) darkened cloud interiors well below the path tracer's.
+const LIGHT_DENSITY: f32 = 1.0;
+
+// Multiple-scattering octaves (Wrenninge 2013, Hillaire 2016): octave j
+// has brightness OCTAVE_A^j and sees the optical depth × OCTAVE_B^j.
+// OCTAVE_A ≤ OCTAVE_B keeps the sum energy conserving (the octaves never
+// scatter more than the medium received).
+const OCTAVE_A: f32 = 0.7;
+const OCTAVE_B: f32 = 0.7;
 
 // Height above a cloud's condensation plane over which diffuse light
 // recovers from its darkest (at the base) to full. units: m
@@ -83,7 +89,7 @@ fn sun_octave_weights(mu: f32) -> vec3<f32> {
     for (var j = 0; j < 3; j++) {
         let phase = mix(henyey_greenstein(mu, g * c), henyey_greenstein(mu, -0.2 * c), 0.25);
         w[j] = a * 4.0 * PI * phase;
-        a *= 0.45;
+        a *= OCTAVE_A;
         c *= 0.5;
     }
     return w;
@@ -100,7 +106,7 @@ fn sun_scattering(w: vec3<f32>, od: f32) -> vec2<f32> {
         } else {
             sum.y += term;
         }
-        b *= 0.3;
+        b *= OCTAVE_B;
     }
     return sum;
 }
@@ -156,6 +162,6 @@ fn sample_source(l: RayLight, p: vec3<f32>, plane_z: f32) -> vec3<f32> {
     // rather than neutral grey.
     let a2 = above_base * above_base;
     let sky = l.sky_base * mix(0.5, 1.0, a2) * mix(0.5, 1.0, sky_visibility(p));
-    let multiple = sun_light.y * mix(0.1, 1.0, a2);
+    let multiple = sun_light.y * mix(0.4, 1.0, a2);
     return frame.sun_color.rgb * (sun_light.x + multiple) + sky + l.bounce;
 }

@@ -16,8 +16,9 @@ use super::GridSpec;
 pub const BACK_LOBE_G: f32 = -0.2;
 /// Weight of the back lobe in the mix (lighting.wgsl `sun_octave_weights`).
 pub const BACK_LOBE_WEIGHT: f32 = 0.25;
-/// Extra density factor of the light march toward the sun (lighting.wgsl `LIGHT_DENSITY`).
-pub const LIGHT_DENSITY: f32 = 2.5;
+/// Extra density factor of the light march toward the sun (lighting.wgsl `LIGHT_DENSITY`;
+/// 1: the same medium as the view rays and the path tracer).
+pub const LIGHT_DENSITY: f32 = 1.0;
 /// Sky ambient radiance (common.wgsl `sky_ambient`). units: linear RGB
 pub const SKY_AMBIENT_RGB: [f32; 3] = [0.30, 0.40, 0.60];
 /// Exposure of the tone curve 1 − exp(−k·L) (common.wgsl `output_color`).
