@@ -8,11 +8,10 @@ use std::path::{Path, PathBuf};
 use anyhow::Context as _;
 use cumulus::export::sidecar::Sidecar;
 use cumulus::export::{self, DEFAULT_MAX_MEMORY_MIB, GridSpec};
-use cumulus::physics::ParcelWorld;
 use cumulus::render::Camera;
 use cumulus::render::field::CloudField;
 
-use super::render::Clouds;
+use super::render::{CloudArgs, Clouds};
 
 /// Grids with more cells than this get a progress bar.
 const PROGRESS_CELLS: u64 = 4_000_000;
@@ -43,15 +42,8 @@ pub struct Args {
     /// Most memory the grid may take (the values; the file is as large). units: MiB
     #[arg(long, default_value_t = DEFAULT_MAX_MEMORY_MIB)]
     pub max_memory_mib: u64,
-    /// Physics frame step (sub-stepped as needed). units: s
-    #[arg(long, default_value_t = 2.0)]
-    pub dt: f64,
-    /// Seed of the emission draws.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Export the deterministic stand-in cloud field instead of simulating.
-    #[arg(long)]
-    pub stand_in: bool,
+    #[command(flatten)]
+    pub clouds: CloudArgs,
 }
 
 /// `clouds.vol` → `clouds.json`.
@@ -77,10 +69,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         args.time.is_finite() && args.time >= 0.0,
         "--time must be a finite number of seconds ≥ 0"
     );
-    anyhow::ensure!(
-        args.dt.is_finite() && args.dt > 0.0 && args.dt <= 600.0,
-        "--dt must be a positive number of seconds up to 600"
-    );
+    args.clouds.validate()?;
     anyhow::ensure!(
         args.max_memory_mib >= 1,
         "--max-memory-mib must be at least 1"
@@ -115,20 +104,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .validate()
         .with_context(|| format!("{scene_name}: checking [camera]"))?;
 
-    let mut clouds = if args.stand_in {
-        Clouds::StandIn
-    } else {
-        let env = scene
-            .atmosphere
-            .build(&source.base_dir())
-            .context("building the atmosphere")?;
-        let world = ParcelWorld::new(env, scene.world_config(&source.base_dir())?, args.seed)?;
+    if !args.clouds.stand_in {
         eprintln!("simulating {:.0} s …", args.time);
-        Clouds::World {
-            world: Box::new(world),
-            dt: args.dt,
-        }
-    };
+    }
+    let mut clouds = Clouds::new(&args.clouds, &scene, &source.base_dir())?;
     let mut parcels = Vec::new();
     clouds.at(args.time, &mut parcels, None)?;
     anyhow::ensure!(

@@ -60,15 +60,8 @@ pub struct Args {
     /// Simulated time between frames. units: s
     #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
     pub every: f64,
-    /// Physics frame step (sub-stepped as needed). units: s
-    #[arg(long, default_value_t = 2.0)]
-    pub dt: f64,
-    /// Seed of the emission draws.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Draw the deterministic stand-in cloud field instead of simulating.
-    #[arg(long)]
-    pub stand_in: bool,
+    #[command(flatten)]
+    pub clouds: CloudArgs,
     /// Part of the GPU adapter's name to use (e.g. llvmpipe).
     #[arg(long)]
     pub adapter: Option<String>,
@@ -87,6 +80,32 @@ pub fn numbered(out: &Path, i: u32) -> PathBuf {
     out.with_file_name(format!("{stem}-{i:04}.{ext}"))
 }
 
+/// Where a frame's clouds come from, for the commands that simulate a scene
+/// up to a frame (`render`, `export`).
+#[derive(Debug, Clone, clap::Args)]
+pub struct CloudArgs {
+    /// Physics frame step (sub-stepped as needed). units: s
+    #[arg(long, default_value_t = 2.0)]
+    pub dt: f64,
+    /// Seed of the emission draws.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Use the deterministic stand-in cloud field instead of simulating.
+    #[arg(long)]
+    pub stand_in: bool,
+}
+
+impl CloudArgs {
+    /// Checks the values before any work (the error names the flag).
+    pub fn validate(&self) -> anyhow::Result<()> {
+        anyhow::ensure!(
+            self.dt.is_finite() && self.dt > 0.0 && self.dt <= 600.0,
+            "--dt must be a positive number of seconds up to 600"
+        );
+        Ok(())
+    }
+}
+
 /// Where the clouds come from: the parcel physics, or the stand-in field.
 pub(crate) enum Clouds {
     World { world: Box<ParcelWorld>, dt: f64 },
@@ -94,6 +113,26 @@ pub(crate) enum Clouds {
 }
 
 impl Clouds {
+    /// The stand-in field, or `scene`'s world at t = 0 with `args`' seed.
+    pub(crate) fn new(
+        args: &CloudArgs,
+        scene: &cumulus::scene::SceneProfile,
+        base_dir: &Path,
+    ) -> anyhow::Result<Self> {
+        if args.stand_in {
+            return Ok(Clouds::StandIn);
+        }
+        let env = scene
+            .atmosphere
+            .build(base_dir)
+            .context("building the atmosphere")?;
+        let world = ParcelWorld::new(env, scene.world_config(base_dir)?, args.seed)?;
+        Ok(Clouds::World {
+            world: Box::new(world),
+            dt: args.dt,
+        })
+    }
+
     /// The condensed parcels at simulated time `time_s` (≥ the last call's);
     /// `bar` shows the simulated seconds.
     pub(crate) fn at(
@@ -154,10 +193,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         args.every.is_finite() && args.every > 0.0,
         "--every must be a positive number of seconds"
     );
-    anyhow::ensure!(
-        args.dt.is_finite() && args.dt > 0.0 && args.dt <= 600.0,
-        "--dt must be a positive number of seconds up to 600"
-    );
+    args.clouds.validate()?;
     let (mut scene, source) =
         cumulus::scene::load_scene_with(args.scene.as_deref(), &args.overrides.set)?;
     let time = args.time.unwrap_or(scene.simulation.start_s);
@@ -186,26 +222,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .validate()
         .with_context(|| format!("{scene_name}: checking [camera]"))?;
     let camera = Camera::from(&scene.camera);
-    let mut clouds = if args.stand_in {
-        Clouds::StandIn
-    } else {
-        let env = scene
-            .atmosphere
-            .build(&source.base_dir())
-            .context("building the atmosphere")?;
-        let world = ParcelWorld::new(env, scene.world_config(&source.base_dir())?, args.seed)?;
-        Clouds::World {
-            world: Box::new(world),
-            dt: args.dt,
-        }
-    };
+    let mut clouds = Clouds::new(&args.clouds, &scene, &source.base_dir())?;
 
     let ctx = GpuContext::new_headless(args.adapter.as_deref())?;
     eprintln!("adapter: {}", ctx.describe());
     let mut headless = Headless::new(&ctx, &cfg, args.width, args.height)?;
 
     let mut parcels = Vec::new();
-    let warm = (!args.stand_in).then(|| {
+    let warm = (!args.clouds.stand_in).then(|| {
         let b = indicatif::ProgressBar::new(time.ceil() as u64);
         b.set_style(
             indicatif::ProgressStyle::with_template(
