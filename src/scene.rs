@@ -200,11 +200,8 @@ impl SceneProfile {
 
     /// The embedded default scene.
     pub fn embedded_default() -> Self {
-        Self::from_toml(
-            DEFAULT_SCENE_TOML,
-            Path::new("<embedded fair_weather.toml>"),
-        )
-        .expect("the embedded default profile is tested to parse")
+        Self::from_toml(DEFAULT_SCENE_TOML, Path::new(EMBEDDED_SCENE_LABEL))
+            .expect("the embedded default profile is tested to parse")
     }
 
     /// Serialises the profile back to TOML (used by the window's "save").
@@ -336,7 +333,19 @@ impl SceneSource {
             SceneSource::File(p) => p.parent().map(Path::to_path_buf).unwrap_or_default(),
         }
     }
+
+    /// The name errors and reports give the scene: its file, or
+    /// [`EMBEDDED_SCENE_LABEL`].
+    pub fn name(&self) -> String {
+        match self {
+            SceneSource::Embedded => EMBEDDED_SCENE_LABEL.to_string(),
+            SceneSource::File(p) => p.display().to_string(),
+        }
+    }
 }
+
+/// How messages name the embedded default scene.
+pub const EMBEDDED_SCENE_LABEL: &str = "<embedded fair_weather.toml>";
 
 /// Loads `path`, or the embedded default when `None`.
 pub fn load_scene(path: Option<&Path>) -> Result<(SceneProfile, SceneSource)> {
@@ -356,7 +365,7 @@ pub fn load_scene_with(
         None => Ok((
             crate::scene_set::load_with_overrides(
                 DEFAULT_SCENE_TOML,
-                Path::new("<embedded fair_weather.toml>"),
+                Path::new(EMBEDDED_SCENE_LABEL),
                 overrides,
             )?,
             SceneSource::Embedded,

@@ -92,10 +92,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 
     let (scene, source) =
         cumulus::scene::load_scene_with(args.scene.as_deref(), &args.overrides.set)?;
-    let scene_name = args.scene.as_ref().map_or_else(
-        || "<embedded fair_weather.toml>".to_string(),
-        |p| p.display().to_string(),
-    );
+    let scene_name = source.name();
     let cfg = scene.render.clone();
     cfg.validate()
         .with_context(|| format!("{scene_name}: checking [render]"))?;

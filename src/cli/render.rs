@@ -211,10 +211,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         cfg.normals = n == Switch::On;
     }
     // Validation errors name the field; say which file it is in.
-    let scene_name = args.scene.as_ref().map_or_else(
-        || "<embedded fair_weather.toml>".to_string(),
-        |p| p.display().to_string(),
-    );
+    let scene_name = source.name();
     cfg.validate()
         .with_context(|| format!("{scene_name}: checking [render]"))?;
     scene

@@ -93,7 +93,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .and_then(|p| std::fs::read_to_string(p).ok());
     let place = |e: &cumulus::Error| -> String {
         let file = args.scene.as_ref().map_or_else(
-            || "<embedded fair_weather.toml>".to_string(),
+            || cumulus::scene::EMBEDDED_SCENE_LABEL.to_string(),
             |p| p.display().to_string(),
         );
         match (e, &scene_text) {
