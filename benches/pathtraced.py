@@ -142,7 +142,7 @@ def srgb_encode(x):
 
 
 def tone_map(radiance, exposure):
-    """The renderer's display transform (common.wgsl `output_color`)."""
+    """The renderer's display transform (common.wgsl `tone_map`, applied once to the HDR scene)."""
     return srgb_encode(1.0 - np.exp(-exposure * radiance))
 
 

@@ -9,7 +9,7 @@
 // crossed in one jump to the first sample past it on the same dt lattice,
 // so the samples kept are the unskipped march's, same positions. Output is
 // premultiplied (rgb = L, a = 1 − T) and blended over the sky/terrain with
-// (ONE, ONE_MINUS_SRC_ALPHA). `march` is the one march routine; the
+// (ONE, ONE_MINUS_SRC_ALPHA) in the HDR scene target. `march` is the one march routine; the
 // entry points only supply the pixel: `fs_main` (fragment path) returns it,
 // `cs_main` (compute path) stores it into `cloud_out`, which composite.wgsl
 // then blends over the target the same way.
@@ -24,7 +24,7 @@ fn vs_main(@builtin(vertex_index) i: u32) -> FullscreenOut {
     return fullscreen_vertex(i);
 }
 
-// Premultiplied, tone-mapped cloud colour of the pixel at `pix` (pixel
+// Premultiplied linear cloud radiance of the pixel at `pix` (pixel
 // centre coordinates), whose centre is at `ndc`.
 fn march(pix: vec2<f32>, ndc: vec2<f32>) -> vec4<f32> {
     let ro = frame.camera_pos.xyz;
@@ -89,10 +89,9 @@ fn march(pix: vec2<f32>, ndc: vec2<f32>) -> vec4<f32> {
     // Aerial perspective, as on the terrain.
     let haze = 1.0 - exp(-first_hit / 60000.0);
     radiance = mix(radiance, haze_color(rd) * (1.0 - trans), haze);
-    let alpha = 1.0 - trans;
-    // Tone-map the un-premultiplied colour, then premultiply.
-    let color = output_color(radiance / max(alpha, 1e-4)) * alpha;
-    return vec4<f32>(color, alpha);
+    // Premultiplied linear radiance, blended in linear light over the
+    // sky/terrain in the HDR scene target (tone-mapped once, at the end).
+    return vec4<f32>(output_color(radiance), 1.0 - trans);
 }
 
 @fragment

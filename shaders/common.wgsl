@@ -9,7 +9,7 @@
 //
 // Colours are linear RGB; sun irradiance ~2 gives daylight exposure.
 
-// Write gamma-encoded colour (for a non-sRGB target format).
+// Encode sRGB in the tone-map pass (its target format is not sRGB).
 override ENCODE_SRGB: bool = false;
 
 // 288 bytes; keep in sync with FrameUniform in src/render/pack.rs.
@@ -146,11 +146,31 @@ fn haze_color(dir: vec3<f32>) -> vec3<f32> {
     return sky_color(normalize(vec3<f32>(dir.xy, 0.02)));
 }
 
-// Filmic-ish exposure curve to [0, 1), optionally gamma-encoded.
-fn output_color(c: vec3<f32>) -> vec3<f32> {
-    let t = vec3<f32>(1.0) - exp(-c * 1.1);
+// The one display transform, applied once per frame by tonemap.wgsl to the
+// HDR scene target: a filmic-ish exposure curve to [0, 1), then the exact
+// sRGB encoding when the output format does not encode itself
+// (ENCODE_SRGB). Keep the curve in sync with benches/pathtraced.py
+// (`tone_map`) and src/export/sidecar.rs (its exposure).
+fn tone_map(c: vec3<f32>) -> vec3<f32> {
+    let t = vec3<f32>(1.0) - exp(-max(c, vec3<f32>(0.0)) * 1.1);
     if ENCODE_SRGB {
-        return pow(t, vec3<f32>(1.0 / 2.2));
+        return srgb_encode(t);
     }
     return t;
+}
+
+// The sRGB transfer function (IEC 61966-2-1), linear [0, 1] to encoded.
+fn srgb_encode(t: vec3<f32>) -> vec3<f32> {
+    let lo = t * 12.92;
+    let hi = 1.055 * pow(t, vec3<f32>(1.0 / 2.4)) - 0.055;
+    return select(hi, lo, t <= vec3<f32>(0.0031308));
+}
+
+// Per-pass output hook. Every scene pass (sky, terrain, clouds, composite
+// and any new one) draws into the Rgba16Float HDR scene target
+// (SCENE_FORMAT in src/render/pipelines.rs), so a pass returns linear
+// radiance and this is the identity; the display transform is tone_map,
+// once, at the end. Passes call it so the hook stays in one place.
+fn output_color(c: vec3<f32>) -> vec3<f32> {
+    return c;
 }

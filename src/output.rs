@@ -58,6 +58,32 @@ pub fn write_png_atomic(path: &Path, width: u32, height: u32, rgba: &[u8]) -> Re
     write_atomic(path, &png)
 }
 
+/// Encodes linear RGB float pixels (3 per pixel, top row first) as an
+/// OpenEXR image (32-bit float channels R, G, B) and writes it atomically.
+pub fn write_exr_atomic(path: &Path, width: u32, height: u32, rgb: &[f32]) -> Result<()> {
+    if rgb.len() != 3 * width as usize * height as usize {
+        return Err(Error::io(
+            path,
+            std::io::Error::other(format!(
+                "{} floats for a {width}×{height} RGB image (needs {})",
+                rgb.len(),
+                3 * width as usize * height as usize
+            )),
+        ));
+    }
+    // The encoder seeks, so it writes into memory first.
+    let mut exr = std::io::Cursor::new(Vec::new());
+    image::codecs::openexr::OpenExrEncoder::new(&mut exr)
+        .write_image(
+            bytemuck::cast_slice(rgb),
+            width,
+            height,
+            image::ExtendedColorType::Rgb32F,
+        )
+        .map_err(|e| Error::io(path, std::io::Error::other(e)))?;
+    write_atomic(path, exr.get_ref())
+}
+
 use image::ImageEncoder as _;
 
 #[cfg(test)]

@@ -110,3 +110,53 @@ fn bad_render_table_names_the_field() {
     assert!(!o.status.success());
     assert!(stderr.contains("render.step_m"), "{stderr}");
 }
+
+/// The display transform of shaders/common.wgsl `tone_map` (exposure curve,
+/// then the sRGB encoding), to compare an EXR with the PNG of one frame.
+fn tone_map(c: f32) -> f32 {
+    let t = 1.0 - (-c.max(0.0) * 1.1).exp();
+    if t <= 0.003_130_8 {
+        12.92 * t
+    } else {
+        1.055 * t.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+#[test]
+fn exr_is_the_linear_scene_the_png_tone_maps() {
+    if common::context("GPU render test").is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let render = |name: &str| {
+        let out = dir.path().join(name);
+        let o = cumulus()
+            .args([
+                "render", "--stand-in", "--width", "80", "--height", "56", "--out",
+            ])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        out
+    };
+    let exr = image::open(render("frame.exr")).unwrap().to_rgb32f();
+    let png = image::open(render("frame.png")).unwrap().to_rgb8();
+    assert_eq!(exr.dimensions(), (80, 56));
+    // Linear radiance, not display values: the sunlit cloud tops and the
+    // sun's glow exceed 1, which no tone-mapped value does.
+    let max = exr.pixels().flat_map(|p| p.0).fold(0.0f32, f32::max);
+    assert!(max > 1.0, "brightest EXR value {max}: not HDR");
+    // Tone-mapping the EXR gives the PNG: the one display transform. Up to
+    // 2/255 per channel: the half-float scene target rounds the radiance
+    // (11-bit mantissa, ≤ 0.05 % → < 0.3/255 after the curve) and both
+    // paths round to 8 bits (≤ 1/255 between them, GPU vs f32 here).
+    let mut worst = 0i32;
+    for (e, p) in exr.pixels().zip(png.pixels()) {
+        for c in 0..3 {
+            let mapped = (tone_map(e[c]) * 255.0).round() as i32;
+            worst = worst.max((mapped - p[c] as i32).abs());
+        }
+    }
+    assert!(worst <= 2, "tone-mapped EXR differs from the PNG by {worst}/255");
+}

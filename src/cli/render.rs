@@ -25,7 +25,8 @@ starting at --time. Every file is written atomically."
 pub struct Args {
     /// Scene profile (TOML); the embedded fair-weather scene when omitted.
     pub scene: Option<PathBuf>,
-    /// Output PNG.
+    /// Output image: FILE.png (tone-mapped sRGB, as the window shows it) or
+    /// FILE.exr (the linear HDR scene before the tone map, 32-bit float RGB).
     #[arg(long)]
     pub out: PathBuf,
     /// Image width in pixels (1 to 16384; the device may allow less).
@@ -65,6 +66,12 @@ pub struct Args {
     /// Part of the GPU adapter's name to use (e.g. llvmpipe).
     #[arg(long)]
     pub adapter: Option<String>,
+}
+
+/// Whether `path` names an OpenEXR file (extension `exr`, any case).
+fn is_exr(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
 }
 
 /// `FILE.png` → `FILE-0007.png`.
@@ -271,8 +278,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         } else {
             args.out.clone()
         };
-        cumulus::output::write_png_atomic(&path, args.width, args.height, &rgba)
-            .with_context(|| format!("writing frame {i}"))?;
+        if is_exr(&path) {
+            let rgb = headless.read_hdr(&ctx)?;
+            cumulus::output::write_exr_atomic(&path, args.width, args.height, &rgb)
+        } else {
+            cumulus::output::write_png_atomic(&path, args.width, args.height, &rgba)
+        }
+        .with_context(|| format!("writing frame {i}"))?;
         let passes: Vec<String> = timings
             .passes
             .iter()

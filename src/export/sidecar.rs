@@ -4,7 +4,7 @@
 //!
 //! The lighting constants below mirror the WGSL of the cloud pass; keep in
 //! sync with shaders/lighting.wgsl (`sun_octave_weights`, `LIGHT_DENSITY`) and
-//! shaders/common.wgsl (`sky_ambient`, `output_color`).
+//! shaders/common.wgsl (`sky_ambient`, `tone_map`).
 
 use serde::{Deserialize, Serialize};
 
@@ -21,7 +21,7 @@ pub const BACK_LOBE_WEIGHT: f32 = 0.25;
 pub const LIGHT_DENSITY: f32 = 1.0;
 /// Sky ambient radiance (common.wgsl `sky_ambient`). units: linear RGB
 pub const SKY_AMBIENT_RGB: [f32; 3] = [0.30, 0.40, 0.60];
-/// Exposure of the tone curve 1 − exp(−k·L) (common.wgsl `output_color`).
+/// Exposure of the tone curve 1 − exp(−k·L) (common.wgsl `tone_map`).
 pub const TONE_EXPOSURE: f32 = 1.1;
 
 /// The grid file and what its values mean.

@@ -114,6 +114,53 @@ impl Headless {
     }
 }
 
+impl Headless {
+    /// The last rendered frame's linear HDR scene (before the tone map) as
+    /// RGB floats, top row first: radiance in the renderer's units (sun
+    /// irradiance ~2 is daylight). What `render --out x.exr` writes.
+    pub fn read_hdr(&self, ctx: &GpuContext) -> Result<Vec<f32>> {
+        let texture = self.renderer.scene_texture();
+        let (w, h) = self.renderer.size();
+        // Rgba16Float: 8 bytes per texel.
+        let padded_row = (8 * w).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
+        let size = padded_row as u64 * h as u64;
+        let readback = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("HDR readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        enc.copy_texture_to_buffer(
+            texture.as_image_copy(),
+            wgpu::TexelCopyBufferInfo {
+                buffer: &readback,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(padded_row),
+                    rows_per_image: Some(h),
+                },
+            },
+            wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+        );
+        ctx.queue.submit([enc.finish()]);
+        let padded = read_buffer(ctx, &readback, size)?;
+        let mut rgb = Vec::with_capacity((3 * w * h) as usize);
+        for row in padded.chunks_exact(padded_row as usize) {
+            for texel in row[..8 * w as usize].chunks_exact(8) {
+                for c in texel[..6].chunks_exact(2) {
+                    rgb.push(half::f16::from_le_bytes([c[0], c[1]]).to_f32());
+                }
+            }
+        }
+        Ok(rgb)
+    }
+}
+
 /// Renders one frame headless: (RGBA8 sRGB bytes, width, height).
 pub fn render_to_rgba(
     ctx: &GpuContext,

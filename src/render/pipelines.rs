@@ -23,8 +23,13 @@ pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
 /// shaders and the compute march.
 const STAGES: wgpu::ShaderStages =
     wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE);
-/// Format of the compute march's output (premultiplied, encoded colour).
+/// Format of the compute march's output (premultiplied linear radiance).
 pub const CLOUD_TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Format of the HDR scene target: every scene pass (sky, terrain, clouds,
+/// composite) writes linear radiance into it; the tone-map pass alone
+/// writes the output format. Half floats hold radiance up to 65504 (the
+/// sun disc is ~12) with 11 bits of mantissa, finer than 8-bit output.
+pub const SCENE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
@@ -77,8 +82,9 @@ pub struct PassLayouts {
     pub depth: wgpu::BindGroupLayout,
     /// Group 2 of the compute march: its output texture.
     pub cloud_out: wgpu::BindGroupLayout,
-    /// Group 1 of the composite: the compute march's texture.
-    pub cloud_in: wgpu::BindGroupLayout,
+    /// Group 1 of the composite (the compute march's texture) and of the
+    /// tone map (the HDR scene target): one sampled float 2D texture.
+    pub texture_in: wgpu::BindGroupLayout,
 }
 
 impl PassLayouts {
@@ -142,8 +148,8 @@ impl PassLayouts {
                 count: None,
             }],
         });
-        let cloud_in = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("composite: clouds"),
+        let texture_in = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("composite/tonemap: input texture"),
             entries: &[texture_entry(
                 0,
                 wgpu::TextureSampleType::Float { filterable: true },
@@ -155,7 +161,7 @@ impl PassLayouts {
             shadow_tex,
             depth,
             cloud_out,
-            cloud_in,
+            texture_in,
         }
     }
 }
@@ -248,7 +254,7 @@ impl PipelineCache {
         let group1 = match pass {
             Pass::Terrain => Some(&layouts.shadow_tex),
             Pass::Clouds => Some(&layouts.depth),
-            Pass::Composite => Some(&layouts.cloud_in),
+            Pass::Composite | Pass::Tonemap => Some(&layouts.texture_in),
             _ => None,
         };
         let mut layouts_list: Vec<Option<&wgpu::BindGroupLayout>> = match group1 {

@@ -33,6 +33,8 @@ pub const SKY_WGSL: &str = include_str!("../../shaders/sky.wgsl");
 pub const TERRAIN_WGSL: &str = include_str!("../../shaders/terrain.wgsl");
 /// Cloud-shadow map.
 pub const SHADOW_WGSL: &str = include_str!("../../shaders/shadow.wgsl");
+/// The one tone map of a frame (HDR scene target → output).
+pub const TONEMAP_WGSL: &str = include_str!("../../shaders/tonemap.wgsl");
 /// Cloud ray-march.
 pub const CLOUDS_WGSL: &str = include_str!("../../shaders/clouds.wgsl");
 
@@ -50,6 +52,7 @@ pub const FILES: &[(&str, &str)] = &[
     ("terrain.wgsl", TERRAIN_WGSL),
     ("shadow.wgsl", SHADOW_WGSL),
     ("clouds.wgsl", CLOUDS_WGSL),
+    ("tonemap.wgsl", TONEMAP_WGSL),
 ];
 
 /// The render passes, in the order they run.
@@ -63,17 +66,20 @@ pub enum Pass {
     Clouds,
     /// Blends the compute march's texture over the target (compute path).
     Composite,
+    /// The HDR scene target, tone-mapped once into the output.
+    Tonemap,
 }
 
 impl Pass {
     /// All passes in execution order.
-    pub const ALL: [Pass; 6] = [
+    pub const ALL: [Pass; 7] = [
         Pass::Bake,
         Pass::Shadow,
         Pass::Sky,
         Pass::Terrain,
         Pass::Clouds,
         Pass::Composite,
+        Pass::Tonemap,
     ];
 
     /// Name used in timings and `Renderer::pass_names`.
@@ -85,6 +91,7 @@ impl Pass {
             Pass::Terrain => "terrain",
             Pass::Clouds => "clouds",
             Pass::Composite => "composite",
+            Pass::Tonemap => "tonemap",
         }
     }
 
@@ -96,6 +103,7 @@ impl Pass {
             Pass::Terrain => TERRAIN_WGSL,
             Pass::Clouds => CLOUDS_WGSL,
             Pass::Composite => COMPOSITE_WGSL,
+            Pass::Tonemap => TONEMAP_WGSL,
         }
     }
 
@@ -114,7 +122,7 @@ impl Pass {
     pub fn overrides(self, method: RenderMethod) -> &'static [&'static str] {
         let exact = method == RenderMethod::Exact;
         match self {
-            Pass::Bake | Pass::Composite => &["ENCODE_SRGB"],
+            Pass::Bake | Pass::Composite | Pass::Tonemap => &["ENCODE_SRGB"],
             Pass::Shadow if exact => &["ENCODE_SRGB", "GRID_CULLING"],
             Pass::Shadow => &["ENCODE_SRGB"],
             Pass::Sky => &["ENCODE_SRGB"],

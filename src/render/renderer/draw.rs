@@ -178,13 +178,15 @@ impl Renderer {
             })]
         };
         let clear = wgpu::LoadOp::Clear(wgpu::Color::WHITE);
+        let scene = self.scene.as_ref().expect("ensure made the scene target");
         let attachments = match pass {
             Pass::Shadow => color(
                 &self.shadow_view.as_ref().expect("shadow map exists").1,
                 clear,
             ),
-            Pass::Sky => color(target, clear),
-            _ => color(target, wgpu::LoadOp::Load),
+            Pass::Sky => color(&scene.view, clear),
+            Pass::Tonemap => color(target, clear),
+            _ => color(&scene.view, wgpu::LoadOp::Load),
         };
         let depth = (pass == Pass::Terrain).then(|| wgpu::RenderPassDepthStencilAttachment {
             view: self.depth_view.as_ref().expect("depth exists with terrain"),
@@ -219,6 +221,10 @@ impl Renderer {
             Pass::Composite => {
                 let (_, _, input) = self.cloud_target.as_ref().expect("compute target exists");
                 rp.set_bind_group(1, input, &[]);
+                rp.draw(0..3, 0..1);
+            }
+            Pass::Tonemap => {
+                rp.set_bind_group(1, &scene.bind, &[]);
                 rp.draw(0..3, 0..1);
             }
             _ => rp.draw(0..3, 0..1),

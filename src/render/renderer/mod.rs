@@ -2,7 +2,11 @@
 //! method's cloud field ([`crate::render::raymarch`]) and the pipelines,
 //! and draws a frame into any texture view (window surface or offscreen).
 //! Pass order: bake (baked method, only when the parcels moved) → shadow
-//! map → sky → terrain → clouds (fragment, or compute + composite).
+//! map → sky → terrain → clouds (fragment, or compute + composite) →
+//! tonemap. Sky, terrain and clouds write linear radiance into one HDR
+//! scene target ([`SCENE_FORMAT`]) and composite there in linear light;
+//! the tone-map pass alone writes the output (window surface or headless
+//! texture, the same path for both).
 //! This file holds the state, configuration and preparation; [`draw`] the
 //! encoding and timing of a frame; [`resources`] the textures and bind
 //! groups it creates.
@@ -33,9 +37,9 @@ mod draw;
 mod resources;
 
 pub(crate) use resources::texture_2d;
-use resources::{make_bind_common, noise_texture};
+use resources::{SceneTarget, check_size, make_bind_common, noise_texture};
 
-pub use crate::render::pipelines::{DEPTH_FORMAT, SHADOW_FORMAT};
+pub use crate::render::pipelines::{DEPTH_FORMAT, SCENE_FORMAT, SHADOW_FORMAT};
 pub(crate) use crate::render::timing::read_buffer;
 pub use crate::render::timing::{FrameTimings, TimingMode};
 
@@ -90,6 +94,8 @@ pub struct Renderer {
     cloud_target: Option<(wgpu::TextureView, wgpu::BindGroup, wgpu::BindGroup)>,
     /// `march = "auto"`: measurements and decision.
     auto_march: AutoMarch,
+    /// The HDR scene target (made by `ensure`, dropped on resize).
+    scene: Option<SceneTarget>,
 }
 
 impl Renderer {
@@ -236,6 +242,7 @@ impl Renderer {
             always_bake: false,
             cloud_target: None,
             auto_march: AutoMarch::default(),
+            scene: None,
         };
         r.ensure(ctx)?;
         Ok(r)
@@ -320,6 +327,7 @@ impl Renderer {
             self.depth_view = None;
             self.bind_clouds = None;
             self.cloud_target = None;
+            self.scene = None;
             self.ensure(ctx)?;
         }
         Ok(())
@@ -345,12 +353,13 @@ impl Renderer {
         let f = self.features;
         let srgb = b(!self.format.is_srgb());
         let exact = self.cfg.method == RenderMethod::Exact;
+        // Only the tone map depends on the output format; the scene passes
+        // are the same pipelines for every target.
         let mut c = match pass {
-            Pass::Bake | Pass::Sky | Pass::Composite => vec![("ENCODE_SRGB", srgb)],
-            Pass::Shadow => vec![("ENCODE_SRGB", srgb)],
-            Pass::Terrain => vec![("ENCODE_SRGB", srgb), ("HAS_SHADOWS", b(f.shadows))],
+            Pass::Tonemap => vec![("ENCODE_SRGB", srgb)],
+            Pass::Bake | Pass::Sky | Pass::Composite | Pass::Shadow => vec![],
+            Pass::Terrain => vec![("HAS_SHADOWS", b(f.shadows))],
             Pass::Clouds => vec![
-                ("ENCODE_SRGB", srgb),
                 ("USE_NORMALS", b(f.normals)),
                 ("HAS_TERRAIN", b(f.terrain)),
             ],
@@ -369,6 +378,7 @@ impl Renderer {
             Pass::Terrain => self.features.terrain,
             Pass::Clouds => self.features.clouds,
             Pass::Composite => self.features.clouds && self.compute_path(),
+            Pass::Tonemap => true,
         }
     }
 
@@ -388,13 +398,12 @@ impl Renderer {
 
     fn key(&self, pass: Pass) -> PipelineKey {
         let compute = pass == Pass::Clouds && self.compute_path();
-        PipelineKey::new(
-            pass,
-            self.cfg.method,
-            &self.constants(pass),
-            self.format,
-            compute,
-        )
+        let format = if pass == Pass::Tonemap {
+            self.format
+        } else {
+            SCENE_FORMAT
+        };
+        PipelineKey::new(pass, self.cfg.method, &self.constants(pass), format, compute)
     }
 
     /// Both cloud-pass pipelines when `auto` is still measuring (it
@@ -409,7 +418,7 @@ impl Renderer {
                 Pass::Composite,
                 self.cfg.method,
                 &self.constants(Pass::Composite),
-                self.format,
+                SCENE_FORMAT,
                 false,
             ));
         }
@@ -535,6 +544,9 @@ impl Renderer {
         if current.clouds && compute_possible && self.cloud_target.is_none() {
             self.cloud_target = Some(self.make_cloud_target(device));
         }
+        if self.scene.is_none() {
+            self.scene = Some(self.make_scene_target(device));
+        }
         Ok(())
     }
 
@@ -584,16 +596,4 @@ pub fn shadow_rect(g: &GridInfo, sun: glam::Vec3) -> [f32; 4] {
     let min = a.min(c).min(b).min(d);
     let max = a.max(c).max(b).max(d);
     [min.x, min.y, max.x, max.y]
-}
-
-fn check_size(ctx: &GpuContext, width: u32, height: u32) -> Result<()> {
-    let max = ctx.device.limits().max_texture_dimension_2d;
-    if width == 0 || height == 0 || width > max || height > max {
-        return Err(Error::invalid(
-            "frame size",
-            format!("{width}×{height}"),
-            format!("1 to {max} pixels per side on this device"),
-        ));
-    }
-    Ok(())
 }

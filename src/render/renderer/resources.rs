@@ -3,7 +3,7 @@
 
 use crate::render::gpu::GpuContext;
 use crate::render::noise;
-use crate::render::pipelines::{CLOUD_TARGET_FORMAT, PassLayouts};
+use crate::render::pipelines::{CLOUD_TARGET_FORMAT, PassLayouts, SCENE_FORMAT};
 use crate::render::raymarch::baked::BakedField;
 use crate::render::raymarch::exact::ExactField;
 
@@ -148,7 +148,64 @@ impl Renderer {
             })
         };
         let out = bind("clouds: compute output", &self.layouts.cloud_out);
-        let input = bind("composite: clouds", &self.layouts.cloud_in);
+        let input = bind("composite: clouds", &self.layouts.texture_in);
         (view, out, input)
     }
+
+    /// The last frame's linear HDR scene (Rgba16Float, the renderer's
+    /// size), before the tone map: what `--out x.exr` writes.
+    pub fn scene_texture(&self) -> &wgpu::Texture {
+        &self.scene.as_ref().expect("ensure made the scene target").texture
+    }
+
+    /// The HDR scene target of the renderer's size and the tone map's bind
+    /// group reading it. COPY_SRC: `--out x.exr` reads it back.
+    pub(super) fn make_scene_target(&self, device: &wgpu::Device) -> SceneTarget {
+        let texture = texture_2d(
+            device,
+            "HDR scene",
+            self.width,
+            self.height,
+            SCENE_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+        );
+        let view = texture.create_view(&Default::default());
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("tonemap: HDR scene"),
+            layout: &self.layouts.texture_in,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(&view),
+            }],
+        });
+        SceneTarget {
+            texture,
+            view,
+            bind,
+        }
+    }
+}
+
+/// The linear HDR target the scene passes draw into (see
+/// [`crate::render::pipelines::SCENE_FORMAT`]).
+pub(crate) struct SceneTarget {
+    pub texture: wgpu::Texture,
+    pub view: wgpu::TextureView,
+    /// Group 1 of the tone-map pass.
+    pub bind: wgpu::BindGroup,
+}
+
+/// A frame size the device can hold, or a clear error.
+pub(super) fn check_size(ctx: &GpuContext, width: u32, height: u32) -> crate::error::Result<()> {
+    let max = ctx.device.limits().max_texture_dimension_2d;
+    if width == 0 || height == 0 || width > max || height > max {
+        return Err(crate::error::Error::invalid(
+            "frame size",
+            format!("{width}×{height}"),
+            format!("1 to {max} pixels per side on this device"),
+        ));
+    }
+    Ok(())
 }
