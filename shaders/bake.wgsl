@@ -3,35 +3,35 @@
 // of the condensed parcels, then a coarse occupancy grid for empty-space
 // skipping. src/render/raymarch/baked.rs drives it; field_baked.wgsl reads
 // the result. The frame's grid is the coarse grid: BAKE_BLOCK³ voxels a
-// cell (a brick), voxel side grid_cell / BAKE_BLOCK, origin grid_min.
+// cell, voxel side grid_cell / BAKE_BLOCK, origin grid_min.
 //
-// 1. `gather`, one workgroup per brick that a parcel touches (or that held
-//    cloud at the last bake and must be emptied): the CPU bins the parcels
-//    into the bricks their boxes (one voxel larger all round) overlap, and
-//    the brick's 64 threads, one per voxel, fold v and the lowest
-//    condensation plane over that brick's list only (every thread reads
-//    the same parcel: broadcast). No atomics on the field, and bricks far
-//    from every parcel cost nothing. Cost ∝ bricks touched × their list
-//    length. Each voxel then folds v into the coarse cells whose trilinear
-//    footprint holds it (so a cell's value bounds every filtered fetch in
-//    it).
-// 2. `clear`, one thread per voxel of the region: v = −1 everywhere, run
-//    once when the field texture is (re)created; afterwards bricks no
-//    parcel touches keep −1 because `gather` empties those it leaves.
+// 1. `splat`, one dispatch per chunk of ≤ MAX_PARCELS parcels (a uniform
+//    buffer bound at the chunk's dynamic offset): workgroup w takes parcel w
+//    of the chunk (every thread reads the same parcel: the broadcast access
+//    uniform buffers are made for) and its threads walk the voxels of the
+//    parcel's bounding box, folding v into the voxel with an atomic max on
+//    the bit pattern of v + 1 (≥ 0, so bit order is value order; 0 = none),
+//    and the parcel's condensation plane with an atomic min (as a max of
+//    the complemented bit pattern of plane + PLANE_OFFSET_M; 0 = none).
+//    Cost ∝ parcels × voxels each, not pixels × parcels.
+// 2. `resolve`, one thread per voxel: writes (v, plane) into the field
+//    texture, folds v into the coarse cells whose trilinear footprint holds
+//    the voxel (so a cell's value bounds every filtered fetch in it), and
+//    zeroes the voxel's accumulators for the next bake.
 
 // Keep in sync with BAKE_BLOCK in src/render/raymarch/baked.rs.
 const BAKE_BLOCK: u32 = 4u;
-// Dispatch width of `gather` (workgroups per row); keep in sync with
-// GATHER_ROW in src/render/raymarch/baked.rs.
-const GATHER_ROW: u32 = 32768u;
+// Shifts condensation planes (m) to positive floats so their bits order
+// like their values (planes lie far above −PLANE_OFFSET_M).
+const PLANE_OFFSET_M: f32 = 100000.0;
 
-// The condensed parcels (all of them; the bricks' lists index it).
-@group(1) @binding(0) var<storage, read> bake_parcels: array<Parcel>;
-// The bricks' parcel lists, back to back.
-@group(1) @binding(1) var<storage, read> lists: array<u32>;
-// bricks[0].x: how many bricks follow; bricks[1 + i]: brick index, list
-// start, list length, unused.
-@group(1) @binding(2) var<storage, read> bricks: array<vec4<u32>>;
+struct Chunk {
+    p: array<Parcel, MAX_PARCELS>,
+}
+
+@group(1) @binding(0) var<uniform> chunk: Chunk;
+@group(1) @binding(1) var<storage, read_write> value_bits: array<atomic<u32>>;
+@group(1) @binding(2) var<storage, read_write> plane_bits: array<atomic<u32>>;
 @group(1) @binding(3) var<storage, read_write> occupancy_bits: array<atomic<u32>>;
 @group(1) @binding(4) var field_out: texture_storage_3d<rgba16float, write>;
 
@@ -43,18 +43,62 @@ fn voxel_dims() -> vec3<u32> {
     return frame.grid_dims.xyz * BAKE_BLOCK;
 }
 
+fn voxel_index(v: vec3<u32>, dims: vec3<u32>) -> u32 {
+    return v.x + dims.x * (v.y + dims.y * v.z);
+}
+
 fn voxel_centre(v: vec3<u32>) -> vec3<f32> {
     return frame.grid_min.xyz + (vec3<f32>(v) + 0.5) * voxel_m();
 }
 
-// Writes voxel `gid`'s (v, plane) and folds v into the occupancy.
-fn store_voxel(gid: vec3<u32>, value: f32, plane: f32) {
-    textureStore(field_out, gid, vec4<f32>(value, plane, 0.0, 0.0));
-    if value <= -1.0 {
+@compute @workgroup_size(64)
+fn splat(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+    let q = chunk.p[wg.x];
+    let shell = frame.cloud.y;
+    let h = voxel_m();
+    let dims = voxel_dims();
+    // v > −1 only inside the sphere's shell and above the plane's shell.
+    let reach = q.center_radius.w + shell;
+    var lo = q.center_radius.xyz - vec3<f32>(reach);
+    let hi = q.center_radius.xyz + vec3<f32>(reach);
+    lo.z = min(max(lo.z, q.fill_plane.y - PLANE_SHELL * shell), hi.z);
+    let first = vec3<i32>(floor((lo - frame.grid_min.xyz) / h - 0.5));
+    let last = vec3<i32>(ceil((hi - frame.grid_min.xyz) / h - 0.5));
+    let a = vec3<u32>(clamp(first, vec3<i32>(0), vec3<i32>(dims) - 1));
+    let b = vec3<u32>(clamp(last, vec3<i32>(0), vec3<i32>(dims) - 1));
+    let n = b - a + 1u;
+    let count = n.x * n.y * n.z;
+    let plane_key = ~bitcast<u32>(q.fill_plane.y + PLANE_OFFSET_M);
+    for (var j = li; j < count; j += 64u) {
+        let v = a + vec3<u32>(j % n.x, (j / n.x) % n.y, j / (n.x * n.y));
+        let value = parcel_value(q, voxel_centre(v), shell);
+        if value > -1.0 {
+            let idx = voxel_index(v, dims);
+            atomicMax(&value_bits[idx], bitcast<u32>(value + 1.0));
+            atomicMax(&plane_bits[idx], plane_key);
+        }
+    }
+}
+
+@compute @workgroup_size(4, 4, 4)
+fn resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let dims = voxel_dims();
+    if any(gid >= dims) {
         return;
     }
-    // Bit pattern of v + 1 (≥ 0, so bit order is value order; 0 = none).
-    let bits = bitcast<u32>(value + 1.0);
+    let idx = voxel_index(gid, dims);
+    let bits = atomicExchange(&value_bits[idx], 0u);
+    let plane_key = atomicExchange(&plane_bits[idx], 0u);
+    let value = select(-1.0, bitcast<f32>(bits) - 1.0, bits != 0u);
+    // No parcel reaches the voxel: its own height, as the exact field gives.
+    var plane = voxel_centre(gid).z;
+    if plane_key != 0u {
+        plane = bitcast<f32>(~plane_key) - PLANE_OFFSET_M;
+    }
+    textureStore(field_out, gid, vec4<f32>(value, plane, 0.0, 0.0));
+    if bits == 0u {
+        return;
+    }
     // A trilinear fetch within one voxel of this one's centre can see it.
     let cells = frame.grid_dims.xyz;
     let c0 = (max(gid, vec3<u32>(1u)) - 1u) / BAKE_BLOCK;
@@ -66,40 +110,4 @@ fn store_voxel(gid: vec3<u32>, value: f32, plane: f32) {
             }
         }
     }
-}
-
-@compute @workgroup_size(4, 4, 4)
-fn gather(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
-    let r = wg.x + GATHER_ROW * wg.y;
-    if r >= bricks[0].x {
-        return;
-    }
-    let b = bricks[1u + r];
-    let cells = frame.grid_dims.xyz;
-    let brick = vec3<u32>(b.x % cells.x, (b.x / cells.x) % cells.y, b.x / (cells.x * cells.y));
-    let gid = brick * BAKE_BLOCK + lid;
-    let p = voxel_centre(gid);
-    let shell = frame.cloud.y;
-    var value = -1.0;
-    // No parcel reaches the voxel: its own height, as the exact field gives.
-    var plane = p.z;
-    var reached = false;
-    for (var j = b.y; j < b.y + b.z; j++) {
-        let q = bake_parcels[lists[j]];
-        let v = parcel_value(q, p, shell);
-        if v > -1.0 {
-            value = max(value, v);
-            plane = select(q.fill_plane.y, min(plane, q.fill_plane.y), reached);
-            reached = true;
-        }
-    }
-    store_voxel(gid, value, plane);
-}
-
-@compute @workgroup_size(4, 4, 4)
-fn clear(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if any(gid >= voxel_dims()) {
-        return;
-    }
-    textureStore(field_out, gid, vec4<f32>(-1.0, voxel_centre(gid).z, 0.0, 0.0));
 }

@@ -1,22 +1,21 @@
 //! The `baked` method's GPU data and its compute bake (shaders/bake.wgsl):
-//! the condensed parcels go up in a read-only storage buffer, are binned on
-//! the CPU into the bricks ([`BAKE_BLOCK`]³ voxels) their boxes overlap, and
-//! one workgroup per touched brick gathers the macro field M = max f·(d+1)
-//! − 1 from that brick's list into a 3D texture over the region of the
-//! condensed parcels; a coarse occupancy grid (one cell per brick) lets the
-//! march skip empty space. Bricks no parcel touches are never visited (they
-//! hold v = −1 from the texture's clear, or from the bake that emptied
-//! them). The bake runs only when the parcels (or the shell) changed since
-//! the last one: a paused scene never re-bakes.
+//! the condensed parcels go up in uniform-buffer chunks of ≤ [`MAX_PARCELS`]
+//! (bound with dynamic offsets, one splat dispatch per chunk), are splatted
+//! into a 3D texture of the macro field M = max f·(d+1) − 1 over the region
+//! of the condensed parcels, and a coarse occupancy grid (one cell per
+//! [`BAKE_BLOCK`]³ voxels) lets the march skip empty space. The bake runs
+//! only when the parcels (or the shell) changed since the last one: a
+//! paused scene never re-bakes.
 //!
-//! Why a gather from CPU-binned lists instead of a splat of uniform-buffer
-//! chunks with atomic max (the first version): the splat had every parcel
-//! atomic-max its whole box and then a resolve pass visit every voxel of
-//! the region (up to [`MAX_BAKE_VOXELS`]) each bake, so the bake grew with
-//! the region even where it was empty; on llvmpipe it dominated the frame at
-//! 4096 parcels. A brick's list indexes parcels of any chunk, so the parcels
-//! are a storage buffer; the threads of a brick still all read the same
-//! parcel at a time (broadcast).
+//! Two restructurings were measured against this splat on llvmpipe
+//! (`cumulus bench --quick`, bake ms at 85 / 1024 / 4096 parcels, each run
+//! on a loaded 2-core machine, so ±50 %): this splat 34 / 54 / 642; a
+//! gather, one workgroup per 4³ brick folding a CPU-binned list of the
+//! parcels whose boxes overlap it, 100 / 1121 / 4520 (a box of a few voxels
+//! costs whole bricks in a gather, only its own voxels here); this splat
+//! with the resolve limited to the bricks a box touches (CPU-listed), 20 /
+//! 168 / 871 (no gain: in the bench's dense field nearly every brick is
+//! touched). The splat's own work, parcels × box voxels, is what grows.
 //!
 //! Voxel size. The macro field is piecewise linear: it rises from −1 to f
 //! over two shells across a sphere's surface and over two plane shells
@@ -27,8 +26,8 @@
 //! plane shell (the base stays sharp to about one plane shell), rounded to
 //! a power of 2^¼ so small radius changes do not reallocate the texture.
 //!
-//! Memory. The field costs [`BYTES_PER_VOXEL`] bytes a voxel (the RGBA16F
-//! texture; the lists are a few bytes per parcel and brick), at most [`MAX_BAKE_VOXELS`] voxels
+//! Memory. The field costs [`BYTES_PER_VOXEL`] bytes a voxel (RGBA16F
+//! texture + two u32 accumulators), at most [`MAX_BAKE_VOXELS`] voxels
 //! (128 MiB of field): a larger region (a 40 km × 40 km × 12 km landscape
 //! needs ~2.4·10⁷ voxels at 84 m) gets coarser voxels, counted in
 //! [`BakeInfo::coarsened`] and shown by the front ends.
@@ -38,23 +37,21 @@ use glam::Vec3;
 use crate::error::{Error, Result};
 use crate::physics::CloudParcel;
 use crate::render::gpu::GpuContext;
-use crate::render::pack::{self, GpuParcel, GridInfo};
+use crate::render::pack::{self, GpuParcel, GridInfo, MAX_PARCELS, ParcelsUniform};
 
 /// Voxels per coarse occupancy cell along each axis. Keep in sync with
 /// BAKE_BLOCK in shaders/bake.wgsl.
 pub const BAKE_BLOCK: u32 = 4;
 /// Most voxels of the baked field.
 pub const MAX_BAKE_VOXELS: u64 = 1 << 23;
-/// Field texture (RGBA16F).
-pub const BYTES_PER_VOXEL: u64 = 8;
-/// Workgroups per row of the gather dispatch (under the 65 535 limit).
-/// Keep in sync with GATHER_ROW in shaders/bake.wgsl.
-const GATHER_ROW: u32 = 32768;
+/// Field texture (RGBA16F, 8 B) + value and plane accumulators (4 B each).
+pub const BYTES_PER_VOXEL: u64 = 16;
 /// Format of the field texture: R = v, G = condensation plane (m).
 pub const FIELD_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Plane shell over sphere shell. Keep in sync with PLANE_SHELL in
 /// shaders/parcel.wgsl.
 pub const PLANE_SHELL: f32 = 0.3;
+const CHUNK_BYTES: u64 = std::mem::size_of::<ParcelsUniform>() as u64;
 
 /// What the last bake covered.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -91,86 +88,6 @@ impl Region {
 
     fn voxels(&self) -> u64 {
         self.voxel_dims().iter().map(|&d| d as u64).product()
-    }
-}
-
-/// The bricks a bake visits and their parcel lists.
-#[derive(Debug, Clone, Default, PartialEq)]
-struct Bins {
-    /// Header (brick count) then per brick: index, list start, list
-    /// length, 0. The layout of `bricks` in shaders/bake.wgsl.
-    bricks: Vec<[u32; 4]>,
-    /// Parcel indices, brick after brick.
-    lists: Vec<u32>,
-    /// Bricks with a non-empty list (the next bake empties those it drops).
-    active: Vec<u32>,
-}
-
-/// Bins `live` into the bricks of `r` that each parcel's voxel box (the
-/// voxels whose centres its sphere or plane shell can reach, as the field
-/// is evaluated there, plus one voxel all round so every voxel a filtered
-/// fetch near cloud reads is rewritten) overlaps; `previous` bricks that
-/// no parcel touches now get an empty list, so the gather writes v = −1
-/// there. Counting sort: O(parcels × bricks each + bricks of the region).
-fn bin(live: &[GpuParcel], r: &Region, shell_m: f32, previous: &[u32]) -> Bins {
-    let cells = r.cells;
-    let dims = r.voxel_dims();
-    let n_bricks = cells.iter().map(|&c| c as usize).product::<usize>();
-    let brick_range = |p: &GpuParcel| {
-        let c = Vec3::from_slice(&p.center_radius[..3]);
-        let reach = p.center_radius[3] + shell_m;
-        let mut lo = c - Vec3::splat(reach);
-        let hi = c + Vec3::splat(reach);
-        lo.z = lo.z.max(p.fill_plane[1] - PLANE_SHELL * shell_m).min(hi.z);
-        let a = ((lo - r.min) / r.voxel_m - Vec3::splat(0.5)).floor() - Vec3::ONE;
-        let b = ((hi - r.min) / r.voxel_m - Vec3::splat(0.5)).ceil() + Vec3::ONE;
-        let clamp = |v: f32, a: usize| (v.max(0.0) as u32).min(dims[a] - 1) / BAKE_BLOCK;
-        (
-            [clamp(a.x, 0), clamp(a.y, 1), clamp(a.z, 2)],
-            [clamp(b.x, 0), clamp(b.y, 1), clamp(b.z, 2)],
-        )
-    };
-    // Calls `f(parcel, brick)` for every brick each parcel's box overlaps.
-    let visit = |f: &mut dyn FnMut(u32, usize)| {
-        for (i, p) in live.iter().enumerate() {
-            let (a, b) = brick_range(p);
-            for z in a[2]..=b[2] {
-                for y in a[1]..=b[1] {
-                    for x in a[0]..=b[0] {
-                        f(i as u32, (x + cells[0] * (y + cells[1] * z)) as usize);
-                    }
-                }
-            }
-        }
-    };
-    let mut count = vec![0u32; n_bricks];
-    visit(&mut |_, k| count[k] += 1);
-    let mut start = vec![0u32; n_bricks];
-    let mut total = 0u32;
-    for k in 0..n_bricks {
-        start[k] = total;
-        total += count[k];
-    }
-    let mut lists = vec![0u32; total as usize];
-    let mut fill = start.clone();
-    visit(&mut |i, k| {
-        lists[fill[k] as usize] = i;
-        fill[k] += 1;
-    });
-    let active: Vec<u32> = (0..n_bricks as u32).filter(|&k| count[k as usize] > 0).collect();
-    let mut bricks = vec![[0u32; 4]];
-    bricks.extend(active.iter().map(|&k| [k, start[k as usize], count[k as usize], 0]));
-    bricks.extend(
-        previous
-            .iter()
-            .filter(|&&k| (k as usize) < n_bricks && count[k as usize] == 0)
-            .map(|&k| [k, 0, 0, 0]),
-    );
-    bricks[0][0] = (bricks.len() - 1) as u32;
-    Bins {
-        bricks,
-        lists,
-        active,
     }
 }
 
@@ -219,64 +136,23 @@ fn region(live: &[GpuParcel], shell_m: f32) -> Region {
 
 struct Store {
     dims: [u32; 3],
+    /// The accumulators, kept alive for the bind group.
+    _value: wgpu::Buffer,
+    _plane: wgpu::Buffer,
     occupancy: wgpu::Buffer,
     view: wgpu::TextureView,
-    /// The texture is new: the next bake clears every voxel first.
-    fresh: bool,
-}
-
-/// A storage buffer that grows (to the next power of two) when a bake needs
-/// more than it holds.
-struct Growing {
-    label: &'static str,
-    buffer: wgpu::Buffer,
-}
-
-impl Growing {
-    fn new(device: &wgpu::Device, label: &'static str) -> Self {
-        Self {
-            label,
-            buffer: Self::make(device, label, 256),
-        }
-    }
-
-    fn make(device: &wgpu::Device, label: &'static str, size: u64) -> wgpu::Buffer {
-        device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some(label),
-            size,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        })
-    }
-
-    /// Writes `data`; returns whether the buffer was replaced.
-    fn write(&mut self, ctx: &GpuContext, data: &[u8]) -> bool {
-        let need = (data.len() as u64).max(16);
-        let grown = need > self.buffer.size();
-        if grown {
-            self.buffer = Self::make(&ctx.device, self.label, need.next_power_of_two());
-        }
-        ctx.queue.write_buffer(&self.buffer, 0, data);
-        grown
-    }
+    bind: wgpu::BindGroup,
 }
 
 /// The baked field; see the module docs.
 pub struct BakedField {
     layout: wgpu::BindGroupLayout,
     bind_frame: wgpu::BindGroup,
-    gather: wgpu::ComputePipeline,
-    clear: wgpu::ComputePipeline,
-    parcels: Growing,
-    lists: Growing,
-    bricks: Growing,
-    /// Bricks the last bake filled (the next one empties those it drops).
-    active: Vec<u32>,
-    /// Bricks the next bake dispatches.
-    brick_count: u32,
+    splat: wgpu::ComputePipeline,
+    resolve: wgpu::ComputePipeline,
+    chunks: wgpu::Buffer,
+    chunk_capacity: u64,
     store: Option<Store>,
-    /// Group 1 of the bake over the current buffers and store.
-    bind: Option<wgpu::BindGroup>,
     /// Placeholder field (1 voxel, v = −1) and occupancy before any bake.
     empty_view: wgpu::TextureView,
     empty_occupancy: wgpu::Buffer,
@@ -291,12 +167,12 @@ pub struct BakedField {
     pub generation: u64,
 }
 
-fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,
         ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
+            ty: wgpu::BufferBindingType::Storage { read_only: false },
             has_dynamic_offset: false,
             min_binding_size: None,
         },
@@ -341,12 +217,21 @@ impl BakedField {
             }],
         });
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("bake: parcels, lists and field"),
+            label: Some("bake: chunk and field"),
             entries: &[
-                storage_entry(0, true),
-                storage_entry(1, true),
-                storage_entry(2, true),
-                storage_entry(3, false),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: true,
+                        min_binding_size: wgpu::BufferSize::new(CHUNK_BYTES),
+                    },
+                    count: None,
+                },
+                storage_entry(1),
+                storage_entry(2),
+                storage_entry(3),
                 wgpu::BindGroupLayoutEntry {
                     binding: 4,
                     visibility: wgpu::ShaderStages::COMPUTE,
@@ -391,8 +276,8 @@ impl BakedField {
                 cache: None,
             })
         };
-        let gather = compute("gather");
-        let clear = compute("clear");
+        let splat = compute("splat");
+        let resolve = compute("resolve");
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(Error::Gpu(format!("creating the bake pipelines: {e}")));
         }
@@ -417,15 +302,11 @@ impl BakedField {
         Ok(Self {
             layout,
             bind_frame,
-            gather,
-            clear,
-            parcels: Growing::new(device, "bake: parcels"),
-            lists: Growing::new(device, "bake: brick lists"),
-            bricks: Growing::new(device, "bake: bricks"),
-            active: Vec::new(),
-            brick_count: 0,
+            splat,
+            resolve,
+            chunks: chunk_buffer(device, 1),
+            chunk_capacity: 1,
             store: None,
-            bind: None,
             empty_view: empty.create_view(&Default::default()),
             empty_occupancy: occupancy_buffer(device, 1),
             last: None,
@@ -515,25 +396,23 @@ impl BakedField {
                 dims[0], dims[1], dims[2], r.voxel_m
             )));
         }
+        let n_chunks = live.len().div_ceil(MAX_PARCELS) as u64;
+        if n_chunks > self.chunk_capacity {
+            self.chunks = chunk_buffer(device, n_chunks);
+            self.chunk_capacity = n_chunks;
+            self.store = None;
+        }
+        for (i, chunk) in live.chunks(MAX_PARCELS).enumerate() {
+            ctx.queue.write_buffer(
+                &self.chunks,
+                i as u64 * CHUNK_BYTES,
+                bytemuck::cast_slice(chunk),
+            );
+        }
         if self.store.as_ref().map(|s| s.dims) != Some(dims) {
             self.store = Some(self.make_store(device, dims, r.cells));
-            // A fresh texture is cleared whole: nothing was filled before.
-            self.active.clear();
             self.generation += 1;
-            self.bind = None;
         }
-        let bins = bin(live, &r, shell_m, &self.active);
-        let mut grown = self.parcels.write(ctx, bytemuck::cast_slice(live));
-        grown |= self.lists.write(ctx, bytemuck::cast_slice(&bins.lists));
-        grown |= self.bricks.write(ctx, bytemuck::cast_slice(&bins.bricks));
-        if grown {
-            self.bind = None;
-        }
-        if self.bind.is_none() {
-            self.bind = Some(self.make_bind(device));
-        }
-        self.brick_count = bins.bricks[0][0];
-        self.active = bins.active;
         self.region = Some(r);
         self.dirty = true;
         self.info = BakeInfo {
@@ -548,74 +427,114 @@ impl BakedField {
     }
 
     fn make_store(&self, device: &wgpu::Device, dims: [u32; 3], cells: [u32; 3]) -> Store {
+        let voxels = dims.iter().map(|&d| d as u64).product::<u64>();
+        let accumulator = |label| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: 4 * voxels,
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            })
+        };
+        let value = accumulator("bake: value bits");
+        let plane = accumulator("bake: plane bits");
+        let occupancy = occupancy_buffer(device, cells.iter().map(|&c| c as u64).product());
+        let view = field_texture(device, dims).create_view(&Default::default());
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("bake: chunk and field"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &self.chunks,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(CHUNK_BYTES),
+                    }),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: value.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: plane.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: occupancy.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&view),
+                },
+            ],
+        });
         Store {
             dims,
-            occupancy: occupancy_buffer(device, cells.iter().map(|&c| c as u64).product()),
-            view: field_texture(device, dims).create_view(&Default::default()),
-            fresh: true,
+            _value: value,
+            _plane: plane,
+            occupancy,
+            view,
+            bind,
         }
     }
 
-    fn make_bind(&self, device: &wgpu::Device) -> wgpu::BindGroup {
-        let store = self.store.as_ref().expect("the store is made before binding");
-        let buffers = [&self.parcels.buffer, &self.lists.buffer, &self.bricks.buffer, &store.occupancy];
-        let mut entries: Vec<wgpu::BindGroupEntry> = buffers
-            .iter()
-            .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: b.as_entire_binding(),
-            })
-            .collect();
-        entries.push(wgpu::BindGroupEntry {
-            binding: 4,
-            resource: wgpu::BindingResource::TextureView(&store.view),
-        });
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("bake: parcels, lists and field"),
-            layout: &self.layout,
-            entries: &entries,
-        })
-    }
-
-    /// Encodes the bake (a clear of a fresh texture, then the gather over
-    /// the touched bricks) when the parcels changed; `timestamps` = (query
-    /// set, first index) times it as one pass.
+    /// Encodes the bake (splat per chunk, then resolve) when the parcels
+    /// changed; `timestamps` = (query set, first index) times it as one pass.
     pub fn encode(
         &mut self,
         enc: &mut wgpu::CommandEncoder,
         timestamps: Option<(&wgpu::QuerySet, u32)>,
     ) {
-        let (Some(store), Some(bind)) = (self.store.as_mut().filter(|_| self.dirty), &self.bind)
-        else {
+        let Some(store) = self.store.as_ref().filter(|_| self.dirty) else {
             return;
         };
         enc.clear_buffer(&store.occupancy, 0, None);
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("bake: splat"),
+                timestamp_writes: timestamps.map(|(set, i)| wgpu::ComputePassTimestampWrites {
+                    query_set: set,
+                    beginning_of_pass_write_index: Some(i),
+                    end_of_pass_write_index: None,
+                }),
+            });
+            pass.set_pipeline(&self.splat);
+            pass.set_bind_group(0, &self.bind_frame, &[]);
+            let n = self.parcel_count as usize;
+            for (i, start) in (0..n).step_by(MAX_PARCELS).enumerate() {
+                let count = (n - start).min(MAX_PARCELS) as u32;
+                pass.set_bind_group(1, &store.bind, &[(i as u64 * CHUNK_BYTES) as u32]);
+                pass.dispatch_workgroups(count, 1, 1);
+            }
+        }
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("bake"),
+            label: Some("bake: resolve"),
             timestamp_writes: timestamps.map(|(set, i)| wgpu::ComputePassTimestampWrites {
                 query_set: set,
-                beginning_of_pass_write_index: Some(i),
+                beginning_of_pass_write_index: None,
                 end_of_pass_write_index: Some(i + 1),
             }),
         });
+        pass.set_pipeline(&self.resolve);
         pass.set_bind_group(0, &self.bind_frame, &[]);
-        pass.set_bind_group(1, bind, &[]);
-        if store.fresh {
-            pass.set_pipeline(&self.clear);
-            let d = store.dims;
-            pass.dispatch_workgroups(d[0] / BAKE_BLOCK, d[1] / BAKE_BLOCK, d[2] / BAKE_BLOCK);
-            store.fresh = false;
-        }
-        pass.set_pipeline(&self.gather);
-        let n = self.brick_count;
-        if n > 0 {
-            pass.dispatch_workgroups(n.min(GATHER_ROW), n.div_ceil(GATHER_ROW), 1);
-        }
+        pass.set_bind_group(1, &store.bind, &[0]);
+        let d = store.dims;
+        pass.dispatch_workgroups(d[0] / 4, d[1] / 4, d[2] / 4);
         drop(pass);
         self.dirty = false;
         self.info.bakes += 1;
     }
+}
+
+fn chunk_buffer(device: &wgpu::Device, chunks: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("bake: parcel chunks"),
+        size: chunks * CHUNK_BYTES,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
 }
 
 fn occupancy_buffer(device: &wgpu::Device, cells: u64) -> wgpu::Buffer {
@@ -647,53 +566,6 @@ mod tests {
         let r = region(&[parcel(0.0, 2000.0)], 280.0);
         assert!((r.voxel_m - 84.0).abs() / 84.0 < 0.1, "{}", r.voxel_m);
         assert_eq!(r.coarsened, 0);
-    }
-
-    #[test]
-    fn bins_list_each_parcel_where_it_reaches_and_empty_dropped_bricks() {
-        let shell = 280.0;
-        let live = [parcel(0.0, 100.0), parcel(3000.0, 100.0)];
-        let r = region(&live, shell);
-        let b = bin(&live, &r, shell, &[]);
-        let n = b.bricks[0][0] as usize;
-        assert_eq!(n, b.active.len());
-        assert_eq!(b.bricks.len(), n + 1);
-        // Every voxel whose centre a parcel reaches (v > −1) lies in a brick
-        // whose list holds that parcel.
-        let dims = r.voxel_dims();
-        let listed = |k: u32, i: u32| {
-            b.bricks[1..].iter().any(|e| {
-                e[0] == k && b.lists[e[1] as usize..(e[1] + e[2]) as usize].contains(&i)
-            })
-        };
-        let mut reached = 0;
-        for z in 0..dims[2] {
-            for y in 0..dims[1] {
-                for x in 0..dims[0] {
-                    let c = r.min + (Vec3::new(x as f32, y as f32, z as f32) + 0.5) * r.voxel_m;
-                    for (i, p) in live.iter().enumerate() {
-                        let d = (p.center_radius[3] - c.distance(Vec3::from_slice(&p.center_radius[..3]))) / shell;
-                        let above = (c.z - p.fill_plane[1]) / (PLANE_SHELL * shell);
-                        if d.min(above) > -1.0 {
-                            reached += 1;
-                            let k = x / BAKE_BLOCK + r.cells[0] * (y / BAKE_BLOCK + r.cells[1] * (z / BAKE_BLOCK));
-                            assert!(listed(k, i as u32), "voxel {x} {y} {z}, parcel {i}");
-                        }
-                    }
-                }
-            }
-        }
-        assert!(reached > 100);
-        // The two parcels are 3 km apart: most bricks between them are not
-        // visited.
-        let bricks = r.cells.iter().product::<u32>() as usize;
-        assert!(n < bricks / 2, "{n} of {bricks}");
-        // Next bake with the second parcel gone: its bricks come back with
-        // empty lists (so the gather writes v = −1 there), the first's not.
-        let again = bin(&live[..1], &r, shell, &b.active);
-        let emptied = again.bricks[1..].iter().filter(|e| e[2] == 0).count();
-        assert_eq!(again.active.len() + emptied, n);
-        assert!(emptied > 0 && again.active.len() > 0);
     }
 
     #[test]
