@@ -108,6 +108,15 @@ fn no_display(why: &str) {
 /// Runs `cumulus watch --screenshot` with `args` on `display` and returns
 /// the image; None when there is no GPU adapter and CI is not set.
 fn capture(display: &str, args: &[&str], keep_as: &str) -> Option<image::RgbaImage> {
+    capture_with_log(display, args, keep_as).map(|(img, _)| img)
+}
+
+/// [`capture`], with what the run wrote to stderr.
+fn capture_with_log(
+    display: &str,
+    args: &[&str],
+    keep_as: &str,
+) -> Option<(image::RgbaImage, String)> {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("window.png");
     let output = Command::new(env!("CARGO_BIN_EXE_cumulus"))
@@ -128,7 +137,7 @@ fn capture(display: &str, args: &[&str], keep_as: &str) -> Option<image::RgbaIma
     if let Some(k) = std::env::var_os("CUMULUS_KEEP_SCREENSHOTS") {
         std::fs::copy(&out, Path::new(&k).join(keep_as)).unwrap();
     }
-    Some(image::open(&out).expect("a PNG").to_rgba8())
+    Some((image::open(&out).expect("a PNG").to_rgba8(), stderr.into_owned()))
 }
 
 /// Left edge of the 3D view in the capture: the panel is 380 points wide
@@ -232,4 +241,37 @@ fn screenshot_shows_panel_and_clouds() {
         clear_cloud * 5000 < area,
         "{clear_cloud} cloud pixels in a clear sky"
     );
+}
+
+/// Device loss: `--lose-device-after 2` destroys the device after frame 2
+/// (`wgpu::Device::destroy`, which reports it lost with reason Destroyed,
+/// as a driver reset would with its own reason). The window must say so,
+/// make a new device, and go on drawing clouds: the capture at frame 4 comes
+/// from the new device.
+#[test]
+fn a_lost_device_is_reported_and_replaced() {
+    let Some((display, _xvfb)) = display() else {
+        no_display("DISPLAY is unset and Xvfb is not installed");
+        return;
+    };
+    let Some((img, log)) = capture_with_log(
+        &display,
+        &[
+            "--frames", "4", "--warmup", "600", "--width", "900", "--height", "560",
+            "--lose-device-after", "2",
+        ],
+        "window-device-lost.png",
+    ) else {
+        return;
+    };
+    assert!(
+        log.contains("GPU device lost (Destroyed") && log.contains("recreated it"),
+        "no recovery message:\n{log}"
+    );
+    // Two devices were opened: the first and its replacement.
+    assert_eq!(log.matches("GPU: ").count(), 2, "{log}");
+    let area = (img.width() - VIEW_X0) * img.height();
+    let cloud = cloud_pixels(&img);
+    // As in screenshot_shows_panel_and_clouds: at least 0.1% of the view.
+    assert!(cloud * 1000 > area, "{cloud} cloud pixels of {area} after the recovery");
 }

@@ -39,6 +39,10 @@ pub struct WatchOptions {
     pub method: Option<crate::render::RenderMethod>,
     /// `--set TABLE.KEY=VALUE` scene overrides (see `crate::scene_set`).
     pub set: Vec<String>,
+    /// Destroy the GPU device (`wgpu::Device::destroy`) after this frame,
+    /// so the device-loss recovery runs (a test hook: real losses come from
+    /// drivers, which a CPU adapter never resets).
+    pub lose_device_after: Option<u32>,
 }
 
 impl Default for WatchOptions {
@@ -51,6 +55,7 @@ impl Default for WatchOptions {
             size: (1280, 760),
             method: None,
             set: Vec::new(),
+            lose_device_after: None,
         }
     }
 }
@@ -249,6 +254,7 @@ impl App {
         self.egui_ctx = panel::egui_context();
         self.gfx = Some(self.make_gfx(window)?);
         self.model.status = format!("GPU device lost ({reason}); recreated it");
+        eprintln!("{}", self.model.status);
         Ok(())
     }
 
@@ -434,6 +440,12 @@ impl App {
             g.egui_renderer.free_texture(id);
         }
         self.model.stats.frame_ms = real_dt.as_secs_f64() * 1000.0;
+        if self.opts.lose_device_after == Some(self.frame) {
+            // Destroying the device reports it lost (reason Destroyed) once
+            // its queue is idle: wait for that, so the next frame recovers.
+            g.ctx.device.destroy();
+            g.ctx.wait_idle();
+        }
         result
     }
 }

@@ -37,6 +37,10 @@ pub struct Args {
     pub method: Option<cumulus::render::RenderMethod>,
     #[command(flatten)]
     pub overrides: super::SetArgs,
+    /// Destroy the GPU device after frame N, to exercise the recovery from
+    /// a lost device (a message in the panel and a new device).
+    #[arg(long, value_name = "N", hide = true)]
+    pub lose_device_after: Option<u32>,
 }
 
 /// Parses `--method` (the error names the allowed values).
@@ -56,6 +60,7 @@ impl Default for Args {
             height: d.size.1,
             method: d.method,
             overrides: super::SetArgs { set: d.set },
+            lose_device_after: d.lose_device_after,
         }
     }
 }
@@ -78,6 +83,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         size: (args.width, args.height),
         method: args.method,
         set: args.overrides.set,
+        lose_device_after: args.lose_device_after,
     };
     cumulus::app::run(opts).context("cumulus watch")
 }

@@ -20,6 +20,7 @@ use rayon::prelude::*;
 use crate::error::{Error, Result};
 use crate::render::RenderConfig;
 use crate::render::field::{CloudField, PLANE_SHELL};
+use crate::render::noise;
 
 pub use vol::{VolGrid, read_vol, write_vol};
 
@@ -112,14 +113,19 @@ impl GridSpec {
 ///
 /// The renderer samples ρ every `step_m` along a view ray, so detail finer
 /// than step/2 is not in its picture either (Nyquist of its own sampling);
-/// the finest noise octave's texel (tile / texels / 2.03^(octaves−1)) is the
-/// lower bound when it is coarser than that. Capped so the shapes the
+/// the finest noise fetch's texel (tile / texels, divided by the second
+/// fetch's scale when octaves 5–6 are on) is the lower bound when it is
+/// coarser than that. Capped so the shapes the
 /// renderer does resolve stay resolved: half the condensation plane's shell
 /// (the flat base's soft edge, PLANE_SHELL·shell) and a quarter of the
 /// smallest rendered parcel radius. units: m
 pub fn default_voxel_m(cfg: &RenderConfig, field: &CloudField) -> f32 {
-    let finest_texel_m =
-        cfg.noise_scale_m / cfg.noise_texels as f32 / 2.03f32.powi(cfg.noise_octaves as i32 - 1);
+    let second_fetch = if cfg.noise_octaves > noise::CHANNELS {
+        noise::SECOND_FETCH_SCALE
+    } else {
+        1.0
+    };
+    let finest_texel_m = cfg.noise_scale_m / cfg.noise_texels as f32 / second_fetch;
     let sampling = (0.5 * cfg.step_m).max(0.5 * finest_texel_m);
     let base_edge = 0.5 * PLANE_SHELL * cfg.shell_m;
     let smallest_radius = field

@@ -135,7 +135,8 @@ pub struct RenderConfig {
     pub sun_azimuth_deg: f32,
     /// Sun elevation above the horizon. units: degrees
     pub sun_elevation_deg: f32,
-    /// Side of the 3D noise texture in texels (power of two).
+    /// Side of the 3D noise texture in texels (power of two, 64 to 256):
+    /// octaves 1–4 in its RGBA channels, with a full mip chain.
     pub noise_texels: u32,
     /// Side of the 2D cloud-shadow texture in texels.
     pub shadow_texels: u32,
@@ -266,11 +267,14 @@ impl RenderConfig {
             r.sun_elevation_deg >= 2.0 && r.sun_elevation_deg <= 90.0,
             "2 to 90 degrees (the shadow pass needs the sun above the horizon)",
         )?;
-        if !r.noise_texels.is_power_of_two() || !(8..=256).contains(&r.noise_texels) {
+        if !r.noise_texels.is_power_of_two()
+            || !(crate::render::noise::MIN_TEXELS..=256).contains(&r.noise_texels)
+        {
             return Err(Error::invalid(
                 "render.noise_texels",
                 r.noise_texels,
-                "a power of two from 8 to 256",
+                "a power of two from 64 to 256 (the finest of the four octaves in the \
+                 texture has 32 lattice cells per tile, two texels each)",
             ));
         }
         if !(16..=4096).contains(&r.shadow_texels) {

@@ -54,7 +54,8 @@ pub struct FrameUniform {
     pub march: [f32; 4],
     /// noise amplitude k, shell thickness (m), extinction (m^-1), early-exit transmittance.
     pub cloud: [f32; 4],
-    /// 1 / noise scale (m^-1), octaves, HG g, unused.
+    /// 1 / noise scale (m^-1), octaves, HG g, noise texels of view-cone width
+    /// per metre of eye distance (the mip level of `noise3`).
     pub noise: [f32; 4],
     /// xyz: grid origin (m); w: unused.
     pub grid_min: [f32; 4],

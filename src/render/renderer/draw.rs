@@ -18,6 +18,10 @@ impl Renderer {
         let clip_from_world = input.camera.clip_from_world(aspect);
         let c = &self.cfg;
         let g = &self.grid_info;
+        // Width of one pixel's view cone per metre of distance (rad), in
+        // noise texels: the mip level of the noise (noise3 in common.wgsl).
+        let pixel_rad = 2.0 * (0.5 * input.camera.vfov_rad).tan() / self.height as f32;
+        let noise_texels_per_m = pixel_rad * c.noise_texels as f32 / c.noise_scale_m;
         FrameUniform {
             clip_from_world: clip_from_world.to_cols_array_2d(),
             world_from_clip: clip_from_world.inverse().to_cols_array_2d(),
@@ -40,7 +44,7 @@ impl Renderer {
                 1.0 / c.noise_scale_m,
                 c.noise_octaves as f32,
                 c.phase_g,
-                0.0,
+                noise_texels_per_m,
             ],
             grid_min: g.min.extend(0.0).to_array(),
             grid_cell: g.cell.extend(0.0).to_array(),

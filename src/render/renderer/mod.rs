@@ -24,6 +24,7 @@ use crate::error::{Error, Result};
 use crate::render::auto_march::AutoMarch;
 use crate::render::gpu::GpuContext;
 use crate::render::method::{MarchPath, RenderMethod};
+use crate::render::noise;
 use crate::render::pack::{FrameUniform, GridInfo, GridUniform, ParcelsUniform};
 use crate::render::pipelines::{PassLayouts, PipelineCache, PipelineKey};
 use crate::render::raymarch::baked::{BakeInfo, BakedField};
@@ -37,7 +38,7 @@ mod draw;
 mod resources;
 
 pub(crate) use resources::texture_2d;
-use resources::{SceneTarget, check_size, make_bind_common, noise_texture};
+use resources::{SceneTarget, check_size, make_bind_common};
 
 pub use crate::render::pipelines::{DEPTH_FORMAT, SCENE_FORMAT, SHADOW_FORMAT};
 pub(crate) use crate::render::timing::read_buffer;
@@ -144,20 +145,14 @@ impl Renderer {
         let mut bake_pipelines = 0;
         let baked = BakedField::new(ctx, &frame_buf, &mut bake_pipelines)?;
 
-        let sampler = |label: &str, mode: wgpu::AddressMode| {
-            device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some(label),
-                address_mode_u: mode,
-                address_mode_v: mode,
-                address_mode_w: mode,
-                mag_filter: wgpu::FilterMode::Linear,
-                min_filter: wgpu::FilterMode::Linear,
-                ..Default::default()
-            })
-        };
-        let repeat_sampler = sampler("repeat", wgpu::AddressMode::Repeat);
-        let clamp_sampler = sampler("clamp", wgpu::AddressMode::ClampToEdge);
-        let noise_view = noise_texture(ctx, cfg.noise_texels);
+        let repeat_sampler = noise::repeat_sampler(device);
+        let clamp_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("clamp"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let noise_view = noise::NoiseVolume::new(cfg.noise_texels).texture(&ctx.device, &ctx.queue);
 
         let layouts = PassLayouts::new(device);
 
@@ -338,7 +333,7 @@ impl Renderer {
     pub fn set_config(&mut self, ctx: &GpuContext, cfg: &RenderConfig) -> Result<()> {
         cfg.validate()?;
         if cfg.noise_texels != self.noise_texels {
-            self.noise_view = noise_texture(ctx, cfg.noise_texels);
+            self.noise_view = noise::NoiseVolume::new(cfg.noise_texels).texture(&ctx.device, &ctx.queue);
             self.noise_texels = cfg.noise_texels;
             self.rebind_common(ctx);
         }

@@ -1,8 +1,6 @@
-//! GPU resources the renderer creates: plain textures, the noise volume,
-//! the shared bind group (group 0) and the compute march's target.
+//! GPU resources the renderer creates: plain textures, the shared bind group (group 0) and the compute march's target.
 
 use crate::render::gpu::GpuContext;
-use crate::render::noise;
 use crate::render::pipelines::{CLOUD_TARGET_FORMAT, PassLayouts, SCENE_FORMAT};
 use crate::render::raymarch::baked::BakedField;
 use crate::render::raymarch::exact::ExactField;
@@ -33,43 +31,6 @@ pub(crate) fn texture_2d(
         usage,
         view_formats: &[],
     })
-}
-
-pub(super) fn noise_texture(ctx: &GpuContext, n: u32) -> wgpu::TextureView {
-    let tex = ctx.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("noise 3d"),
-        size: wgpu::Extent3d {
-            width: n,
-            height: n,
-            depth_or_array_layers: n,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D3,
-        format: wgpu::TextureFormat::R8Unorm,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
-    ctx.queue.write_texture(
-        wgpu::TexelCopyTextureInfo {
-            texture: &tex,
-            mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
-            aspect: wgpu::TextureAspect::All,
-        },
-        &noise::tiling_fbm(n, 1),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(n),
-            rows_per_image: Some(n),
-        },
-        wgpu::Extent3d {
-            width: n,
-            height: n,
-            depth_or_array_layers: n,
-        },
-    );
-    tex.create_view(&wgpu::TextureViewDescriptor::default())
 }
 
 #[allow(clippy::too_many_arguments)]
