@@ -94,7 +94,7 @@ struct Scratch {
 /// The wind at height `z_m` that drag and entrainment see: the one place
 /// the physics reads the wind. units: m → m s⁻¹ (z component 0)
 pub(super) fn wind_at(cfg: &WorldConfig, env: &Environment, z_m: f64) -> DVec3 {
-    cfg.wind.over(env, z_m)
+    cfg.wind_at(env, z_m)
 }
 
 /// The parcels, their environment and everything needed to step them.
