@@ -284,7 +284,7 @@ impl ParcelWorld {
             atm_force_n: DVec3::ZERO,
             entrain_rate_kg_s: 0.0,
             volume_ref: (p_pa, 0.0),
-            env_at_centre: (p_pa, 0.0),
+            env_at_centre: (p_pa, 0.0, thermo::exner(p_pa)),
         };
         p.volume_ref.1 = p.total_mass_kg();
         let z_max = self.env.top_m().max(self.cfg.physics.domain_top_m);
