@@ -33,8 +33,10 @@ pub struct SceneProfile {
     pub ground: GroundConfig,
     /// How the ground emits parcels.
     pub emission: EmissionConfig,
-    /// Wind profile.
-    pub wind: WindConfig,
+    /// Wind profile (`[wind]`). Present, it drives the drag even when calm;
+    /// absent, the sounding's own wind does (DRCT/SKNT), else the air is calm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wind: Option<WindConfig>,
     /// Physics switches, constants and time stepping.
     pub physics: PhysicsConfig,
     /// Camera placement.

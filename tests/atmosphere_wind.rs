@@ -132,11 +132,11 @@ fn sheared_neutral(ground: [f64; 2], top: [f64; 2]) -> Environment {
 
 /// Horizontal velocity of a neutral parcel released at rest at 1500 m
 /// after 30 min.
-fn drift(env: Environment, wind: WindConfig) -> DVec3 {
+fn drift(env: Environment, wind: Option<WindConfig>) -> DVec3 {
     drift_at(env, wind, 1500.0)
 }
 
-fn drift_at(env: Environment, wind: WindConfig, z_m: f64) -> DVec3 {
+fn drift_at(env: Environment, wind: Option<WindConfig>, z_m: f64) -> DVec3 {
     let cfg = WorldConfig {
         physics: PhysicsConfig {
             mixing: false,
@@ -168,7 +168,7 @@ fn sounding_wind_drives_the_drag_unless_the_scene_sets_wind() {
     // physics_world's drag test): after 1800 s about 8 % of the slip is
     // left, so the parcel moves with whichever wind drags it within 1 m/s.
     let sounding_wind = [6.0, -3.0];
-    let v = drift(windy_neutral(sounding_wind), WindConfig::default());
+    let v = drift(windy_neutral(sounding_wind), None);
     assert!(
         (v.x - 6.0).abs() < 1.0 && (v.y + 3.0).abs() < 1.0,
         "calm scene: {v}"
@@ -178,11 +178,36 @@ fn sounding_wind_drives_the_drag_unless_the_scene_sets_wind() {
         aloft_m_s: [-4.0, 2.0],
         aloft_z_m: 1000.0,
     };
-    let v = drift(windy_neutral(sounding_wind), scene);
+    let v = drift(windy_neutral(sounding_wind), Some(scene));
     assert!(
         (v.x + 4.0).abs() < 1.0 && (v.y - 2.0).abs() < 1.0,
         "[wind] overrides: {v}"
     );
+}
+
+#[test]
+fn an_explicit_calm_wind_table_silences_the_soundings_wind() {
+    // The scene's [wind] is an Option: present, it drives the drag even when
+    // it is calm; absent, the sounding's wind does. Parsed from TOML so the
+    // scene file's own field is what is tested.
+    let calm: cumulus::scene::SceneProfile =
+        toml::from_str("[wind]\nsurface_m_s = [0.0, 0.0]\naloft_m_s = [0.0, 0.0]\n").unwrap();
+    let none: cumulus::scene::SceneProfile = toml::from_str("").unwrap();
+    let (calm, none) = (WorldConfig::from_scene(&calm), WorldConfig::from_scene(&none));
+    assert_eq!(calm.wind, Some(WindConfig::default()));
+    assert_eq!(none.wind, None);
+    let sounding_wind = [6.0, -3.0];
+    // Same 1 m/s as above: 8 % of the slip is left after 30 min.
+    let v = drift(windy_neutral(sounding_wind), calm.wind);
+    assert!(v.x.abs() < 1.0 && v.y.abs() < 1.0, "calm [wind]: {v}");
+    let v = drift(windy_neutral(sounding_wind), none.wind);
+    assert!(
+        (v.x - 6.0).abs() < 1.0 && (v.y + 3.0).abs() < 1.0,
+        "no [wind]: {v}"
+    );
+    // A scene without [wind] saves without one (the sounding stays in charge).
+    let text = toml::to_string(&cumulus::scene::SceneProfile::default()).unwrap();
+    assert!(!text.contains("[wind]"), "{text}");
 }
 
 #[test]
@@ -192,12 +217,12 @@ fn sounding_shear_carries_high_parcels_faster() {
     // so a tower's top runs ahead of its base.
     let v_low = drift_at(
         sheared_neutral([0.0, 0.0], [20.0, 0.0]),
-        WindConfig::default(),
+        None,
         1000.0,
     );
     let v_high = drift_at(
         sheared_neutral([0.0, 0.0], [20.0, 0.0]),
-        WindConfig::default(),
+        None,
         6000.0,
     );
     assert!((v_low.x - 2.0).abs() < 1.0, "{v_low}");

@@ -389,11 +389,11 @@ fn drag_carries_a_neutral_parcel_with_the_wind() {
             enabled: false,
             ..EmissionConfig::default()
         },
-        wind: cumulus::physics::WindConfig {
+        wind: Some(cumulus::physics::WindConfig {
             surface_m_s: [wind.x, wind.y],
             aloft_m_s: [wind.x, wind.y],
             aloft_z_m: 1000.0,
-        },
+        }),
         ground: cumulus::physics::GroundConfig {
             size_m: [100_000.0, 100_000.0],
             ..Default::default()

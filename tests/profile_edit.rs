@@ -256,7 +256,7 @@ fn saved_scene_loads_back_with_the_edits() {
     assert!((loaded.editor.lcl_m().unwrap() - 800.0).abs() < 1.0);
     assert_eq!(loaded.world_cfg, m.world_cfg);
     assert_eq!(loaded.render_cfg, m.render_cfg);
-    let w = loaded.world_cfg.wind.aloft_m_s;
+    let w = loaded.world_cfg.wind.as_ref().expect("the moved handle writes [wind]").aloft_m_s;
     // Wind from the south-west blows towards +x and +y.
     assert!(w[0] > 4.2 && w[1] > 4.2, "{w:?}");
     assert!((loaded.wind.from_deg - 225.0).abs() < 1e-9);
@@ -270,6 +270,38 @@ fn saved_scene_loads_back_with_the_edits() {
     let err = loaded.load(&bad).unwrap_err().to_string();
     assert!(err.contains("bad.toml:3:1"), "{err}");
     assert_eq!(loaded.editor.points(), &before[..]);
+}
+
+#[test]
+fn mixed_layer_and_most_unstable_energies_follow_every_edit() {
+    // The panel lists sb, ml and mu: each must be `cumulus parcel`'s value
+    // for the edited environment, recomputed by each edit (exact equality:
+    // the same function of the same environment).
+    use cumulus::atmosphere::cape::{ParcelKind, parcel_report};
+    let fresh = |ed: &ProfileEditor| {
+        ParcelKind::ALL.map(|k| {
+            let r = parcel_report(ed.environment(), k, &Default::default()).unwrap();
+            (k, r.cape_j_per_kg, r.cin_j_per_kg)
+        })
+    };
+    let mut ed = capped();
+    let before = ed.parcel_energies();
+    assert_eq!(before, fresh(&ed));
+    assert_eq!((before[0].1, before[0].2), ed.cape_cin_j_per_kg());
+    // Moisten the lowest 1.2 km (the two lowest points, both within the
+    // mixed layer's 100 hPa): every parcel's source air gains latent heat.
+    for i in 0..ed.points().len() {
+        let p = ed.points()[i];
+        if p.z_m <= 1200.0 {
+            let td = dewpoint_c(&p);
+            pe::move_point(&mut ed, ProfileCurve::Dewpoint, i, p.z_m, td + 1.0).unwrap();
+        }
+    }
+    let after = ed.parcel_energies();
+    assert_eq!(after, fresh(&ed));
+    for (b, a) in before.iter().zip(&after) {
+        assert!(a.1 > b.1, "{} CAPE {} → {}", b.0.key(), b.1, a.1);
+    }
 }
 
 #[test]

@@ -85,7 +85,10 @@ fn energy_bound_is_the_cape_of_the_hottest_parcel() {
 
     // Wind adds ½|w|² and a cold start above the ground adds its fall.
     let mut windy = cfg.clone();
-    windy.wind.aloft_m_s = [30.0, 40.0];
+    windy.wind = Some(cumulus::physics::WindConfig {
+        aloft_m_s: [30.0, 40.0],
+        ..Default::default()
+    });
     let e_wind = stability::specific_energy_bound(&env, &windy, (300.0, 302.0), 0.0, 0.0);
     assert!((e_wind - cape - 0.5 * 50.0 * 50.0).abs() < 1e-6 * cape);
     let e_cold = stability::specific_energy_bound(&env, &cfg, (297.0, 302.0), 0.0, 1000.0);

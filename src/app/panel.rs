@@ -297,10 +297,12 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
         show_z(m.editor.lfc_m()),
         show_z(m.editor.el_m())
     ));
-    let (cape, cin) = m.editor.cape_cin_j_per_kg();
-    ui.label(format!(
-        "surface parcel: CAPE {cape:.0} J/kg   CIN {cin:.0} J/kg"
-    ));
+    for (kind, cape, cin) in m.editor.parcel_energies() {
+        ui.label(format!(
+            "{} parcel: CAPE {cape:.0} J/kg   CIN {cin:.0} J/kg",
+            kind.key()
+        ));
+    }
     sk::hodograph(ui, m.editor.environment().wind());
     ui.add(
         egui::Slider::new(

@@ -55,9 +55,10 @@ pub struct ProfileEditor {
     /// simulation's physics so the diagram shows what the parcels feel.
     lift: LiftOptions,
     curve: ParcelAscent,
-    /// CAPE and CIN of the surface-based parcel (as `cumulus parcel`),
+    /// CAPE and CIN of the surface-based, mixed-layer and most-unstable
+    /// parcels (as `cumulus parcel`, in `ParcelKind::ALL` order),
     /// recomputed with every edit. units: J/kg
-    energies: (f64, f64),
+    energies: [(f64, f64); 3],
     /// The source's wind profile (a sounding's DRCT/SKNT), kept through
     /// edits: the points edit temperature and humidity only.
     wind: Option<WindProfile>,
@@ -125,7 +126,7 @@ impl ProfileEditor {
     /// latent-heat factor and condensate loading).
     pub fn set_lift_options(&mut self, lift: LiftOptions) -> Result<()> {
         self.curve = lift_curve(&self.env, &lift)?;
-        self.energies = surface_energies(&self.env, &lift)?;
+        self.energies = parcel_energies(&self.env, &lift)?;
         self.lift = lift;
         Ok(())
     }
@@ -152,7 +153,19 @@ impl ProfileEditor {
 
     /// CAPE (≥ 0) and CIN (≤ 0) of the surface-based parcel. units: J/kg
     pub fn cape_cin_j_per_kg(&self) -> (f64, f64) {
-        self.energies
+        self.energies[0]
+    }
+
+    /// CAPE (≥ 0) and CIN (≤ 0) of each parcel: surface-based, mixed-layer
+    /// and most-unstable (`ParcelKind::ALL`). units: J/kg
+    pub fn parcel_energies(&self) -> [(ParcelKind, f64, f64); 3] {
+        let e = &self.energies;
+        let k = ParcelKind::ALL;
+        [
+            (k[0], e[0].0, e[0].1),
+            (k[1], e[1].0, e[1].1),
+            (k[2], e[2].0, e[2].1),
+        ]
     }
 
     /// Lifting condensation level. units: m
@@ -208,18 +221,23 @@ fn build(
     spec: &AtmosphereSpec,
     lift: &LiftOptions,
     wind: Option<WindProfile>,
-) -> Result<(Environment, ParcelAscent, (f64, f64))> {
+) -> Result<(Environment, ParcelAscent, [(f64, f64); 3])> {
     // Inline points read no file, so the base directory does not matter.
     let env = spec.build(Path::new("."))?.with_wind(wind);
     let curve = lift_curve(&env, lift)?;
-    let energies = surface_energies(&env, lift)?;
+    let energies = parcel_energies(&env, lift)?;
     Ok((env, curve, energies))
 }
 
-/// CAPE and CIN of the surface-based parcel. units: J/kg
-fn surface_energies(env: &Environment, lift: &LiftOptions) -> Result<(f64, f64)> {
-    let r = cape::parcel_report(env, ParcelKind::Surface, lift)?;
-    Ok((r.cape_j_per_kg, r.cin_j_per_kg))
+/// CAPE and CIN of the surface-based, mixed-layer and most-unstable
+/// parcels, in `ParcelKind::ALL` order. units: J/kg
+fn parcel_energies(env: &Environment, lift: &LiftOptions) -> Result<[(f64, f64); 3]> {
+    let mut out = [(0.0, 0.0); 3];
+    for (o, kind) in out.iter_mut().zip(ParcelKind::ALL) {
+        let r = cape::parcel_report(env, kind, lift)?;
+        *o = (r.cape_j_per_kg, r.cin_j_per_kg);
+    }
+    Ok(out)
 }
 
 fn lift_curve(env: &Environment, lift: &LiftOptions) -> Result<ParcelAscent> {

@@ -170,7 +170,7 @@ impl Model {
                 speed: 10.0,
                 step_once: false,
             },
-            wind: WindHandle::of(&world_cfg.wind),
+            wind: WindHandle::of(&world_cfg.wind.clone().unwrap_or_default()),
             world_cfg,
             render_cfg,
             camera,
@@ -319,7 +319,17 @@ impl Model {
     /// Applies the panel's simulation settings (emission, wind, time of
     /// day) to the running world; on a refused value nothing changes.
     pub fn apply_world_config(&mut self, mut cfg: WorldConfig) -> Result<()> {
-        self.wind.apply(&mut cfg.wind);
+        // The handle writes the scene's [wind] table; with none, a calm
+        // handle leaves the sounding's wind in charge, a moved one overrides it.
+        match cfg.wind.as_mut() {
+            Some(w) => self.wind.apply(w),
+            None if self.wind.speed_m_s > 0.0 => {
+                let mut w = crate::physics::WindConfig::default();
+                self.wind.apply(&mut w);
+                cfg.wind = Some(w);
+            }
+            None => {}
+        }
         self.world.set_config(cfg.clone())?;
         self.world_cfg = cfg;
         Ok(())

@@ -318,7 +318,10 @@ impl Environment {
 
     /// Environment air density. units: m → kg m⁻³
     pub fn density_kg_m3(&self, z_m: f64) -> f64 {
-        thermo::air_density_kg_m3(self.pressure_pa(z_m), self.temperature_k(z_m), self.qv(z_m))
+        // One pressure lookup for both uses (temperature_k's own is the same value).
+        let p = self.pressure_pa(z_m);
+        let t = thermo::temperature_from_theta_k(self.theta_k(z_m), p);
+        thermo::air_density_kg_m3(p, t, self.qv(z_m))
     }
 
     /// Environment dewpoint. units: m → K

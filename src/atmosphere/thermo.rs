@@ -50,7 +50,12 @@ pub fn saturation_vapour_pressure_pa(t_k: f64) -> f64 {
 /// Saturation mixing ratio ωs = ε es / (P − es) and whether es had to be
 /// capped at [`ES_MAX_FRACTION_OF_P`]·P. units: K, Pa → kg/kg.
 pub fn saturation_mixing_ratio_checked(t_k: f64, p_pa: f64) -> (f64, bool) {
-    let es = saturation_vapour_pressure_pa(t_k);
+    mixing_ratio_of_es(saturation_vapour_pressure_pa(t_k), p_pa)
+}
+
+/// ωs = ε es / (P − es) from a saturation vapour pressure `es`, capped as
+/// in [`saturation_mixing_ratio_checked`] (which is this of es(T)).
+fn mixing_ratio_of_es(es: f64, p_pa: f64) -> (f64, bool) {
     let cap = ES_MAX_FRACTION_OF_P * p_pa;
     let (es, clamped) = if es > cap { (cap, true) } else { (es, false) };
     (EPSILON * es / (p_pa - es), clamped)
@@ -186,13 +191,14 @@ pub fn saturation_adjust(t_k: f64, qv: f64, ql: f64, p_pa: f64, alpha: f64) -> A
     let mut c = 0.0_f64;
     for _ in 0..20 {
         let t = t_k + lc * c;
-        let (qs, cl) = saturation_mixing_ratio_checked(t, p_pa);
+        // es once per iteration: ωs and its derivative both need it.
+        let es = saturation_vapour_pressure_pa(t);
+        let (qs, cl) = mixing_ratio_of_es(es, p_pa);
         clamped |= cl;
         let f = qv0 - c - qs;
         // dqs/dT by the Clausius–Clapeyron-like derivative of Tetens:
         // d ln es / dT = 7.5 ln10 (273.15 − 35.45) / (T − 35.45)².
         let dlnes = 7.5 * std::f64::consts::LN_10 * (273.15 - 35.45) / ((t - 35.45) * (t - 35.45));
-        let es = saturation_vapour_pressure_pa(t);
         let dqs_dt = if es > 0.0 && !cl {
             qs * dlnes * p_pa / (p_pa - es)
         } else {

@@ -416,17 +416,6 @@ impl WindConfig {
         Ok(())
     }
 
-    /// The wind that drags the parcels at `z_m`: this table when the scene
-    /// sets one (any value other than the calm default), else the
-    /// environment's own profile (a sounding's DRCT/SKNT), else calm.
-    /// units: m → m s⁻¹ (z component 0)
-    pub fn over(&self, env: &crate::atmosphere::Environment, z_m: f64) -> glam::DVec3 {
-        match env.wind_m_s(z_m) {
-            Some([u, v]) if *self == WindConfig::default() => glam::DVec3::new(u, v, 0.0),
-            _ => self.at(z_m),
-        }
-    }
-
     /// Horizontal wind at height `z_m`. units: m → m s⁻¹ (z component 0)
     pub fn at(&self, z_m: f64) -> glam::DVec3 {
         let w = (z_m / self.aloft_z_m).clamp(0.0, 1.0);
@@ -444,7 +433,23 @@ pub struct WorldConfig {
     pub physics: PhysicsConfig,
     pub ground: GroundConfig,
     pub emission: EmissionConfig,
-    pub wind: WindConfig,
+    /// The scene's `[wind]` table: when present it drives the drag, even
+    /// calm; absent, the environment's own profile (a sounding's DRCT/SKNT)
+    /// does, else the air is calm.
+    pub wind: Option<WindConfig>,
+}
+
+impl WorldConfig {
+    /// The wind that drags the parcels at `z_m`: the `[wind]` table when
+    /// the scene has one, else the environment's profile, else calm.
+    /// units: m → m s⁻¹ (z component 0)
+    pub fn wind_at(&self, env: &crate::atmosphere::Environment, z_m: f64) -> glam::DVec3 {
+        match (&self.wind, env.wind_m_s(z_m)) {
+            (Some(w), _) => w.at(z_m),
+            (None, Some([u, v])) => glam::DVec3::new(u, v, 0.0),
+            (None, None) => glam::DVec3::ZERO,
+        }
+    }
 }
 
 impl WorldConfig {
@@ -468,6 +473,6 @@ impl WorldConfig {
         self.physics.validate()?;
         self.ground.validate()?;
         self.emission.validate()?;
-        self.wind.validate()
+        self.wind.as_ref().map_or(Ok(()), WindConfig::validate)
     }
 }

@@ -58,9 +58,10 @@ pub struct Parcel {
     pub entrain_rate_kg_s: f64,
     /// Pressure and total mass at the last volume update (eq 6's state 1).
     pub(crate) volume_ref: (f64, f64),
-    /// Environment pressure and density at the centre, refreshed once per
-    /// sub-step after the drift (they cost several powers each). units: Pa, kg m⁻³
-    pub(crate) env_at_centre: (f64, f64),
+    /// Environment pressure, density and Exner function Π at the centre,
+    /// refreshed once per sub-step after the drift (they cost several powers
+    /// each). units: Pa, kg m⁻³, 1
+    pub(crate) env_at_centre: (f64, f64, f64),
 }
 
 impl Parcel {

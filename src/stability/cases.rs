@@ -420,9 +420,11 @@ pub fn matrix(size: Size) -> Result<Vec<Case>> {
     // 50 m/s of wind shear over the lowest 2 km, at 2 s and at 10 s frames.
     for dt in [2.0, 10.0] {
         let mut cfg = emitting(300.0, 512);
-        cfg.wind.surface_m_s = [0.0, 0.0];
-        cfg.wind.aloft_m_s = [50.0, 0.0];
-        cfg.wind.aloft_z_m = 2000.0;
+        cfg.wind = Some(crate::physics::WindConfig {
+            surface_m_s: [0.0, 0.0],
+            aloft_m_s: [50.0, 0.0],
+            aloft_z_m: 2000.0,
+        });
         cfg.ground.size_m = [40_000.0, 40_000.0];
         cases.push(Case {
             name: format!("shear_50ms_dt_{dt}"),

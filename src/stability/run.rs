@@ -249,9 +249,19 @@ pub fn specific_energy_bound(
     qt_max: f64,
     z_start_max_m: f64,
 ) -> f64 {
-    let w = &cfg.wind;
     let speed = |v: [f64; 2]| (v[0] * v[0] + v[1] * v[1]).sqrt();
-    let wind = speed(w.surface_m_s).max(speed(w.aloft_m_s));
+    // The wind in effect: the scene's [wind] table (linear between its two
+    // values), else the sounding's profile (linear between its levels), so
+    // its fastest value is at one of the levels.
+    let wind = match (&cfg.wind, env.wind()) {
+        (Some(w), _) => speed(w.surface_m_s).max(speed(w.aloft_m_s)),
+        (None, Some(p)) => p
+            .levels()
+            .iter()
+            .map(|l| speed([l.u_m_s, l.v_m_s]))
+            .fold(0.0, f64::max),
+        (None, None) => 0.0,
+    };
     let alpha = cfg.physics.latent_heat_alpha;
     let top = cfg.physics.domain_top_m.min(env.top_m());
     let dz = 10.0;

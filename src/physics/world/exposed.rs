@@ -10,6 +10,7 @@ use super::PAR_MIN;
 
 use super::{ClampCounts, ParcelWorld};
 use crate::atmosphere::thermo;
+use crate::physics::tessellation::{BANDS, SLICES};
 
 impl ParcelWorld {
     /// Exposed area of each sphere and the atmospheric pressure force on it
@@ -38,6 +39,9 @@ impl ParcelWorld {
             0.0
         };
         let (parcels, grid, env, sphere) = (&self.parcels, &self.grid, &self.env, &self.sphere);
+        // The radii of the neighbour build (unchanged since): a dense array
+        // instead of one parcel record per neighbour.
+        let radius = &self.hot_radius;
         let mut out = std::mem::take(&mut self.scratch.exposed);
         (0..parcels.len())
             .into_par_iter()
@@ -47,16 +51,17 @@ impl ParcelWorld {
                 // P across the sphere by the quadratic through P(z_c − r), P(z_c),
                 // P(z_c + r): three lookups instead of one per hidden quad; the
                 // cubic remainder is (r/H)³ ≈ 1e-5 of the anomaly for r = 150 m.
-                let (pm, p0, pp) = (
-                    env.pressure_pa(ci.z - ri),
-                    env.pressure_pa(ci.z),
-                    env.pressure_pa(ci.z + ri),
-                );
-                let (d1, d2) = ((pp - pm) / (2.0 * ri), (pp - 2.0 * p0 + pm) / (ri * ri));
-                let pressure_anomaly = |dz: f64| d1 * dz + 0.5 * d2 * dz * dz;
+                // Looked up only for a sphere that overlaps a neighbour; P(z_c)
+                // is the sub-step's centre pressure, already known.
+                let (mut d1, mut d2) = (0.0, 0.0);
+                let pressure_anomaly = |d1: f64, d2: f64, dz: f64| d1 * dz + 0.5 * d2 * dz * dz;
                 let r2 = ri * ri;
-                // Hidden quads as bits (the tessellation has QUADS ≤ 192).
-                let mut hidden = [0u64; 3];
+                // Per band: the pressure anomaly at its quads' height and
+                // its quad area (every quad of a band has the same z and area).
+                let mut band_p = [0.0; BANDS];
+                let mut band_a = [0.0; BANDS];
+                // Hidden quads, one mask of slices per band.
+                let mut hidden = [0u32; BANDS];
                 let mut force = DVec3::ZERO;
                 let mut tested = 0u64;
                 let mut evaluated = false;
@@ -68,7 +73,7 @@ impl ParcelWorld {
                 // neighbour's cap is closed on its own contact disk, so a
                 // quad inside two neighbours counts in both caps.
                 for n in grid.of(i) {
-                    let rj = parcels[n.j].radius_m;
+                    let rj = radius[n.j];
                     if !(n.dist < ri + rj && n.dist > 0.0) {
                         continue;
                     }
@@ -79,29 +84,44 @@ impl ParcelWorld {
                         continue;
                     }
                     let x = x.max(-ri);
-                    let (cos, p_ref) = (x / ri, pressure_anomaly(x * u.z));
-                    evaluated = true;
-                    sphere.cap_candidates(u, cos, |q| {
-                        tested += 1;
-                        let nq = sphere.normal[q];
-                        if nq.dot(u) > cos {
-                            hidden[q / 64] |= 1 << (q % 64);
-                            if weight != 0.0 {
-                                force += nq
-                                    * ((pressure_anomaly(nq.z * ri) - p_ref) * sphere.area[q] * r2);
-                            }
+                    if !evaluated {
+                        evaluated = true;
+                        let (pm, p0, pp) = (
+                            env.pressure_pa(ci.z - ri),
+                            parcels[i].env_at_centre.0,
+                            env.pressure_pa(ci.z + ri),
+                        );
+                        (d1, d2) = ((pp - pm) / (2.0 * ri), (pp - 2.0 * p0 + pm) / (ri * ri));
+                        for b in 0..BANDS {
+                            let q = b * SLICES;
+                            band_p[b] = pressure_anomaly(d1, d2, sphere.normal[q].z * ri);
+                            band_a[b] = sphere.area[q];
                         }
-                    });
+                    }
+                    let (cos, p_ref) = (x / ri, pressure_anomaly(d1, d2, x * u.z));
+                    let (masks, n_tested) = sphere.cap_masks(u, cos);
+                    tested += n_tested as u64;
+                    for (b, &m) in masks.iter().enumerate() {
+                        hidden[b] |= m;
+                        if weight == 0.0 || m == 0 {
+                            continue;
+                        }
+                        // Quads in increasing order, as the sum always went.
+                        let dp = (band_p[b] - p_ref) * band_a[b] * r2;
+                        let mut bits = m;
+                        while bits != 0 {
+                            let s = bits.trailing_zeros() as usize;
+                            bits &= bits - 1;
+                            force += sphere.normal[b * SLICES + s] * dp;
+                        }
+                    }
                 }
                 if !evaluated {
                     return (4.0 * PI * r2, DVec3::ZERO, false, None);
                 }
-                let exposed: f64 = sphere
-                    .area
-                    .iter()
-                    .enumerate()
-                    .filter(|(q, _)| hidden[q / 64] & (1 << (q % 64)) == 0)
-                    .map(|(_, a)| a * r2)
+                // Exposed area: each band's visible quads times its quad area.
+                let exposed: f64 = (0..BANDS)
+                    .map(|b| band_a[b] * r2 * (SLICES as u32 - hidden[b].count_ones()) as f64)
                     .sum();
                 // Bound: the caps cannot lose more than the sphere's whole
                 // Archimedes force ρ g V.

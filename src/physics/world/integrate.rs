@@ -98,9 +98,11 @@ impl ParcelWorld {
             .for_each(|p| {
                 let z = p.position_m.z;
                 let pr = env.pressure_pa(z);
-                let t = thermo::temperature_from_theta_k(env.theta_k(z), pr);
+                // T = θ Π (thermo::temperature_from_theta_k), Π kept for condensation.
+                let ex = thermo::exner(pr);
+                let t = env.theta_k(z) * ex;
                 // Same expression as Environment::density_kg_m3, one pressure lookup fewer.
-                p.env_at_centre = (pr, thermo::air_density_kg_m3(pr, t, env.qv(z)));
+                p.env_at_centre = (pr, thermo::air_density_kg_m3(pr, t, env.qv(z)), ex);
             });
         self.build_neighbours();
         let t1 = Instant::now();

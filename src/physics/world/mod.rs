@@ -94,7 +94,7 @@ struct Scratch {
 /// The wind at height `z_m` that drag and entrainment see: the one place
 /// the physics reads the wind. units: m → m s⁻¹ (z component 0)
 pub(super) fn wind_at(cfg: &WorldConfig, env: &Environment, z_m: f64) -> DVec3 {
-    cfg.wind.over(env, z_m)
+    cfg.wind_at(env, z_m)
 }
 
 /// The parcels, their environment and everything needed to step them.
@@ -284,7 +284,7 @@ impl ParcelWorld {
             atm_force_n: DVec3::ZERO,
             entrain_rate_kg_s: 0.0,
             volume_ref: (p_pa, 0.0),
-            env_at_centre: (p_pa, 0.0),
+            env_at_centre: (p_pa, 0.0, thermo::exner(p_pa)),
         };
         p.volume_ref.1 = p.total_mass_kg();
         let z_max = self.env.top_m().max(self.cfg.physics.domain_top_m);

@@ -57,8 +57,7 @@ impl ParcelWorld {
     pub(super) fn condense(&mut self, clamps: &mut ClampCounts) {
         let alpha = self.cfg.physics.latent_heat_alpha;
         let counted = self.parcels.par_iter_mut().with_min_len(PAR_MIN).map(|p| {
-            let pr = p.env_at_centre.0;
-            let ex = thermo::exner(pr);
+            let (pr, ex) = (p.env_at_centre.0, p.env_at_centre.2);
             let t = p.theta_k * ex;
             let a = thermo::saturation_adjust(t, p.qv_kg_per_kg, p.ql_kg_per_kg, pr, alpha);
             if a.condensed != 0.0 || a.ql != p.ql_kg_per_kg {
