@@ -79,6 +79,9 @@ pub struct PassLayouts {
     pub cloud_out: wgpu::BindGroupLayout,
     /// Group 1 of the composite: the compute march's texture.
     pub cloud_in: wgpu::BindGroupLayout,
+    /// Group 2 of the sprites: the atlas, its sampler and the sprite
+    /// instances (shaders/sprites.wgsl).
+    pub sprites: wgpu::BindGroupLayout,
 }
 
 impl PassLayouts {
@@ -150,12 +153,34 @@ impl PassLayouts {
                 wgpu::TextureViewDimension::D2,
             )],
         });
+        let sprites = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sprites: atlas and instances"),
+            entries: &[
+                texture_entry(
+                    0,
+                    wgpu::TextureSampleType::Float { filterable: true },
+                    wgpu::TextureViewDimension::D2,
+                ),
+                sampler_entry(1),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: STAGES,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+            ],
+        });
         Self {
             common,
             shadow_tex,
             depth,
             cloud_out,
             cloud_in,
+            sprites,
         }
     }
 }
@@ -247,7 +272,7 @@ impl PipelineCache {
         });
         let group1 = match pass {
             Pass::Terrain => Some(&layouts.shadow_tex),
-            Pass::Clouds => Some(&layouts.depth),
+            Pass::Clouds | Pass::Sprites => Some(&layouts.depth),
             Pass::Composite => Some(&layouts.cloud_in),
             _ => None,
         };
@@ -257,6 +282,9 @@ impl PipelineCache {
         };
         if key.compute {
             layouts_list.push(Some(&layouts.cloud_out));
+        }
+        if pass == Pass::Sprites {
+            layouts_list.push(Some(&layouts.sprites));
         }
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some(pass.name()),
@@ -292,7 +320,7 @@ impl PipelineCache {
         })];
         let (target_format, blend) = match pass {
             Pass::Shadow => (SHADOW_FORMAT, None),
-            Pass::Clouds | Pass::Composite => (
+            Pass::Clouds | Pass::Composite | Pass::Sprites => (
                 key.format,
                 Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
             ),
