@@ -8,7 +8,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::error::{Error, Result};
 
-/// A label: text centred at pixel (x, y), top edge at y.
+/// A label: text centred on pixel column x, its bottom edge at row y.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Label {
     pub x: f32,
@@ -30,7 +30,7 @@ pub fn draw_labels(rgba: &mut [u8], width: u32, height: u32, labels: &[Label]) -
     let size = (height as f64 / 36.0).clamp(11.0, 28.0);
     {
         let root = BitMapBackend::with_buffer(&mut rgb, (width, height)).into_drawing_area();
-        let pos = Pos::new(HPos::Center, VPos::Top);
+        let pos = Pos::new(HPos::Center, VPos::Bottom);
         for l in labels {
             let (x, y) = (l.x.round() as i32, l.y.round() as i32);
             for (dx, dy, color) in [(1, 1, BLACK), (0, 0, WHITE)] {

@@ -136,7 +136,7 @@ fn bind(
     })
 }
 
-/// A label under each named cloud of `clouds` (centred below its lowest
+/// A label over each named cloud of `clouds` (centred above its highest
 /// sprite), for clouds in front of the camera.
 pub fn cloud_labels(
     clouds: &[crate::sprites_model::SpriteCloud],
@@ -148,16 +148,16 @@ pub fn cloud_labels(
         .iter()
         .filter(|c| !c.name.is_empty() && !c.sprites.is_empty())
         .filter_map(|c| {
-            let bottom = c
+            let top = c
                 .sprites
                 .iter()
-                .map(|s| s.center_m.z - 0.5 * s.height_m)
-                .fold(f32::MAX, f32::min);
-            let anchor = glam::Vec3::new(c.center_m.x, c.center_m.y, bottom);
+                .map(|s| s.center_m.z + 0.5 * s.height_m)
+                .fold(f32::MIN, f32::max);
+            let anchor = glam::Vec3::new(c.center_m.x, c.center_m.y, top);
             let (x, y) = camera.project_to_pixel(anchor, width, height)?;
             Some(crate::plots::labels::Label {
                 x,
-                y: y + 4.0,
+                y: y - 4.0,
                 text: c.name.clone(),
             })
         })
