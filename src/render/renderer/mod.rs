@@ -17,6 +17,7 @@
 use std::time::Instant;
 
 use crate::error::{Error, Result};
+use crate::physics::CloudParcel;
 use crate::render::auto_march::AutoMarch;
 use crate::render::gpu::GpuContext;
 use crate::render::method::{MarchPath, RenderMethod};
@@ -608,9 +609,22 @@ impl Renderer {
             info.parcel_count > 0
         };
         let instances = if self.cfg.clouds {
-            let parcels = if sprite_method { input.parcels } else { &[] };
+            // The drawn spheres are radius_scale × the parcels' (§6.1, as
+            // the ray-march draws them): the sprite clouds fill those.
+            let parcels: Vec<CloudParcel> = if sprite_method {
+                input
+                    .parcels
+                    .iter()
+                    .map(|p| CloudParcel {
+                        radius_m: p.radius_m * scale,
+                        ..*p
+                    })
+                    .collect()
+            } else {
+                Vec::new()
+            };
             self.sprite_scene.frame(
-                parcels,
+                &parcels,
                 input.sun.direction,
                 input.camera.position,
                 input.time_s,
