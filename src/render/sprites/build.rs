@@ -9,7 +9,10 @@
 //! §6.1 says so (camera move or time past thresholds that grow with
 //! distance, [`ShadeCacheConfig`]) or the sun moved; physics clouds move
 //! every step and are shaded every frame, their formation following the
-//! parcel's condensed fill.
+//! parcel's condensed fill. A parcel's sprites are seeded by its index in
+//! the frame's list of condensed parcels: a parcel that dies or condenses
+//! earlier in the list re-seeds the clouds after it (the physics has no
+//! parcel identity to seed by yet).
 
 use glam::{Vec3, Vec4};
 
@@ -198,7 +201,11 @@ impl SpriteScene {
         let mut parcel_clouds = 0;
         for (i, p) in parcels.iter().enumerate() {
             if p.fill > 0.0 && p.radius_m.is_finite() && p.center_m.is_finite() {
-                let cloud = parcel_cloud(p, i as u64);
+                // Placed as a full cloud, faded in by its fill: the sprite
+                // layout does not change (pop) as the fill moves, only the
+                // formation alpha does.
+                let full = CloudParcel { fill: 1.0, ..*p };
+                let cloud = parcel_cloud(&full, i as u64);
                 shade(&cloud, &light, camera_m, p.fill, None, &mut all);
                 parcel_clouds += 1;
             }
@@ -218,6 +225,92 @@ impl SpriteScene {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sprites_model::presets::CloudType;
+
+    fn one_sprite_cloud() -> SpriteCloud {
+        let mut c = CloudType::CumulusHumilis
+            .spec("", 0.0, 0.0, 1000.0, 1)
+            .build();
+        c.sprites.truncate(1);
+        c
+    }
+
+    #[test]
+    fn facing_locks_inside_half_a_sprite_radius_and_fades_by_angle() {
+        let cloud = one_sprite_cloud();
+        let s = cloud.sprites[0];
+        let half = 0.25 * s.width_m.max(s.height_m);
+        let light = lighting(Vec3::new(0.3, 0.2, 0.9));
+        let mut facing = vec![Facing::default()];
+        let mut at = |cam: Vec3| {
+            let mut out = Vec::new();
+            shade(&cloud, &light, cam, 1.0, Some(&mut facing), &mut out);
+            out
+        };
+        // Outside: the quad turns with the camera.
+        let far_a = at(s.center_m + Vec3::new(0.0, -10.0 * half, 0.0));
+        let far_b = at(s.center_m + Vec3::new(10.0 * half, 0.0, 0.0));
+        assert_ne!(far_a[0].corners, far_b[0].corners);
+        // Entering from the south: locked, then the same corners wherever
+        // the camera goes inside, fading as it turns away from the lock.
+        let enter = at(s.center_m + Vec3::new(0.0, -0.9 * half, 0.0));
+        let side = at(s.center_m + Vec3::new(0.6 * half, -0.6 * half, 0.0));
+        assert_eq!(enter[0].corners, side[0].corners);
+        // |n·d| = cos 45° of the entering alpha.
+        let ratio = side[0].colors[0][3] / enter[0].colors[0][3];
+        assert!((ratio - std::f32::consts::FRAC_1_SQRT_2).abs() < 1e-3, "{ratio}");
+        // Edge-on (camera in the locked plane): fully faded, not drawn.
+        assert!(at(s.center_m + Vec3::new(0.9 * half, 0.0, 0.0)).is_empty());
+        // Leaving: it turns to the camera again.
+        let out = at(s.center_m + Vec3::new(10.0 * half, 0.0, 0.0));
+        assert_eq!(out[0].corners, far_b[0].corners);
+    }
+
+    #[test]
+    fn sprites_are_drawn_back_to_front() {
+        let cloud = CloudType::CumulusCongestus
+            .spec("", 0.0, 3000.0, 1000.0, 2)
+            .build();
+        let mut scene = SpriteScene::new(vec![cloud]);
+        let cam = Vec3::new(0.0, 0.0, 500.0);
+        let inst = scene.frame(&[], Vec3::Z, cam, 0.0);
+        assert!(inst.len() > 20);
+        let d: Vec<f32> = inst
+            .iter()
+            .map(|s| {
+                let c = 0.5 * (Vec4::from(s.corners[0]) + Vec4::from(s.corners[2]));
+                c.truncate().distance(cam)
+            })
+            .collect();
+        assert!(d.windows(2).all(|w| w[0] >= w[1]), "{d:?}");
+        // A second frame from the same place comes from the cache.
+        scene.frame(&[], Vec3::Z, cam, 0.0);
+        assert_eq!(scene.stats.reshaded, 0);
+        // The sun moving re-shades it.
+        scene.frame(&[], Vec3::new(0.5, 0.0, 0.8), cam, 0.0);
+        assert_eq!(scene.stats.reshaded, 1);
+    }
+
+    #[test]
+    fn a_parcel_keeps_its_sprites_as_its_fill_changes() {
+        let p = |fill: f32| CloudParcel {
+            center_m: Vec3::new(0.0, 2000.0, 1500.0),
+            radius_m: 300.0,
+            fill,
+            cond_plane_z_m: 1300.0,
+        };
+        let mut scene = SpriteScene::default();
+        let cam = Vec3::ZERO;
+        let thin = scene.frame(&[p(0.8)], Vec3::Z, cam, 0.0);
+        let full = scene.frame(&[p(1.0)], Vec3::Z, cam, 0.0);
+        assert_eq!(thin.len(), full.len());
+        for (a, b) in thin.iter().zip(&full) {
+            assert_eq!(a.corners, b.corners);
+        }
+        // Core sprites already formed, edges still fading in at 0.8.
+        let alpha = |v: &[SpriteInstance]| v.iter().map(|s| s.colors[0][3]).sum::<f32>();
+        assert!(alpha(&thin) < alpha(&full));
+    }
 
     #[test]
     fn equivalent_hour_follows_the_sun() {
