@@ -200,14 +200,15 @@ pub fn methods_md(rows: &[MethodRow], width: u32, height: u32) -> String {
     let mut s = format!(
         "# Render methods\n\n{width}×{height}; frame = upload + GPU, median. FLIP: mean against the \
          exact ray-march of the same parcels, sun and camera (authored scenes have none). \
-         Overdraw: the paper's cloud block overdraw (§6.3: Σ sprite area / 16 km² block, mean over \
-         the blocks within 100 km; the paper's overcast is 475 %).\n\n\
+         Overdraw: the paper's cloud block overdraw of the scene's authored sprite clouds \
+         ([[sprite_clouds]], [[layers]]; §6.3: Σ sprite area / 16 km² block, mean over the blocks \
+         within 100 km; the paper's overcast is 475 %), – where the scene authors none.\n\n\
          | scene | method | impostors | frame (ms) | mean FLIP vs exact | sprites | overdraw |\n\
          |---|---|---|---:|---:|---:|---:|\n"
     );
     for r in rows {
         s.push_str(&format!(
-            "| {} | {} | {} | {:.1} | {} | {} | {:.0} % |\n",
+            "| {} | {} | {} | {:.1} | {} | {} | {} |\n",
             r.scene,
             r.method,
             super::perf::on_off(r.impostors),
@@ -215,7 +216,11 @@ pub fn methods_md(rows: &[MethodRow], width: u32, height: u32) -> String {
             r.mean_flip_vs_exact
                 .map_or("–".to_string(), |f| format!("{f:.3}")),
             r.sprites,
-            100.0 * r.overdraw
+            if r.overdraw > 0.0 {
+                format!("{:.0} %", 100.0 * r.overdraw)
+            } else {
+                "–".to_string()
+            }
         ));
     }
     s.push_str(
