@@ -223,3 +223,59 @@ fn the_method_switches_live_on_one_renderer() {
     assert_eq!(changed(&frames[0], &frames[2]), 0);
     assert!(changed(&frames[0], &frames[1]) > 50, "sprites look different from the march");
 }
+
+#[test]
+fn atlas_command_writes_the_renderers_sheet() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("atlas.png");
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_cumulus"))
+        .args(["atlas", "--out"])
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let png = image::open(&out).unwrap().into_rgba8();
+    let sheet = cumulus::render::sprites::atlas::sheet();
+    assert_eq!((png.width(), png.height()), (sheet.size, sheet.size));
+    assert_eq!(png.into_raw(), sheet.rgba);
+    // A tile smaller than the paper's is refused, naming the flag.
+    let bad = std::process::Command::new(env!("CARGO_BIN_EXE_cumulus"))
+        .args(["atlas", "--tile", "64", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--tile"));
+}
+
+#[test]
+fn render_command_draws_the_labelled_cloud_types() {
+    if common::context("cloud types render").is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("profiles/cloud_types.toml");
+    let render = |extra: &[&str], name: &str| {
+        let out = dir.path().join(name);
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_cumulus"))
+            .arg("render")
+            .arg(&scene)
+            .args(["--width", "320", "--height", "180", "--out"])
+            .arg(&out)
+            .args(extra)
+            .output()
+            .unwrap();
+        let log = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(o.status.success(), "{log}");
+        (image::open(&out).unwrap().into_rgba8().into_raw(), log)
+    };
+    let (types, log) = render(&[], "types.png");
+    assert!(log.contains("12 sprite clouds"), "{log}");
+    // The same frame under the sprites method: scene clouds draw either way.
+    let (as_sprites, _) = render(&["--method", "sprites"], "sprites.png");
+    assert_eq!(changed(&types, &as_sprites), 0);
+    // The names are written over the frame (--no-labels leaves them out).
+    let (unlabelled, _) = render(&["--no-labels"], "unlabelled.png");
+    let n = changed(&types, &unlabelled);
+    assert!(n > 100, "{n} label pixels");
+}

@@ -60,6 +60,10 @@ pub struct Args {
     /// Simulated time between frames. units: s
     #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
     pub every: f64,
+    /// Do not write the names of the scene's named sprite clouds into the
+    /// image (written above each cloud by default, e.g. cloud_types.toml).
+    #[arg(long)]
+    pub no_labels: bool,
     #[command(flatten)]
     pub clouds: CloudArgs,
     /// Part of the GPU adapter's name to use (e.g. llvmpipe).
@@ -274,12 +278,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             time_s: t as f32,
         };
         let (mut rgba, timings) = headless.render(&ctx, &input)?;
-        let labels = cumulus::render::sprites::cloud_labels(
-            headless.renderer.sprite_clouds(),
-            &camera,
-            args.width,
-            args.height,
-        );
+        let labels = if args.no_labels || !cfg.clouds {
+            Vec::new()
+        } else {
+            cumulus::render::sprites::cloud_labels(
+                headless.renderer.sprite_clouds(),
+                &camera,
+                args.width,
+                args.height,
+            )
+        };
         cumulus::plots::labels::draw_labels(&mut rgba, args.width, args.height, &labels)?;
         let path = if args.frames > 1 {
             numbered(&args.out, i)
