@@ -161,7 +161,13 @@ fn check_outputs(dir: &Path) {
     let (h, rows) = read_csv(&dir.join("methods.csv"));
     assert_eq!(
         h,
-        ["scene", "method", "impostors", "frame_ms", "mean_flip_vs_exact"]
+        [
+            "scene",
+            "method",
+            "impostors",
+            "frame_ms",
+            "mean_flip_vs_exact"
+        ]
     );
     let cases = cumulus::bench::methods::cases();
     assert_eq!(rows.len(), cases.len());

@@ -10,9 +10,7 @@ use std::path::PathBuf;
 
 use cumulus::physics::CloudParcel;
 use cumulus::render::headless::Headless;
-use cumulus::render::{
-    Camera, FrameInput, GpuContext, RenderConfig, RenderMethod, TerrainConfig,
-};
+use cumulus::render::{Camera, FrameInput, GpuContext, RenderConfig, RenderMethod, TerrainConfig};
 use cumulus::sprites_model::{CloudType, SpriteCloud};
 use glam::Vec3;
 
@@ -119,7 +117,10 @@ fn physics_parcels_as_sprites_match_the_reference() {
     if mean > MEAN_FLIP_TOLERANCE {
         let actual = dir.join("sprites_standin.actual.png");
         cumulus::output::write_png_atomic(&actual, w, h, &rgba).unwrap();
-        panic!("mean FLIP {mean:.4} > {MEAN_FLIP_TOLERANCE} (wrote {})", actual.display());
+        panic!(
+            "mean FLIP {mean:.4} > {MEAN_FLIP_TOLERANCE} (wrote {})",
+            actual.display()
+        );
     }
     eprintln!("sprites_standin: mean FLIP {mean:.4}");
 }
@@ -149,7 +150,10 @@ fn every_cloud_type_preset_renders_something() {
             failures.push(format!("{kind:?}: {n} pixels"));
         }
     }
-    assert!(failures.is_empty(), "presets that drew too little: {failures:?}");
+    assert!(
+        failures.is_empty(),
+        "presets that drew too little: {failures:?}"
+    );
 }
 
 #[test]
@@ -206,22 +210,35 @@ fn the_method_switches_live_on_one_renderer() {
         time_s: 0.0,
     };
     let mut frames = Vec::new();
-    for method in [RenderMethod::Baked, RenderMethod::Sprites, RenderMethod::Baked] {
+    for method in [
+        RenderMethod::Baked,
+        RenderMethod::Sprites,
+        RenderMethod::Baked,
+    ] {
         cfg.method = method;
         hl.renderer.set_config(&ctx, &cfg).unwrap();
         let (rgba, t) = hl.render(&ctx, &input).unwrap();
         let names: Vec<&str> = t.passes.iter().map(|(n, _)| n.as_str()).collect();
         match method {
             RenderMethod::Sprites => {
-                assert!(names.contains(&"sprites") && !names.contains(&"clouds"), "{names:?}")
+                assert!(
+                    names.contains(&"sprites") && !names.contains(&"clouds"),
+                    "{names:?}"
+                )
             }
-            _ => assert!(names.contains(&"clouds") && !names.contains(&"sprites"), "{names:?}"),
+            _ => assert!(
+                names.contains(&"clouds") && !names.contains(&"sprites"),
+                "{names:?}"
+            ),
         }
         frames.push(rgba);
     }
     // Back to baked: the same frame as before the switch.
     assert_eq!(changed(&frames[0], &frames[2]), 0);
-    assert!(changed(&frames[0], &frames[1]) > 50, "sprites look different from the march");
+    assert!(
+        changed(&frames[0], &frames[1]) > 50,
+        "sprites look different from the march"
+    );
 }
 
 #[test]

@@ -139,8 +139,11 @@ pub fn methods(
                 .into_iter()
                 .flat_map(|c| c.sprites)
                 .collect();
-        let overdraw =
-            crate::sprites_model::order::view_overdraw(&scene_sprites, l.camera.position, 100_000.0);
+        let overdraw = crate::sprites_model::order::view_overdraw(
+            &scene_sprites,
+            l.camera.position,
+            100_000.0,
+        );
         rows.push(MethodRow {
             scene: case.scene.trim_end_matches(".toml").to_string(),
             method: case.method,
@@ -169,7 +172,14 @@ fn run_case(
     let mut hl = Headless::new(ctx, &cfg, size.0, size.1)?;
     hl.renderer
         .set_sprite_clouds(ctx, crate::sprites_model::scene_clouds(&l.profile))?;
-    let m = measure(ctx, &mut hl, l.camera, l.sun, Source::Parcels(&l.parcels), reps)?;
+    let m = measure(
+        ctx,
+        &mut hl,
+        l.camera,
+        l.sun,
+        Source::Parcels(&l.parcels),
+        reps,
+    )?;
     Ok((m, hl.renderer.sprite_stats().sprites))
 }
 
@@ -178,8 +188,14 @@ fn run_case(
 pub fn methods_csv(rows: &[MethodRow]) -> Result<Vec<u8>> {
     let mut w = csv::Writer::from_writer(Vec::new());
     let err = |e: csv::Error| Error::invalid("methods.csv", "a row", e.to_string());
-    w.write_record(["scene", "method", "impostors", "frame_ms", "mean_flip_vs_exact"])
-        .map_err(err)?;
+    w.write_record([
+        "scene",
+        "method",
+        "impostors",
+        "frame_ms",
+        "mean_flip_vs_exact",
+    ])
+    .map_err(err)?;
     for r in rows {
         w.write_record([
             r.scene.clone(),

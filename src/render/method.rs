@@ -73,8 +73,10 @@ impl FromStr for RenderMethod {
             .into_iter()
             .find(|m| m.name() == s)
             .ok_or_else(|| {
-                let names: Vec<String> =
-                    Self::ALL.iter().map(|m| format!("\"{}\"", m.name())).collect();
+                let names: Vec<String> = Self::ALL
+                    .iter()
+                    .map(|m| format!("\"{}\"", m.name()))
+                    .collect();
                 Error::invalid("render method", s, format!("one of {}", names.join(", ")))
             })
     }

@@ -39,7 +39,11 @@ pub fn half(size: u32, rgba: &[u8]) -> Vec<u8> {
             let o = ((y * n + x) * 4) as usize;
             for c in 0..3 {
                 // A fully transparent box keeps the plain mean of nothing: 0.
-                out[o + c] = if a > 0.0 { (rgb[c] / a).round() as u8 } else { 0 };
+                out[o + c] = if a > 0.0 {
+                    (rgb[c] / a).round() as u8
+                } else {
+                    0
+                };
             }
             out[o + 3] = (a / 4.0).round() as u8;
         }

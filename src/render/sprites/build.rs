@@ -189,7 +189,14 @@ impl SpriteScene {
             });
             if stale {
                 let mut instances = Vec::with_capacity(cloud.sprites.len());
-                shade(cloud, &light, camera_m, 1.0, Some(&mut self.facing[i]), &mut instances);
+                shade(
+                    cloud,
+                    &light,
+                    camera_m,
+                    1.0,
+                    Some(&mut self.facing[i]),
+                    &mut instances,
+                );
                 self.cache[i] = Some(Cached {
                     stamp: ShadeStamp { time_s, camera_m },
                     instances,
@@ -258,7 +265,10 @@ mod tests {
         assert_eq!(enter[0].corners, side[0].corners);
         // |n·d| = cos 45° of the entering alpha.
         let ratio = side[0].colors[0][3] / enter[0].colors[0][3];
-        assert!((ratio - std::f32::consts::FRAC_1_SQRT_2).abs() < 1e-3, "{ratio}");
+        assert!(
+            (ratio - std::f32::consts::FRAC_1_SQRT_2).abs() < 1e-3,
+            "{ratio}"
+        );
         // Edge-on (camera in the locked plane): fully faded, not drawn.
         assert!(at(s.center_m + Vec3::new(0.9 * half, 0.0, 0.0)).is_empty());
         // Leaving: it turns to the camera again.
