@@ -30,6 +30,8 @@ enum Command {
     Stability(cli::stability::Args),
     /// Write a frame's cloud density as a Mitsuba 3 .vol grid plus a JSON sidecar.
     Export(cli::export::Args),
+    /// Write the sprite method's 16-tile texture atlas as a PNG.
+    Atlas(cli::atlas::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -43,6 +45,7 @@ fn main() -> std::process::ExitCode {
         Some(Command::Bench(a)) => cli::bench::run(a),
         Some(Command::Stability(a)) => cli::stability::run(a),
         Some(Command::Export(a)) => cli::export::run(a),
+        Some(Command::Atlas(a)) => cli::atlas::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

@@ -156,6 +156,38 @@ fn check_outputs(dir: &Path) {
     assert_eq!(rows.len(), 4);
     check_positive("pruning.csv", &h, &rows, "frame_ms");
 
+    // methods.csv: exactly these columns, one row per case; FLIP against
+    // the exact march where the scene has parcels, empty where it has none.
+    let (h, rows) = read_csv(&dir.join("methods.csv"));
+    assert_eq!(
+        h,
+        [
+            "scene",
+            "method",
+            "impostors",
+            "frame_ms",
+            "mean_flip_vs_exact"
+        ]
+    );
+    let cases = cumulus::bench::methods::cases();
+    assert_eq!(rows.len(), cases.len());
+    check_positive("methods.csv", &h, &rows, "frame_ms");
+    for (row, case) in rows.iter().zip(&cases) {
+        assert_eq!(row[1], case.method.name());
+        let flip = &row[4];
+        if case.scene == "overcast.toml" {
+            assert!(flip.is_empty(), "overcast has no exact frame: {row:?}");
+        } else {
+            let f: f64 = flip.parse().unwrap_or_else(|_| panic!("{row:?}"));
+            assert!((0.0..=1.0).contains(&f), "{row:?}");
+        }
+    }
+    assert!(
+        std::fs::read_to_string(dir.join("methods.md"))
+            .unwrap()
+            .contains("overdraw")
+    );
+
     let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
     for section in [
         "## Performance",

@@ -308,7 +308,8 @@ fn compute_and_fragment_march_agree_and_auto_decides() {
     let Some(ctx) = context() else { return };
     let parcels = standin::default_field(900.0);
     let size = (160, 90);
-    for method in RenderMethod::ALL {
+    // The march paths exist for the ray-marching methods only.
+    for method in RenderMethod::ALL.into_iter().filter(|m| m.ray_marches()) {
         let base = with_method(&RenderConfig::default(), method);
         let path = |march| RenderConfig {
             march,

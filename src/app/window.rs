@@ -210,6 +210,11 @@ impl App {
         // Never wait for the GPU to read the timings back: the panel shows
         // the latest finished frame's.
         renderer.set_timing_mode(crate::render::TimingMode::GpuLagged);
+        // The scene's own sprite clouds, drawn under every method.
+        renderer.set_sprite_clouds(
+            &ctx,
+            crate::sprites_model::scene_clouds(&self.model.profile),
+        )?;
         let egui_state = egui_winit::State::new(
             self.egui_ctx.clone(),
             egui::ViewportId::ROOT,

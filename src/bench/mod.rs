@@ -2,7 +2,8 @@
 //! parcel count × normals × shadows, physics and per-pass shares), error
 //! against run time for render settings and physics time steps with their
 //! Pareto fronts, frame time against parcel count for grid culling vs brute
-//! force, the savings of leaving passes out, and the project's speed targets
+//! force, the savings of leaving passes out, the render methods side by
+//! side ([`methods`]), and the project's speed targets
 //! checked as ratios within one run. Everything is written atomically into
 //! one directory as Markdown, CSV and PNG.
 //!
@@ -13,6 +14,7 @@
 pub mod accuracy;
 mod charts;
 pub mod measure;
+pub mod methods;
 pub mod pathtraced;
 pub mod perf;
 pub mod physics_speed;
@@ -206,6 +208,7 @@ impl Plan {
             + self.physics_speed_counts.len()
             + self.scaling_counts.len()
             + brute
+            + methods::cases().len()
             + 4) as u64
     }
 }
@@ -240,6 +243,8 @@ pub struct BenchResults {
     pub pruning: Vec<PruningRow>,
     /// Rows of error_vs_pathtraced.csv found in the output folder, if any.
     pub pathtraced: Option<Vec<pathtraced::PathTracedRow>>,
+    /// The render methods side by side (methods.csv).
+    pub methods: Vec<methods::MethodRow>,
 }
 
 /// The commit being measured, if git can say.
@@ -354,6 +359,7 @@ pub fn run_with(ctx: &GpuContext, opts: &Options) -> Result<BenchResults> {
         plan.reps,
         tick,
     )?;
+    let methods = methods::methods(ctx, size, plan.reps, tick)?;
     bar.finish_and_clear();
 
     let results = BenchResults {
@@ -365,7 +371,9 @@ pub fn run_with(ctx: &GpuContext, opts: &Options) -> Result<BenchResults> {
         scaling,
         pruning,
         pathtraced: pathtraced::read(&opts.out)?,
+        methods,
     };
     report::write_all(&opts.out, &results)?;
+    methods::write(&opts.out, &results.methods, width, height)?;
     Ok(results)
 }

@@ -1,6 +1,7 @@
 //! Command-line front end: one module per subcommand, each with its clap
 //! `Args` and a `run` function. `main.rs` only dispatches.
 
+pub mod atlas;
 pub mod bench;
 pub mod export;
 pub mod parcel;

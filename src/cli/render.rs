@@ -47,7 +47,7 @@ pub struct Args {
     #[arg(long)]
     pub date: Option<String>,
     /// Cloud render method (overrides the scene's [render] method): baked
-    /// (default) or exact.
+    /// (default), exact or sprites.
     #[arg(long, value_parser = super::watch::parse_method)]
     pub method: Option<cumulus::render::RenderMethod>,
     #[command(flatten)]
@@ -61,6 +61,10 @@ pub struct Args {
     /// Simulated time between frames. units: s
     #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
     pub every: f64,
+    /// Do not write the names of the scene's named sprite clouds into the
+    /// image (written above each cloud by default, e.g. cloud_types.toml).
+    #[arg(long)]
+    pub no_labels: bool,
     #[command(flatten)]
     pub clouds: CloudArgs,
     /// Part of the GPU adapter's name to use (e.g. llvmpipe).
@@ -231,6 +235,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let ctx = GpuContext::new_headless(args.adapter.as_deref())?;
     eprintln!("adapter: {}", ctx.describe());
     let mut headless = Headless::new(&ctx, &cfg, args.width, args.height)?;
+    let sprite_clouds = cumulus::sprites_model::scene_clouds(&scene);
+    if !sprite_clouds.is_empty() {
+        eprintln!(
+            "{scene_name}: {}",
+            cumulus::sprites_model::FillCounts::of(&sprite_clouds)
+        );
+    }
+    headless.renderer.set_sprite_clouds(&ctx, sprite_clouds)?;
 
     let mut parcels = Vec::new();
     let warm = (!args.clouds.stand_in).then(|| {
@@ -272,7 +284,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             sun: crate::cli::sun_args::frame_sun(clock.as_ref(), &cfg, t),
             time_s: t as f32,
         };
-        let (rgba, timings) = headless.render(&ctx, &input)?;
+        let (mut rgba, timings) = headless.render(&ctx, &input)?;
+        let labels = if args.no_labels || !cfg.clouds {
+            Vec::new()
+        } else {
+            cumulus::render::sprites::cloud_labels(
+                headless.renderer.sprite_clouds(),
+                &camera,
+                args.width,
+                args.height,
+            )
+        };
+        cumulus::plots::labels::draw_labels(&mut rgba, args.width, args.height, &labels)?;
         let path = if args.frames > 1 {
             numbered(&args.out, i)
         } else {
@@ -299,8 +322,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 cumulus::render::raymarch::baked::MAX_BAKE_VOXELS
             );
         }
+        let st = headless.renderer.sprite_stats();
+        let sprites = if st.sprites > 0 {
+            format!(
+                "; {} sprites ({} parcel clouds, {} scene clouds re-shaded, {:.1} ms to shade and sort)",
+                st.sprites, st.parcel_clouds, st.reshaded, st.build_ms
+            )
+        } else {
+            String::new()
+        };
         let line = format!(
-            "{}: t = {t:.0} s, {}; {} method: {}, frame {:.1} ms ({}), upload {:.2} ms",
+            "{}: t = {t:.0} s, {}{sprites}; {} method: {}, frame {:.1} ms ({}), upload {:.2} ms",
             path.display(),
             summary(&parcels),
             cfg.method,

@@ -32,7 +32,7 @@ pub struct Args {
     #[arg(long, default_value_t = 760, value_parser = clap::value_parser!(u32).range(200..=8192))]
     pub height: u32,
     /// Cloud render method (overrides the scene's [render] method): baked
-    /// (default) or exact.
+    /// (default), exact or sprites.
     #[arg(long, value_parser = parse_method)]
     pub method: Option<cumulus::render::RenderMethod>,
     #[command(flatten)]

@@ -2,6 +2,7 @@
 //! `epaint_default_fonts`, so no system font library is needed.
 
 pub mod hodograph;
+pub mod labels;
 pub mod skewt;
 
 use std::path::Path;

@@ -2,9 +2,9 @@
 //! `render`, `watch` and `bench`, the panel's method box). Every method
 //! shares the sky, terrain, cloud-shadow and composite passes; what differs
 //! is how the cloud field reaches the GPU and how a pixel finds its cloud.
-//! Today both methods ray-march eq. 18 (module [`crate::render::raymarch`]);
-//! `sprites` (Wang 2003) and `slices` (Schpok 2003) plug in as further
-//! variants with their own submodules.
+//! `baked` and `exact` ray-march eq. 18 (module [`crate::render::raymarch`]);
+//! `sprites` (Wang 2003) draws the same parcels as textured sprite clouds
+//! (module [`crate::render::sprites`]).
 
 use std::fmt;
 use std::str::FromStr;
@@ -28,18 +28,34 @@ pub enum RenderMethod {
     /// baked method is measured against; at most
     /// [`crate::render::pack::MAX_PARCELS`] condensed parcels.
     Exact,
+    /// Wang 2003: every condensed parcel becomes a cloud of camera-facing,
+    /// textured, artist-shaded sprites drawn back to front (no ray-march,
+    /// no field upload). Scene `[[sprite_clouds]]`/`[[layers]]` are drawn
+    /// as sprites under every method.
+    Sprites,
 }
 
 impl RenderMethod {
     /// Every method, in the order the panel and the bench list them.
-    pub const ALL: [RenderMethod; 2] = [RenderMethod::Baked, RenderMethod::Exact];
+    pub const ALL: [RenderMethod; 3] = [
+        RenderMethod::Baked,
+        RenderMethod::Exact,
+        RenderMethod::Sprites,
+    ];
 
     /// Name in scene files, on the command line and in tables.
     pub fn name(self) -> &'static str {
         match self {
             RenderMethod::Baked => "baked",
             RenderMethod::Exact => "exact",
+            RenderMethod::Sprites => "sprites",
         }
+    }
+
+    /// Whether the method ray-marches a density field (and so needs the
+    /// field upload, the cloud and shadow passes).
+    pub fn ray_marches(self) -> bool {
+        matches!(self, RenderMethod::Baked | RenderMethod::Exact)
     }
 }
 
@@ -56,7 +72,13 @@ impl FromStr for RenderMethod {
         Self::ALL
             .into_iter()
             .find(|m| m.name() == s)
-            .ok_or_else(|| Error::invalid("render method", s, "\"baked\" or \"exact\""))
+            .ok_or_else(|| {
+                let names: Vec<String> = Self::ALL
+                    .iter()
+                    .map(|m| format!("\"{}\"", m.name()))
+                    .collect();
+                Error::invalid("render method", s, format!("one of {}", names.join(", ")))
+            })
     }
 }
 
@@ -105,7 +127,10 @@ mod tests {
             assert_eq!(m.name().parse::<RenderMethod>().unwrap(), m);
         }
         let e = "fast".parse::<RenderMethod>().unwrap_err().to_string();
-        assert!(e.contains("fast") && e.contains("baked"), "{e}");
+        assert!(e.contains("fast"), "{e}");
+        for m in RenderMethod::ALL {
+            assert!(e.contains(m.name()), "{e} lists {m}");
+        }
         assert_eq!(RenderMethod::default(), RenderMethod::Baked);
     }
 }

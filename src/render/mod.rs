@@ -34,6 +34,7 @@ pub mod pipelines;
 pub mod raymarch;
 pub mod renderer;
 pub mod shaders;
+pub mod sprites;
 pub mod standin;
 pub mod terrain;
 pub mod timing;
@@ -506,8 +507,12 @@ pub struct FrameInput<'a> {
 /// not need"): derived from the configuration and whether there are clouds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Features {
-    /// Ray-march clouds (configured on and at least one parcel).
+    /// Ray-march clouds (configured on, a ray-marching method and at
+    /// least one parcel).
     pub clouds: bool,
+    /// Draw sprite clouds (the `sprites` method's parcels or the scene's
+    /// `[[sprite_clouds]]`/`[[layers]]`; the renderer sets the latter).
+    pub sprites: bool,
     /// Terrain mesh pass.
     pub terrain: bool,
     /// Cloud-shadow pass (needs clouds and terrain).
@@ -519,10 +524,12 @@ pub struct Features {
 impl Features {
     /// Features for `cfg` with or without any condensed parcel.
     pub fn new(cfg: &RenderConfig, any_clouds: bool) -> Self {
-        let clouds = cfg.clouds && any_clouds;
+        let drawn = cfg.clouds && any_clouds;
+        let clouds = drawn && cfg.method.ray_marches();
         let terrain = cfg.terrain.enabled;
         Self {
             clouds,
+            sprites: drawn && cfg.method == RenderMethod::Sprites,
             terrain,
             shadows: cfg.shadows && clouds && terrain,
             normals: cfg.normals && clouds,

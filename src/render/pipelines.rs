@@ -85,6 +85,9 @@ pub struct PassLayouts {
     /// Group 1 of the composite (the compute march's texture) and of the
     /// tone map (the HDR scene target): one sampled float 2D texture.
     pub texture_in: wgpu::BindGroupLayout,
+    /// Group 2 of the sprites: the atlas, its sampler and the sprite
+    /// instances (shaders/sprites.wgsl).
+    pub sprites: wgpu::BindGroupLayout,
 }
 
 impl PassLayouts {
@@ -156,12 +159,34 @@ impl PassLayouts {
                 wgpu::TextureViewDimension::D2,
             )],
         });
+        let sprites = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sprites: atlas and instances"),
+            entries: &[
+                texture_entry(
+                    0,
+                    wgpu::TextureSampleType::Float { filterable: true },
+                    wgpu::TextureViewDimension::D2,
+                ),
+                sampler_entry(1),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: STAGES,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+            ],
+        });
         Self {
             common,
             shadow_tex,
             depth,
             cloud_out,
             texture_in,
+            sprites,
         }
     }
 }
@@ -253,7 +278,7 @@ impl PipelineCache {
         });
         let group1 = match pass {
             Pass::Terrain => Some(&layouts.shadow_tex),
-            Pass::Clouds => Some(&layouts.depth),
+            Pass::Clouds | Pass::Sprites => Some(&layouts.depth),
             Pass::Composite | Pass::Tonemap => Some(&layouts.texture_in),
             _ => None,
         };
@@ -263,6 +288,9 @@ impl PipelineCache {
         };
         if key.compute {
             layouts_list.push(Some(&layouts.cloud_out));
+        }
+        if pass == Pass::Sprites {
+            layouts_list.push(Some(&layouts.sprites));
         }
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some(pass.name()),
@@ -298,7 +326,7 @@ impl PipelineCache {
         })];
         let (target_format, blend) = match pass {
             Pass::Shadow => (SHADOW_FORMAT, None),
-            Pass::Clouds | Pass::Composite => (
+            Pass::Clouds | Pass::Composite | Pass::Sprites => (
                 key.format,
                 Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
             ),

@@ -37,6 +37,8 @@ pub const SHADOW_WGSL: &str = include_str!("../../shaders/shadow.wgsl");
 pub const TONEMAP_WGSL: &str = include_str!("../../shaders/tonemap.wgsl");
 /// Cloud ray-march.
 pub const CLOUDS_WGSL: &str = include_str!("../../shaders/clouds.wgsl");
+/// Wang 2003 sprite clouds (textured, artist-shaded quads).
+pub const SPRITES_WGSL: &str = include_str!("../../shaders/sprites.wgsl");
 
 /// Every file in `shaders/`, by name (the shader test checks none is missing).
 pub const FILES: &[(&str, &str)] = &[
@@ -53,6 +55,7 @@ pub const FILES: &[(&str, &str)] = &[
     ("shadow.wgsl", SHADOW_WGSL),
     ("clouds.wgsl", CLOUDS_WGSL),
     ("tonemap.wgsl", TONEMAP_WGSL),
+    ("sprites.wgsl", SPRITES_WGSL),
 ];
 
 /// The render passes, in the order they run.
@@ -63,6 +66,9 @@ pub enum Pass {
     Shadow,
     Sky,
     Terrain,
+    /// Sprite clouds (the `sprites` method's parcels, and a scene's
+    /// `[[sprite_clouds]]`/`[[layers]]` under any method).
+    Sprites,
     Clouds,
     /// Blends the compute march's texture over the target (compute path).
     Composite,
@@ -77,6 +83,7 @@ impl Pass {
         Pass::Shadow,
         Pass::Sky,
         Pass::Terrain,
+        Pass::Sprites,
         Pass::Clouds,
         Pass::Composite,
         Pass::Tonemap,
@@ -89,6 +96,7 @@ impl Pass {
             Pass::Shadow => "shadow",
             Pass::Sky => "sky",
             Pass::Terrain => "terrain",
+            Pass::Sprites => "sprites",
             Pass::Clouds => "clouds",
             Pass::Composite => "composite",
             Pass::Tonemap => "tonemap",
@@ -101,6 +109,7 @@ impl Pass {
             Pass::Shadow => SHADOW_WGSL,
             Pass::Sky => SKY_WGSL,
             Pass::Terrain => TERRAIN_WGSL,
+            Pass::Sprites => SPRITES_WGSL,
             Pass::Clouds => CLOUDS_WGSL,
             Pass::Composite => COMPOSITE_WGSL,
             Pass::Tonemap => TONEMAP_WGSL,
@@ -111,9 +120,15 @@ impl Pass {
         matches!(self, Pass::Shadow | Pass::Clouds)
     }
 
-    /// Whether the pass exists for `method` (the bake only for `baked`).
+    /// Whether the pass exists for `method`: the bake only for `baked`;
+    /// the density passes (shadow, clouds, composite) only for the
+    /// ray-marching methods; sprites (scene layers) for every method.
     pub fn used_by(self, method: RenderMethod) -> bool {
-        self != Pass::Bake || method == RenderMethod::Baked
+        match self {
+            Pass::Bake => method == RenderMethod::Baked,
+            Pass::Shadow | Pass::Clouds | Pass::Composite => method.ray_marches(),
+            Pass::Sky | Pass::Terrain | Pass::Sprites => true,
+        }
     }
 
     /// The `override` constants this pass's module declares under `method`
@@ -127,6 +142,7 @@ impl Pass {
             Pass::Shadow => &["ENCODE_SRGB"],
             Pass::Sky => &["ENCODE_SRGB"],
             Pass::Terrain => &["ENCODE_SRGB", "HAS_SHADOWS"],
+            Pass::Sprites => &["ENCODE_SRGB", "HAS_TERRAIN"],
             Pass::Clouds if exact => &["ENCODE_SRGB", "GRID_CULLING", "USE_NORMALS", "HAS_TERRAIN"],
             Pass::Clouds => &["ENCODE_SRGB", "USE_NORMALS", "HAS_TERRAIN"],
         }
@@ -142,7 +158,9 @@ impl Pass {
         if self.needs_density() {
             s.push_str(match method {
                 RenderMethod::Exact => FIELD_EXACT_WGSL,
-                RenderMethod::Baked => FIELD_BAKED_WGSL,
+                // `used_by` gives the sprites method no density pass; its
+                // arm only keeps `source` total.
+                RenderMethod::Baked | RenderMethod::Sprites => FIELD_BAKED_WGSL,
             });
             s.push_str(DENSITY_WGSL);
         }

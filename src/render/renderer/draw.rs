@@ -222,6 +222,12 @@ impl Renderer {
                 rp.set_bind_group(1, self.bind_clouds.as_ref(), &[]);
                 rp.draw(0..3, 0..1);
             }
+            Pass::Sprites => {
+                let s = self.sprites.as_ref().expect("sprite resources exist");
+                rp.set_bind_group(1, self.bind_clouds.as_ref(), &[]);
+                rp.set_bind_group(2, &s.bind, &[]);
+                rp.draw(0..6, 0..s.count);
+            }
             Pass::Composite => {
                 let (_, _, input) = self.cloud_target.as_ref().expect("compute target exists");
                 rp.set_bind_group(1, input, &[]);

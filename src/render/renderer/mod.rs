@@ -21,6 +21,7 @@
 use std::time::Instant;
 
 use crate::error::{Error, Result};
+use crate::physics::CloudParcel;
 use crate::render::auto_march::AutoMarch;
 use crate::render::gpu::GpuContext;
 use crate::render::method::{MarchPath, RenderMethod};
@@ -30,6 +31,7 @@ use crate::render::pipelines::{PassLayouts, PipelineCache, PipelineKey};
 use crate::render::raymarch::baked::{BakeInfo, BakedField};
 use crate::render::raymarch::exact::ExactField;
 use crate::render::shaders::Pass;
+use crate::render::sprites::{SpriteScene, SpriteStats, SpritesGpu};
 use crate::render::terrain;
 use crate::render::timing::Timestamps;
 use crate::render::{Features, FrameInput, RenderConfig, TerrainConfig};
@@ -97,6 +99,10 @@ pub struct Renderer {
     auto_march: AutoMarch,
     /// The HDR scene target (made by `ensure`, dropped on resize).
     scene: Option<SceneTarget>,
+    /// The scene's sprite clouds and their per-sprite state.
+    sprite_scene: SpriteScene,
+    /// Atlas and instances, created with the first sprite.
+    sprites: Option<SpritesGpu>,
 }
 
 impl Renderer {
@@ -238,6 +244,8 @@ impl Renderer {
             cloud_target: None,
             auto_march: AutoMarch::default(),
             scene: None,
+            sprite_scene: SpriteScene::default(),
+            sprites: None,
         };
         r.ensure(ctx)?;
         Ok(r)
@@ -338,8 +346,39 @@ impl Renderer {
             self.rebind_common(ctx);
         }
         self.cfg = cfg.clone();
-        self.features = Features::new(cfg, self.any_clouds);
+        self.features = self.features_for(self.any_clouds, self.features.sprites);
         self.ensure(ctx)
+    }
+
+    /// Sets the scene's own sprite clouds (`[[sprite_clouds]]` and
+    /// `[[layers]]`, from [`crate::sprites_model::scene_clouds`]), drawn
+    /// under every method from the next `prepare`.
+    pub fn set_sprite_clouds(
+        &mut self,
+        ctx: &GpuContext,
+        clouds: Vec<crate::sprites_model::SpriteCloud>,
+    ) -> Result<()> {
+        self.sprite_scene = SpriteScene::new(clouds);
+        self.features = self.features_for(self.any_clouds, !self.sprite_scene.is_empty());
+        self.ensure(ctx)
+    }
+
+    /// What the last frame's sprites cost (zeros without sprites).
+    pub fn sprite_stats(&self) -> SpriteStats {
+        self.sprite_scene.stats
+    }
+
+    /// The scene's sprite clouds.
+    pub fn sprite_clouds(&self) -> &[crate::sprites_model::SpriteCloud] {
+        self.sprite_scene.clouds()
+    }
+
+    /// Features of a frame with or without parcels and sprites: the
+    /// method's own, plus the scene's sprite clouds.
+    fn features_for(&self, any_clouds: bool, any_sprites: bool) -> Features {
+        let mut f = Features::new(&self.cfg, any_clouds);
+        f.sprites = self.cfg.clouds && (f.sprites || any_sprites);
+        f
     }
 
     /// The `override` constants of `pass` under the current features.
@@ -354,6 +393,7 @@ impl Renderer {
             Pass::Tonemap => vec![("ENCODE_SRGB", srgb)],
             Pass::Bake | Pass::Sky | Pass::Composite | Pass::Shadow => vec![],
             Pass::Terrain => vec![("HAS_SHADOWS", b(f.shadows))],
+            Pass::Sprites => vec![("HAS_TERRAIN", b(f.terrain))],
             Pass::Clouds => vec![
                 ("USE_NORMALS", b(f.normals)),
                 ("HAS_TERRAIN", b(f.terrain)),
@@ -371,6 +411,7 @@ impl Renderer {
             Pass::Shadow => self.features.shadows,
             Pass::Sky => true,
             Pass::Terrain => self.features.terrain,
+            Pass::Sprites => self.features.sprites,
             Pass::Clouds => self.features.clouds,
             Pass::Composite => self.features.clouds && self.compute_path(),
             Pass::Tonemap => true,
@@ -500,7 +541,7 @@ impl Renderer {
                 }],
             }));
         }
-        if f.clouds && self.bind_clouds.is_none() {
+        if (f.clouds || f.sprites) && self.bind_clouds.is_none() {
             let view = self.depth_view.as_ref().unwrap_or(&self.dummy_depth_view);
             self.bind_clouds = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("clouds: depth"),
@@ -516,9 +557,10 @@ impl Renderer {
         // the frame with clouds and the one without as well as the current
         // one, so clouds appearing or vanishing never wait for a compile.
         let current = self.features;
+        let scene_sprites = !self.sprite_scene.is_empty();
         for features in [
-            Features::new(&self.cfg, true),
-            Features::new(&self.cfg, false),
+            self.features_for(true, scene_sprites),
+            self.features_for(false, scene_sprites),
             current,
         ] {
             self.features = features;
@@ -542,6 +584,9 @@ impl Renderer {
         if self.scene.is_none() {
             self.scene = Some(self.make_scene_target(device));
         }
+        if current.sprites && self.sprites.is_none() {
+            self.sprites = Some(SpritesGpu::new(ctx, &self.layouts.sprites));
+        }
         Ok(())
     }
 
@@ -555,6 +600,7 @@ impl Renderer {
         let info = match self.cfg.method {
             RenderMethod::Exact => self.exact.upload(ctx, input.parcels, shell, scale)?,
             RenderMethod::Baked => self.baked.update(ctx, input.parcels, shell, scale)?,
+            RenderMethod::Sprites => GridInfo::EMPTY,
         };
         if self.always_bake {
             self.baked.invalidate();
@@ -563,11 +609,43 @@ impl Renderer {
             self.rebind_common(ctx);
         }
         self.grid_info = info;
-        self.any_clouds = info.parcel_count > 0;
-        let features = Features::new(&self.cfg, self.any_clouds);
+        let sprite_method = self.cfg.method == RenderMethod::Sprites;
+        self.any_clouds = if sprite_method {
+            input.parcels.iter().any(|p| p.fill > 0.0)
+        } else {
+            info.parcel_count > 0
+        };
+        let instances = if self.cfg.clouds {
+            // The drawn spheres are radius_scale × the parcels' (§6.1, as
+            // the ray-march draws them): the sprite clouds fill those.
+            let parcels: Vec<CloudParcel> = if sprite_method {
+                input
+                    .parcels
+                    .iter()
+                    .map(|p| CloudParcel {
+                        radius_m: p.radius_m * scale,
+                        ..*p
+                    })
+                    .collect()
+            } else {
+                Vec::new()
+            };
+            self.sprite_scene.frame(
+                &parcels,
+                input.sun.direction,
+                input.camera.position,
+                input.time_s,
+            )
+        } else {
+            Vec::new()
+        };
+        let features = self.features_for(self.any_clouds, !instances.is_empty());
         if features != self.features {
             self.features = features;
             self.ensure(ctx)?;
+        }
+        if let Some(gpu) = self.sprites.as_mut() {
+            gpu.upload(ctx, &self.layouts.sprites, &instances)?;
         }
         let frame = self.frame_uniform(input);
         ctx.queue

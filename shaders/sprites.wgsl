@@ -1,0 +1,74 @@
+// Sprite clouds (Wang 2003, the `sprites` method and scene layers): one
+// instanced quad per sprite, corners and per-corner shading computed on the
+// CPU (src/render/sprites/, after the paper's §5–§6.1: camera-facing or
+// locked corners, colour levels × time-of-day ambient + biased directional
+// sun, × formation alpha) and sorted back to front. The fragment multiplies
+// the atlas texel in (eq. 3), hides what lies behind the terrain depth,
+// fades into the haze like the ray-marched clouds and writes premultiplied
+// colour, blended with (ONE, ONE_MINUS_SRC_ALPHA) as the cloud pass does.
+
+// Compare with the terrain depth (false: no terrain pass this frame).
+override HAS_TERRAIN: bool = true;
+
+// 144 bytes; keep in sync with SpriteInstance in src/render/sprites/mod.rs.
+struct SpriteInstance {
+    corners: array<vec4<f32>, 4>, // xyz (m), counter-clockwise from bottom-left
+    colors: array<vec4<f32>, 4>,  // linear RGBA per corner (alpha: formation × facing)
+    uv: vec4<f32>,                // atlas rectangle u0, v0, u1, v1 (v down)
+}
+
+@group(1) @binding(0) var depth_tex: texture_depth_2d;
+@group(2) @binding(0) var atlas_tex: texture_2d<f32>;
+@group(2) @binding(1) var atlas_sampler: sampler;
+@group(2) @binding(2) var<storage, read> sprites: array<SpriteInstance>;
+
+// The artist's colours are display colours: 1.0 reaches 0.89 after
+// output_color's exposure curve (1 − exp(−1.1 · 2)).
+const ARTIST_EXPOSURE: f32 = 2.0;
+
+struct SpriteOut {
+    @builtin(position) pos: vec4<f32>,
+    @location(0) color: vec4<f32>,
+    @location(1) uv: vec2<f32>,
+    @location(2) world: vec3<f32>,
+}
+
+@vertex
+fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> SpriteOut {
+    // Two triangles: corners 0 1 2 and 0 2 3.
+    var corner_of = array<u32, 6>(0u, 1u, 2u, 0u, 2u, 3u);
+    let c = corner_of[v];
+    let s = sprites[i];
+    let p = s.corners[c].xyz;
+    // Corner 0 is bottom-left: (u0, v1); 1: (u1, v1); 2: (u1, v0); 3: (u0, v0).
+    let right = c == 1u || c == 2u;
+    let top = c >= 2u;
+    var o: SpriteOut;
+    o.pos = frame.clip_from_world * vec4<f32>(p, 1.0);
+    o.color = s.colors[c];
+    o.uv = vec2<f32>(select(s.uv.x, s.uv.z, right), select(s.uv.w, s.uv.y, top));
+    o.world = p;
+    return o;
+}
+
+@fragment
+fn fs_main(in: SpriteOut) -> @location(0) vec4<f32> {
+    // Sampled first, in uniform control flow (implicit mip level).
+    let tex = textureSample(atlas_tex, atlas_sampler, in.uv);
+    if HAS_TERRAIN {
+        let depth = textureLoad(depth_tex, vec2<i32>(in.pos.xy), 0);
+        if in.pos.z > depth {
+            discard;
+        }
+    }
+    let alpha = clamp(in.color.a * tex.a, 0.0, 1.0);
+    if alpha < 1e-3 {
+        discard;
+    }
+    var rgb = in.color.rgb * tex.rgb * ARTIST_EXPOSURE;
+    // Aerial perspective, as on the ray-marched clouds and the terrain.
+    let to_eye = in.world - frame.camera_pos.xyz;
+    let haze = 1.0 - exp(-length(to_eye) / 60000.0);
+    rgb = mix(rgb, haze_color(normalize(to_eye)), haze);
+    return vec4<f32>(output_color(rgb) * alpha, alpha);
+}

@@ -1,0 +1,256 @@
+//! Render methods side by side (`methods.csv`, `methods.md`): each case is
+//! a scene, a method and whether the impostor ring is on, timed with
+//! [`super::measure`] at the run's frame size; on scenes with physics
+//! clouds each method's frame is compared by mean FLIP with the `exact`
+//! ray-march of the same parcels, sun and camera (how far Wang's sprites
+//! are from Goswami's hypertexture on the same field). Authored scenes
+//! (no parcels) have no exact frame and leave the FLIP empty; for them the
+//! paper's "cloud block overdraw" (§6.3) of the view is given instead.
+//!
+//! One line of [`cases`] adds a case.
+
+use std::path::Path;
+
+use crate::error::{Error, Result};
+use crate::physics::{CloudParcel, ParcelWorld};
+use crate::render::headless::Headless;
+use crate::render::{Camera, GpuContext, RenderMethod, Sun};
+use crate::scene::SceneProfile;
+
+use super::measure::{Repeats, Source, measure};
+use super::stats::{mean_flip, rgb};
+
+/// One measured configuration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Case {
+    /// Profile file in `profiles/`.
+    pub scene: &'static str,
+    pub method: RenderMethod,
+    /// The impostor ring of §6.2 (not built yet: every case has it off).
+    pub impostors: bool,
+}
+
+/// Every case of the table: every method but the reference on the physics
+/// scene, and the paper's overcast (Figure 15) as sprites.
+pub fn cases() -> Vec<Case> {
+    let mut c: Vec<Case> = RenderMethod::ALL
+        .into_iter()
+        .filter(|m| *m != RenderMethod::Exact)
+        .map(|method| Case {
+            scene: "fair_weather.toml",
+            method,
+            impostors: false,
+        })
+        .collect();
+    c.push(Case {
+        scene: "overcast.toml",
+        method: RenderMethod::Sprites,
+        impostors: false,
+    });
+    c
+}
+
+/// One row of `methods.csv`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MethodRow {
+    pub scene: String,
+    pub method: RenderMethod,
+    pub impostors: bool,
+    /// Median frame (upload + GPU). units: ms
+    pub frame_ms: f64,
+    /// Mean FLIP against the exact ray-march (None: no parcels to march).
+    pub mean_flip_vs_exact: Option<f64>,
+    /// Sprites drawn (0 for the ray-marching methods).
+    pub sprites: usize,
+    /// Mean cloud block overdraw of the scene's own sprite clouds within
+    /// 100 km of the camera (§6.3; 4.75 is the paper's overcast).
+    pub overdraw: f32,
+}
+
+/// A scene loaded and simulated to its start time: its parcels, camera,
+/// sun and sprite clouds.
+struct Loaded {
+    profile: SceneProfile,
+    parcels: Vec<CloudParcel>,
+    camera: Camera,
+    sun: Sun,
+}
+
+fn load(name: &str) -> Result<Loaded> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles");
+    let path = dir.join(name);
+    let profile = SceneProfile::load(&path)?;
+    let env = profile.atmosphere.build(&dir)?;
+    let mut world = ParcelWorld::new(env, profile.world_config(&dir)?, 1)?;
+    let t = profile.simulation.start_s;
+    while world.time_s() < t - 1e-9 {
+        world.step(2.0f64.min(t - world.time_s()));
+    }
+    let mut parcels = Vec::new();
+    world.cloud_parcels(&mut parcels);
+    let clock = profile.clock()?;
+    let sun = crate::scene::render_sun(clock.as_ref(), &profile.render, t).0;
+    let camera = Camera::from(&profile.camera);
+    Ok(Loaded {
+        profile,
+        parcels,
+        camera,
+        sun,
+    })
+}
+
+/// Measures every case of [`cases`] at `size`; `tick` after each.
+pub fn methods(
+    ctx: &GpuContext,
+    size: (u32, u32),
+    reps: Repeats,
+    mut tick: impl FnMut(&str),
+) -> Result<Vec<MethodRow>> {
+    let mut rows = Vec::new();
+    let mut scenes: Vec<(&str, Loaded, Option<Vec<u8>>)> = Vec::new();
+    for case in cases() {
+        if !scenes.iter().any(|(n, ..)| *n == case.scene) {
+            let l = load(case.scene)?;
+            let reference = if l.parcels.is_empty() {
+                None
+            } else {
+                let m = run_case(ctx, &l, RenderMethod::Exact, size, reps)?;
+                Some(rgb(&m.0.rgba))
+            };
+            scenes.push((case.scene, l, reference));
+        }
+        let (_, l, reference) = scenes
+            .iter()
+            .find(|(n, ..)| *n == case.scene)
+            .expect("loaded above");
+        if case.impostors {
+            return Err(Error::invalid(
+                "bench case impostors",
+                case.scene,
+                "impostors off: the impostor ring is not built yet",
+            ));
+        }
+        let (m, sprites) = run_case(ctx, l, case.method, size, reps)?;
+        let flip = reference
+            .as_ref()
+            .map(|r| mean_flip(r, &rgb(&m.rgba), size.0, size.1));
+        let scene_sprites: Vec<crate::sprites_model::Sprite> =
+            crate::sprites_model::scene_clouds(&l.profile)
+                .into_iter()
+                .flat_map(|c| c.sprites)
+                .collect();
+        let overdraw = crate::sprites_model::order::view_overdraw(
+            &scene_sprites,
+            l.camera.position,
+            100_000.0,
+        );
+        rows.push(MethodRow {
+            scene: case.scene.trim_end_matches(".toml").to_string(),
+            method: case.method,
+            impostors: case.impostors,
+            frame_ms: m.render_ms,
+            mean_flip_vs_exact: flip,
+            sprites,
+            overdraw,
+        });
+        tick(&format!("methods: {} {}", case.scene, case.method));
+    }
+    Ok(rows)
+}
+
+fn run_case(
+    ctx: &GpuContext,
+    l: &Loaded,
+    method: RenderMethod,
+    size: (u32, u32),
+    reps: Repeats,
+) -> Result<(super::measure::Measured, usize)> {
+    let cfg = crate::render::RenderConfig {
+        method,
+        ..l.profile.render.clone()
+    };
+    let mut hl = Headless::new(ctx, &cfg, size.0, size.1)?;
+    hl.renderer
+        .set_sprite_clouds(ctx, crate::sprites_model::scene_clouds(&l.profile))?;
+    let m = measure(
+        ctx,
+        &mut hl,
+        l.camera,
+        l.sun,
+        Source::Parcels(&l.parcels),
+        reps,
+    )?;
+    Ok((m, hl.renderer.sprite_stats().sprites))
+}
+
+/// `methods.csv`: scene, method, impostors (on/off), frame_ms,
+/// mean_flip_vs_exact (empty where there is no exact frame).
+pub fn methods_csv(rows: &[MethodRow]) -> Result<Vec<u8>> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let err = |e: csv::Error| Error::invalid("methods.csv", "a row", e.to_string());
+    w.write_record([
+        "scene",
+        "method",
+        "impostors",
+        "frame_ms",
+        "mean_flip_vs_exact",
+    ])
+    .map_err(err)?;
+    for r in rows {
+        w.write_record([
+            r.scene.clone(),
+            r.method.name().to_string(),
+            super::perf::on_off(r.impostors).to_string(),
+            format!("{:.3}", r.frame_ms),
+            r.mean_flip_vs_exact
+                .map_or(String::new(), |f| format!("{f:.4}")),
+        ])
+        .map_err(err)?;
+    }
+    w.into_inner()
+        .map_err(|e| Error::invalid("methods.csv", "the buffer", e.to_string()))
+}
+
+/// `methods.md`: the same table with sprite counts and the overdraw.
+pub fn methods_md(rows: &[MethodRow], width: u32, height: u32) -> String {
+    let mut s = format!(
+        "# Render methods\n\n{width}×{height}; frame = upload + GPU, median. FLIP: mean against the \
+         exact ray-march of the same parcels, sun and camera (authored scenes have none). \
+         Overdraw: the paper's cloud block overdraw of the scene's authored sprite clouds \
+         ([[sprite_clouds]], [[layers]]; §6.3: Σ sprite area / 16 km² block, mean over the blocks \
+         within 100 km; the paper's overcast is 475 %), – where the scene authors none.\n\n\
+         | scene | method | impostors | frame (ms) | mean FLIP vs exact | sprites | overdraw |\n\
+         |---|---|---|---:|---:|---:|---:|\n"
+    );
+    for r in rows {
+        s.push_str(&format!(
+            "| {} | {} | {} | {:.1} | {} | {} | {} |\n",
+            r.scene,
+            r.method,
+            super::perf::on_off(r.impostors),
+            r.frame_ms,
+            r.mean_flip_vs_exact
+                .map_or("–".to_string(), |f| format!("{f:.3}")),
+            r.sprites,
+            if r.overdraw > 0.0 {
+                format!("{:.0} %", 100.0 * r.overdraw)
+            } else {
+                "–".to_string()
+            }
+        ));
+    }
+    s.push_str(
+        "\nThe impostor ring of §6.2 is not built yet, so the paper's impostors on/off ratio \
+         (Figure 15) is not measured.\n",
+    );
+    s
+}
+
+/// Writes `methods.csv` and `methods.md` into `dir`.
+pub fn write(dir: &Path, rows: &[MethodRow], width: u32, height: u32) -> Result<()> {
+    crate::output::write_atomic(&dir.join("methods.csv"), &methods_csv(rows)?)?;
+    crate::output::write_atomic(
+        &dir.join("methods.md"),
+        methods_md(rows, width, height).as_bytes(),
+    )
+}
