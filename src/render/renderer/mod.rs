@@ -559,7 +559,10 @@ impl Renderer {
         let (shell, scale) = (self.cfg.shell_m, self.cfg.radius_scale);
         let info = match self.cfg.method {
             RenderMethod::Exact => self.exact.upload(ctx, input.parcels, shell, scale)?,
-            RenderMethod::Baked => self.baked.update(ctx, input.parcels, shell, scale)?,
+            RenderMethod::Baked => {
+                let sun = input.sun.direction.normalize();
+                self.baked.update(ctx, input.parcels, shell, scale, sun)?
+            }
         };
         if self.always_bake {
             self.baked.invalidate();
