@@ -14,8 +14,15 @@
 //    and the parcel's condensation plane with an atomic min (as a max of
 //    the complemented bit pattern of plane + PLANE_OFFSET_M; 0 = none).
 //    Cost ∝ parcels × voxels each, not pixels × parcels.
-// 2. `resolve`, one thread per voxel: writes (v, plane) into the field
-//    texture, folds v into the coarse cells whose trilinear footprint holds
+// 2. `light`, one thread per coarse cell: the light volume. From the
+//    cell's centre it marches toward the sun, and straight up, through the
+//    splatted macro field (parcels only, no noise) to the region's edge and
+//    stores both optical depths (density × m; × extinction gives the
+//    exponent) in `light_depths`. Over the region's whole height: a tower's
+//    top shadows its base and its neighbours, and a base sees little sky.
+// 3. `resolve`, one thread per voxel: writes (v, plane, sun depth, up
+//    depth) into the field texture (the depths interpolated from the coarse
+//    cells), folds v into the coarse cells whose trilinear footprint holds
 //    the voxel (so a cell's value bounds every filtered fetch in it), and
 //    zeroes the voxel's accumulators for the next bake.
 
@@ -34,6 +41,15 @@ struct Chunk {
 @group(1) @binding(2) var<storage, read_write> plane_bits: array<atomic<u32>>;
 @group(1) @binding(3) var<storage, read_write> occupancy_bits: array<atomic<u32>>;
 @group(1) @binding(4) var field_out: texture_storage_3d<rgba16float, write>;
+@group(1) @binding(5) var<storage, read_write> light_depths: array<vec2<f32>>;
+
+// Light-march step of `light`, in voxels: two voxels (half a coarse cell)
+// resolve a cloud's body; the noise detail near each sample is added by
+// the view march's own short light march (lighting.wgsl).
+const LIGHT_STEP_VOXELS: f32 = 2.0;
+// Most steps of one light march (a 40 km landscape at low sun: ~60 km at
+// 2 × 84 m is ~360 steps); the rest of a longer path is left out.
+const LIGHT_MAX_STEPS: u32 = 1024u;
 
 fn voxel_m() -> f32 {
     return frame.grid_cell.x / f32(BAKE_BLOCK);
@@ -80,6 +96,66 @@ fn splat(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_index) 
     }
 }
 
+// Parcels-only density ρ = smoothstep(0, 1, v) of the voxel holding p, from
+// the splat's accumulators (coarse_density of density.wgsl, before the
+// texture exists); 0 outside the region.
+fn splatted_density(p: vec3<f32>) -> f32 {
+    let dims = voxel_dims();
+    let rel = (p - frame.grid_min.xyz) / voxel_m();
+    if any(rel < vec3<f32>(0.0)) || any(rel >= vec3<f32>(dims)) {
+        return 0.0;
+    }
+    let bits = atomicLoad(&value_bits[voxel_index(vec3<u32>(rel), dims)]);
+    if bits == 0u {
+        return 0.0;
+    }
+    return smoothstep(0.0, 1.0, bitcast<f32>(bits) - 1.0);
+}
+
+// ∫ ρ ds from p along unit `dir` to the region's edge (density × m).
+fn splatted_depth(p: vec3<f32>, dir: vec3<f32>) -> f32 {
+    let region_max = frame.grid_min.xyz + frame.grid_cell.xyz * vec3<f32>(frame.grid_dims.xyz);
+    let exit = ray_box(p, dir, frame.grid_min.xyz, region_max).y;
+    let ds = LIGHT_STEP_VOXELS * voxel_m();
+    var od = 0.0;
+    var t = 0.5 * ds;
+    for (var i = 0u; i < LIGHT_MAX_STEPS && t < exit; i++) {
+        od += splatted_density(p + dir * t) * ds;
+        t += ds;
+    }
+    return od;
+}
+
+@compute @workgroup_size(4, 4, 4)
+fn light(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let cells = frame.grid_dims.xyz;
+    if any(gid >= cells) {
+        return;
+    }
+    let centre = frame.grid_min.xyz + (vec3<f32>(gid) + 0.5) * frame.grid_cell.xyz;
+    light_depths[gid.x + cells.x * (gid.y + cells.y * gid.z)] = vec2<f32>(
+        splatted_depth(centre, frame.sun_dir.xyz),
+        splatted_depth(centre, vec3<f32>(0.0, 0.0, 1.0)),
+    );
+}
+
+// The light depths at voxel `v`, trilinear between the coarse cells'
+// centres (clamped at the region's edge).
+fn voxel_light(v: vec3<u32>) -> vec2<f32> {
+    let cells = vec3<i32>(frame.grid_dims.xyz);
+    let c = (vec3<f32>(v) + 0.5) / f32(BAKE_BLOCK) - 0.5;
+    let c0 = vec3<i32>(floor(c));
+    let w = c - floor(c);
+    var sum = vec2<f32>(0.0);
+    for (var k = 0; k < 8; k++) {
+        let o = vec3<i32>(k & 1, (k >> 1u) & 1, (k >> 2u) & 1);
+        let ci = clamp(c0 + o, vec3<i32>(0), cells - 1);
+        let wk = select(1.0 - w, w, vec3<bool>(o == vec3<i32>(1)));
+        sum += wk.x * wk.y * wk.z * light_depths[ci.x + cells.x * (ci.y + cells.y * ci.z)];
+    }
+    return sum;
+}
+
 @compute @workgroup_size(4, 4, 4)
 fn resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
     let dims = voxel_dims();
@@ -95,7 +171,7 @@ fn resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
     if plane_key != 0u {
         plane = bitcast<f32>(~plane_key) - PLANE_OFFSET_M;
     }
-    textureStore(field_out, gid, vec4<f32>(value, plane, 0.0, 0.0));
+    textureStore(field_out, gid, vec4<f32>(value, plane, voxel_light(gid)));
     if bits == 0u {
         return;
     }

@@ -1,6 +1,7 @@
 // Macro field of the `baked` method: the union of parcel_value over all
 // parcels, baked by bake.wgsl into a 3D texture over the cloud region
-// (R: v, G: condensation plane (m)), read with one trilinear fetch, so a
+// (R: v, G: condensation plane (m), B and A: the light volume's optical
+// depths toward the sun and straight up), read with one trilinear fetch, so a
 // sample costs the same whatever the parcel count. The frame's grid
 // (grid_min, grid_cell, grid_dims) is the bake's coarse occupancy grid
 // (BAKE_BLOCK³ voxels a cell) over the same region; `occupancy` holds, per
@@ -24,6 +25,10 @@ fn field_value(p: vec3<f32>) -> f32 {
 
 fn field_sample(p: vec3<f32>) -> vec2<f32> {
     return textureSampleLevel(field_tex, clamp_sampler, field_uvw(p), 0.0).rg;
+}
+
+fn far_light_depth(p: vec3<f32>) -> vec2<f32> {
+    return textureSampleLevel(field_tex, clamp_sampler, field_uvw(p), 0.0).ba;
 }
 
 fn empty_skip(p: vec3<f32>, rd: vec3<f32>) -> f32 {

@@ -12,13 +12,14 @@ use std::process::Command;
 use cumulus::bench::stats::mean_flip;
 
 /// Most mean FLIP of the default setting against the path tracer at this
-/// size and sample count. It is not the accuracy goal (≤ 0.05 on the full
-/// fair-weather frame, see the bench report): the real-time lighting differs
-/// from light transport (approximate multiple scattering, ambient term, a
-/// 2.5× denser shadow march) and 8 samples per pixel leave visible noise.
-/// Measured 0.087 on llvmpipe; a wrong camera, a mirrored image, a misplaced
-/// grid or wrong units move or lose the clouds and give far more.
-const MAX_MEAN_FLIP: f64 = 0.15;
+/// size and sample count (the accuracy goal, ≤ 0.05, is for the full
+/// fair-weather frame: measured 0.044 with `pathtraced.py --quick`). The
+/// real-time lighting approximates multiple scattering and the ambient
+/// term, and 8 samples per pixel leave visible noise. Measured 0.030 on
+/// llvmpipe (0.087 before the HDR composite and the diffusion-like multiple
+/// scattering); a wrong camera, a mirrored image, a misplaced grid or wrong
+/// units move or lose the clouds and give far more.
+const MAX_MEAN_FLIP: f64 = 0.06;
 
 fn python() -> String {
     std::env::var("CUMULUS_PYTHON").unwrap_or_else(|_| "python3".into())

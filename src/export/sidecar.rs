@@ -3,7 +3,7 @@
 //! medium, tone curve), with units. Field names carry their units.
 //!
 //! The lighting constants below mirror the WGSL of the cloud pass; keep in
-//! sync with shaders/lighting.wgsl (`sun_octave_weights`, `LIGHT_DENSITY`) and
+//! sync with shaders/lighting.wgsl (`sun_phase_weights`, `HG_BACK_G`, `HG_BACK_WEIGHT`, `LIGHT_DENSITY`) and
 //! shaders/common.wgsl (`sky_ambient`, `tone_map`).
 
 use serde::{Deserialize, Serialize};
@@ -12,9 +12,9 @@ use crate::render::{Camera, RenderConfig, Sun};
 
 use super::GridSpec;
 
-/// Henyey–Greenstein g of the weak back lobe (lighting.wgsl `sun_octave_weights`).
+/// Henyey–Greenstein g of the weak back lobe (lighting.wgsl `HG_BACK_G`).
 pub const BACK_LOBE_G: f32 = -0.2;
-/// Weight of the back lobe in the mix (lighting.wgsl `sun_octave_weights`).
+/// Weight of the back lobe in the mix (lighting.wgsl `HG_BACK_WEIGHT`).
 pub const BACK_LOBE_WEIGHT: f32 = 0.25;
 /// Extra density factor of the light march toward the sun (lighting.wgsl `LIGHT_DENSITY`;
 /// 1: the same medium as the view rays and the path tracer).

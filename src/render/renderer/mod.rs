@@ -599,7 +599,10 @@ impl Renderer {
         let (shell, scale) = (self.cfg.shell_m, self.cfg.radius_scale);
         let info = match self.cfg.method {
             RenderMethod::Exact => self.exact.upload(ctx, input.parcels, shell, scale)?,
-            RenderMethod::Baked => self.baked.update(ctx, input.parcels, shell, scale)?,
+            RenderMethod::Baked => {
+                let sun = input.sun.direction.normalize();
+                self.baked.update(ctx, input.parcels, shell, scale, sun)?
+            }
             RenderMethod::Sprites => GridInfo::EMPTY,
         };
         if self.always_bake {
