@@ -50,7 +50,10 @@ pub struct SlicesConfig {
 impl Default for SlicesConfig {
     fn default() -> Self {
         Self {
-            opacity: 1.0,
+            // With the cloudscape scaling of the renderer, τ through a mean
+            // primitive's centre is about Opacity × ½ (mean Wyvill field on
+            // a diameter) × ½ (mean noise): 6 makes it ~0.8 opaque.
+            opacity: 6.0,
             quality: 128,
             detail: 2.0,
             dirtiness: 0.5,

@@ -46,7 +46,8 @@ pub struct Args {
     #[arg(long)]
     pub date: Option<String>,
     /// Cloud render method (overrides the scene's [render] method): baked
-    /// (default) or exact.
+    /// (default), exact or slices (Schpok 2003: the scene's authored
+    /// [[ellipsoids]] and the parcels, by light-aligned slicing planes).
     #[arg(long, value_parser = super::watch::parse_method)]
     pub method: Option<cumulus::render::RenderMethod>,
     #[command(flatten)]
@@ -224,6 +225,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let ctx = GpuContext::new_headless(args.adapter.as_deref())?;
     eprintln!("adapter: {}", ctx.describe());
     let mut headless = Headless::new(&ctx, &cfg, args.width, args.height)?;
+    headless
+        .renderer
+        .set_authored(&scene.ellipsoids, &scene.particles);
 
     let mut parcels = Vec::new();
     let warm = (!args.clouds.stand_in).then(|| {

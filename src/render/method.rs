@@ -2,9 +2,9 @@
 //! `render`, `watch` and `bench`, the panel's method box). Every method
 //! shares the sky, terrain, cloud-shadow and composite passes; what differs
 //! is how the cloud field reaches the GPU and how a pixel finds its cloud.
-//! Today both methods ray-march eq. 18 (module [`crate::render::raymarch`]);
-//! `sprites` (Wang 2003) and `slices` (Schpok 2003) plug in as further
-//! variants with their own submodules.
+//! `baked` and `exact` ray-march eq. 18 (module [`crate::render::raymarch`]);
+//! `slices` (Schpok 2003) draws light-aligned slicing planes of an implicit
+//! field (module [`crate::render::slices`]).
 
 use std::fmt;
 use std::str::FromStr;
@@ -28,17 +28,28 @@ pub enum RenderMethod {
     /// baked method is measured against; at most
     /// [`crate::render::pack::MAX_PARCELS`] condensed parcels.
     Exact,
+    /// Schpok et al. 2003 (§4): slicing planes aligned with the light,
+    /// the implicit field (authored `[[ellipsoids]]` and the parcels as
+    /// spheres) and its shadow evaluated at the planes' vertices on the
+    /// CPU, noise octaves composited per fragment, blended back to front
+    /// into a float target. Controlled by `[render.slices]`.
+    Slices,
 }
 
 impl RenderMethod {
     /// Every method, in the order the panel and the bench list them.
-    pub const ALL: [RenderMethod; 2] = [RenderMethod::Baked, RenderMethod::Exact];
+    pub const ALL: [RenderMethod; 3] = [
+        RenderMethod::Baked,
+        RenderMethod::Exact,
+        RenderMethod::Slices,
+    ];
 
     /// Name in scene files, on the command line and in tables.
     pub fn name(self) -> &'static str {
         match self {
             RenderMethod::Baked => "baked",
             RenderMethod::Exact => "exact",
+            RenderMethod::Slices => "slices",
         }
     }
 }
@@ -56,7 +67,10 @@ impl FromStr for RenderMethod {
         Self::ALL
             .into_iter()
             .find(|m| m.name() == s)
-            .ok_or_else(|| Error::invalid("render method", s, "\"baked\" or \"exact\""))
+            .ok_or_else(|| {
+                let names: Vec<String> = Self::ALL.iter().map(|m| format!("\"{m}\"")).collect();
+                Error::invalid("render method", s, format!("one of {}", names.join(", ")))
+            })
     }
 }
 
@@ -105,7 +119,9 @@ mod tests {
             assert_eq!(m.name().parse::<RenderMethod>().unwrap(), m);
         }
         let e = "fast".parse::<RenderMethod>().unwrap_err().to_string();
-        assert!(e.contains("fast") && e.contains("baked"), "{e}");
+        for m in RenderMethod::ALL {
+            assert!(e.contains("fast") && e.contains(m.name()), "{e}");
+        }
         assert_eq!(RenderMethod::default(), RenderMethod::Baked);
     }
 }

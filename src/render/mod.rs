@@ -34,6 +34,7 @@ pub mod pipelines;
 pub mod raymarch;
 pub mod renderer;
 pub mod shaders;
+pub mod slices;
 pub mod standin;
 pub mod terrain;
 pub mod timing;
@@ -88,8 +89,10 @@ impl Default for TerrainConfig {
 #[serde(default, deny_unknown_fields)]
 pub struct RenderConfig {
     /// How the clouds are drawn: "baked" (the default: macro field baked
-    /// into a 3D texture, cost flat in the parcel count) or "exact" (the
-    /// paper's per-sample union; at most 1024 condensed parcels).
+    /// into a 3D texture, cost flat in the parcel count), "exact" (the
+    /// paper's per-sample union; at most 1024 condensed parcels) or
+    /// "slices" (Schpok 2003 slicing planes of the authored ellipsoids and
+    /// the parcels; see `[render.slices]`).
     pub method: RenderMethod,
     /// Shader stage of the ray-march: "fragment", "compute" or "auto" (the
     /// default: the faster on this adapter, measured in the first frames).
@@ -506,7 +509,8 @@ pub struct Features {
     pub clouds: bool,
     /// Terrain mesh pass.
     pub terrain: bool,
-    /// Cloud-shadow pass (needs clouds and terrain).
+    /// Cloud-shadow pass (needs clouds and terrain; not drawn by the
+    /// `slices` method, whose field is not in the shadow pass's inputs).
     pub shadows: bool,
     /// Finite-difference normals compiled into the cloud shader.
     pub normals: bool,
@@ -520,7 +524,7 @@ impl Features {
         Self {
             clouds,
             terrain,
-            shadows: cfg.shadows && clouds && terrain,
+            shadows: cfg.shadows && clouds && terrain && cfg.method != RenderMethod::Slices,
             normals: cfg.normals && clouds,
         }
     }

@@ -77,8 +77,10 @@ pub struct PassLayouts {
     pub depth: wgpu::BindGroupLayout,
     /// Group 2 of the compute march: its output texture.
     pub cloud_out: wgpu::BindGroupLayout,
-    /// Group 1 of the composite: the compute march's texture.
+    /// Group 1 of the composite: the compute march's (or the slices') texture.
     pub cloud_in: wgpu::BindGroupLayout,
+    /// Group 2 of the slices pass: octave transforms and controls.
+    pub slices: wgpu::BindGroupLayout,
 }
 
 impl PassLayouts {
@@ -156,6 +158,7 @@ impl PassLayouts {
             depth,
             cloud_out,
             cloud_in,
+            slices: crate::render::slices::bind_group_layout(device),
         }
     }
 }
@@ -247,7 +250,7 @@ impl PipelineCache {
         });
         let group1 = match pass {
             Pass::Terrain => Some(&layouts.shadow_tex),
-            Pass::Clouds => Some(&layouts.depth),
+            Pass::Clouds | Pass::Slices => Some(&layouts.depth),
             Pass::Composite => Some(&layouts.cloud_in),
             _ => None,
         };
@@ -257,6 +260,9 @@ impl PipelineCache {
         };
         if key.compute {
             layouts_list.push(Some(&layouts.cloud_out));
+        }
+        if pass == Pass::Slices {
+            layouts_list.push(Some(&layouts.slices));
         }
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some(pass.name()),
@@ -290,8 +296,18 @@ impl PipelineCache {
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &vertex_attrs,
         })];
+        let slice_buffers = [Some(wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<crate::authored::SliceVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &crate::render::slices::VERTEX_ATTRIBUTES,
+        })];
         let (target_format, blend) = match pass {
             Pass::Shadow => (SHADOW_FORMAT, None),
+            // Back to front into the float target, premultiplied "over".
+            Pass::Slices => (
+                CLOUD_TARGET_FORMAT,
+                Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
+            ),
             Pass::Clouds | Pass::Composite => (
                 key.format,
                 Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
@@ -311,10 +327,10 @@ impl PipelineCache {
                     module,
                     entry_point: Some("vs_main"),
                     compilation_options: options.clone(),
-                    buffers: if pass == Pass::Terrain {
-                        &terrain_buffers
-                    } else {
-                        &[]
+                    buffers: match pass {
+                        Pass::Terrain => &terrain_buffers,
+                        Pass::Slices => &slice_buffers,
+                        _ => &[],
                     },
                 },
                 primitive: wgpu::PrimitiveState {

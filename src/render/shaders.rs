@@ -35,6 +35,8 @@ pub const TERRAIN_WGSL: &str = include_str!("../../shaders/terrain.wgsl");
 pub const SHADOW_WGSL: &str = include_str!("../../shaders/shadow.wgsl");
 /// Cloud ray-march.
 pub const CLOUDS_WGSL: &str = include_str!("../../shaders/clouds.wgsl");
+/// Slicing planes of the `slices` method (Schpok 2003).
+pub const SLICES_WGSL: &str = include_str!("../../shaders/slices.wgsl");
 
 /// Every file in `shaders/`, by name (the shader test checks none is missing).
 pub const FILES: &[(&str, &str)] = &[
@@ -50,6 +52,7 @@ pub const FILES: &[(&str, &str)] = &[
     ("terrain.wgsl", TERRAIN_WGSL),
     ("shadow.wgsl", SHADOW_WGSL),
     ("clouds.wgsl", CLOUDS_WGSL),
+    ("slices.wgsl", SLICES_WGSL),
 ];
 
 /// The render passes, in the order they run.
@@ -61,18 +64,21 @@ pub enum Pass {
     Sky,
     Terrain,
     Clouds,
-    /// Blends the compute march's texture over the target (compute path).
+    /// Slicing planes into the float cloud target (`slices` method only).
+    Slices,
+    /// Blends the compute march's (or the slices') texture over the target (compute path).
     Composite,
 }
 
 impl Pass {
     /// All passes in execution order.
-    pub const ALL: [Pass; 6] = [
+    pub const ALL: [Pass; 7] = [
         Pass::Bake,
         Pass::Shadow,
         Pass::Sky,
         Pass::Terrain,
         Pass::Clouds,
+        Pass::Slices,
         Pass::Composite,
     ];
 
@@ -84,6 +90,7 @@ impl Pass {
             Pass::Sky => "sky",
             Pass::Terrain => "terrain",
             Pass::Clouds => "clouds",
+            Pass::Slices => "slices",
             Pass::Composite => "composite",
         }
     }
@@ -95,6 +102,7 @@ impl Pass {
             Pass::Sky => SKY_WGSL,
             Pass::Terrain => TERRAIN_WGSL,
             Pass::Clouds => CLOUDS_WGSL,
+            Pass::Slices => SLICES_WGSL,
             Pass::Composite => COMPOSITE_WGSL,
         }
     }
@@ -103,9 +111,18 @@ impl Pass {
         matches!(self, Pass::Shadow | Pass::Clouds)
     }
 
-    /// Whether the pass exists for `method` (the bake only for `baked`).
+    /// Whether the pass exists for `method`: the bake only for `baked`;
+    /// the slicing planes only for `slices`, which has no ray-march and no
+    /// cloud-shadow map (its field lives in vertex buffers, not in the
+    /// uniforms or texture the shadow pass reads).
     pub fn used_by(self, method: RenderMethod) -> bool {
-        self != Pass::Bake || method == RenderMethod::Baked
+        let slices = method == RenderMethod::Slices;
+        match self {
+            Pass::Bake => method == RenderMethod::Baked,
+            Pass::Shadow | Pass::Clouds => !slices,
+            Pass::Slices => slices,
+            Pass::Sky | Pass::Terrain | Pass::Composite => true,
+        }
     }
 
     /// The `override` constants this pass's module declares under `method`
@@ -121,6 +138,7 @@ impl Pass {
             Pass::Terrain => &["ENCODE_SRGB", "HAS_SHADOWS"],
             Pass::Clouds if exact => &["ENCODE_SRGB", "GRID_CULLING", "USE_NORMALS", "HAS_TERRAIN"],
             Pass::Clouds => &["ENCODE_SRGB", "USE_NORMALS", "HAS_TERRAIN"],
+            Pass::Slices => &["ENCODE_SRGB", "HAS_TERRAIN"],
         }
     }
 
@@ -134,7 +152,9 @@ impl Pass {
         if self.needs_density() {
             s.push_str(match method {
                 RenderMethod::Exact => FIELD_EXACT_WGSL,
-                RenderMethod::Baked => FIELD_BAKED_WGSL,
+                // `slices` never builds these passes (see `used_by`); the
+                // baked field keeps the module valid should one ask.
+                RenderMethod::Baked | RenderMethod::Slices => FIELD_BAKED_WGSL,
             });
             s.push_str(DENSITY_WGSL);
         }

@@ -115,7 +115,7 @@ impl Renderer {
             }
         }
         self.timestamps = ts;
-        if self.features.clouds {
+        if self.features.clouds && !self.slicing() {
             self.auto_march.drew();
         }
         let was = self.auto_march.chosen();
@@ -178,7 +178,9 @@ impl Renderer {
             })]
         };
         let clear = wgpu::LoadOp::Clear(wgpu::Color::WHITE);
+        let cloud_target = || &self.cloud_target.as_ref().expect("cloud target exists").0;
         let attachments = match pass {
+            Pass::Slices => color(cloud_target(), wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)),
             Pass::Shadow => color(
                 &self.shadow_view.as_ref().expect("shadow map exists").1,
                 clear,
@@ -215,6 +217,10 @@ impl Renderer {
             Pass::Clouds => {
                 rp.set_bind_group(1, self.bind_clouds.as_ref(), &[]);
                 rp.draw(0..3, 0..1);
+            }
+            Pass::Slices => {
+                rp.set_bind_group(1, self.bind_clouds.as_ref(), &[]);
+                self.slices.draw(&mut rp);
             }
             Pass::Composite => {
                 let (_, _, input) = self.cloud_target.as_ref().expect("compute target exists");

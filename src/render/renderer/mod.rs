@@ -2,7 +2,9 @@
 //! method's cloud field ([`crate::render::raymarch`]) and the pipelines,
 //! and draws a frame into any texture view (window surface or offscreen).
 //! Pass order: bake (baked method, only when the parcels moved) → shadow
-//! map → sky → terrain → clouds (fragment, or compute + composite).
+//! map → sky → terrain → clouds (fragment, or compute + composite), or,
+//! for the `slices` method, slicing planes into the float cloud target +
+//! composite ([`crate::render::slices`]).
 //! This file holds the state, configuration and preparation; [`draw`] the
 //! encoding and timing of a frame; [`resources`] the textures and bind
 //! groups it creates.
@@ -25,6 +27,7 @@ use crate::render::pipelines::{PassLayouts, PipelineCache, PipelineKey};
 use crate::render::raymarch::baked::{BakeInfo, BakedField};
 use crate::render::raymarch::exact::ExactField;
 use crate::render::shaders::Pass;
+use crate::render::slices::{SlicesGpu, slices_frame};
 use crate::render::terrain;
 use crate::render::timing::Timestamps;
 use crate::render::{Features, FrameInput, RenderConfig, TerrainConfig};
@@ -90,6 +93,10 @@ pub struct Renderer {
     cloud_target: Option<(wgpu::TextureView, wgpu::BindGroup, wgpu::BindGroup)>,
     /// `march = "auto"`: measurements and decision.
     auto_march: AutoMarch,
+    /// The `slices` method's buffers.
+    slices: SlicesGpu,
+    /// Authored clouds the `slices` method draws besides the parcels.
+    authored: (Vec<crate::authored::Ellipsoid>, crate::authored::ParticleConfig),
 }
 
 impl Renderer {
@@ -154,6 +161,7 @@ impl Renderer {
         let noise_view = noise_texture(ctx, cfg.noise_texels);
 
         let layouts = PassLayouts::new(device);
+        let slices = SlicesGpu::new(device, &layouts.slices);
 
         let dummy_depth_view = texture_2d(
             device,
@@ -236,9 +244,29 @@ impl Renderer {
             always_bake: false,
             cloud_target: None,
             auto_march: AutoMarch::default(),
+            slices,
+            authored: Default::default(),
         };
         r.ensure(ctx)?;
         Ok(r)
+    }
+
+    /// Sets the authored clouds (a scene's `[[ellipsoids]]` and
+    /// `[particles]`) that the `slices` method draws, animated to each
+    /// frame's `time_s`, besides the frame's parcels. The other methods
+    /// ignore them. Takes effect at the next `prepare`.
+    pub fn set_authored(
+        &mut self,
+        ellipsoids: &[crate::authored::Ellipsoid],
+        particles: &crate::authored::ParticleConfig,
+    ) {
+        self.authored = (ellipsoids.to_vec(), particles.clone());
+    }
+
+    /// Primitives (ellipsoids and parcel spheres) the `slices` method drew
+    /// in the last prepared frame.
+    pub fn slice_primitives(&self) -> u32 {
+        self.slices.primitives
     }
 
     /// The current configuration.
@@ -354,6 +382,7 @@ impl Renderer {
                 ("USE_NORMALS", b(f.normals)),
                 ("HAS_TERRAIN", b(f.terrain)),
             ],
+            Pass::Slices => vec![("ENCODE_SRGB", srgb), ("HAS_TERRAIN", b(f.terrain))],
         };
         if exact && matches!(pass, Pass::Shadow | Pass::Clouds) {
             c.push(("GRID_CULLING", b(self.cfg.grid_culling)));
@@ -362,14 +391,21 @@ impl Renderer {
     }
 
     fn needed(&self, pass: Pass) -> bool {
+        let slices = self.slicing();
         match pass {
             Pass::Bake => self.features.clouds && self.cfg.method == RenderMethod::Baked,
             Pass::Shadow => self.features.shadows,
             Pass::Sky => true,
             Pass::Terrain => self.features.terrain,
-            Pass::Clouds => self.features.clouds,
-            Pass::Composite => self.features.clouds && self.compute_path(),
+            Pass::Clouds => self.features.clouds && !slices,
+            Pass::Slices => self.features.clouds && slices,
+            Pass::Composite => self.features.clouds && (slices || self.compute_path()),
         }
+    }
+
+    /// Whether the clouds are drawn by slicing planes (`slices` method).
+    fn slicing(&self) -> bool {
+        self.cfg.method == RenderMethod::Slices
     }
 
     /// Whether the next frame marches in a compute shader.
@@ -523,7 +559,7 @@ impl Renderer {
                 .filter(|p| *p != Pass::Bake && self.needed(*p))
                 .map(|p| self.key(p))
                 .collect();
-            if self.features.clouds {
+            if self.features.clouds && !self.slicing() {
                 keys.extend(self.cloud_keys());
             }
             self.features = current;
@@ -531,8 +567,8 @@ impl Renderer {
                 self.pipelines.ensure(ctx, &self.layouts, &key)?;
             }
         }
-        let compute_possible = self.cfg.march != MarchPath::Fragment;
-        if current.clouds && compute_possible && self.cloud_target.is_none() {
+        let target_needed = self.cfg.march != MarchPath::Fragment || self.slicing();
+        if current.clouds && target_needed && self.cloud_target.is_none() {
             self.cloud_target = Some(self.make_cloud_target(device));
         }
         Ok(())
@@ -548,6 +584,25 @@ impl Renderer {
         let info = match self.cfg.method {
             RenderMethod::Exact => self.exact.upload(ctx, input.parcels, shell, scale)?,
             RenderMethod::Baked => self.baked.update(ctx, input.parcels, shell, scale)?,
+            RenderMethod::Slices => {
+                let frame = slices_frame(
+                    &self.authored.0,
+                    &self.authored.1,
+                    input.parcels,
+                    &self.cfg,
+                    input.time_s,
+                    input.sun.direction,
+                    input.camera.target - input.camera.position,
+                )?;
+                self.slices.upload(ctx, &frame);
+                // No ray-march grid: "parcel_count" counts the primitives
+                // when there are planes to draw, so features see clouds.
+                let mut info = crate::render::pack::pack(&[], shell, scale)?.info;
+                if self.slices.index_count > 0 {
+                    info.parcel_count = self.slices.primitives;
+                }
+                info
+            }
         };
         if self.always_bake {
             self.baked.invalidate();
