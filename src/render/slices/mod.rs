@@ -8,6 +8,8 @@
 //! with `shaders/slices.wgsl` into the float cloud target, which the
 //! composite pass blends over sky and terrain.
 
+pub mod field;
+
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
