@@ -20,7 +20,9 @@ fn an_authored_animation_exports_as_a_numbered_series() {
     let o = Command::new(env!("CARGO_BIN_EXE_cumulus"))
         .arg("export")
         .arg(&scene_path)
-        .args(["--time", "0", "--frames", "2", "--every", "400", "--voxel", "400", "--out"])
+        .args([
+            "--time", "0", "--frames", "2", "--every", "400", "--voxel", "400", "--out",
+        ])
         .arg(&out)
         .output()
         .unwrap();
@@ -35,7 +37,10 @@ fn an_authored_animation_exports_as_a_numbered_series() {
     // The tower rises 1.2 km and the cumulus drift and grow in 400 s.
     assert_ne!(a.max, b.max, "the second frame's cloud moved");
     assert!(a.values.iter().all(|v| *v >= 0.0 && v.is_finite()));
-    assert!(a.values.iter().any(|v| *v > 0.2), "the tower's core is dense");
+    assert!(
+        a.values.iter().any(|v| *v > 0.2),
+        "the tower's core is dense"
+    );
 
     // Every value is the CPU twin's density at that cell's centre.
     let (scene, _) = cumulus::scene::load_scene(Some(&scene_path)).unwrap();

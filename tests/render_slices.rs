@@ -155,7 +155,11 @@ fn the_field_index_gives_the_field() {
     for i in 0..60 {
         let f = i as f32;
         ellipsoids.push(cumulus::authored::Ellipsoid {
-            centre_m: [(f * 97.0) % 4000.0 - 2000.0, (f * 53.0) % 3000.0, 1500.0 + (f * 31.0) % 800.0],
+            centre_m: [
+                (f * 97.0) % 4000.0 - 2000.0,
+                (f * 53.0) % 3000.0,
+                1500.0 + (f * 31.0) % 800.0,
+            ],
             radii_m: [300.0; 3],
             ..Default::default()
         });
@@ -182,14 +186,20 @@ fn wgsl_media_filter_ids_match_the_rust_filters() {
     let src = cumulus::render::shaders::SLICES_WGSL;
     // The shader's switch names each non-default filter by its id; the
     // default branch is cumulus and stratus (the same formula).
-    for (f, comment) in [(MediaFilter::Wispy, "// wispy"), (MediaFilter::Cirrus, "// cirrus")] {
+    for (f, comment) in [
+        (MediaFilter::Wispy, "// wispy"),
+        (MediaFilter::Cirrus, "// cirrus"),
+    ] {
         let line = src
             .lines()
             .find(|l| l.contains(comment) && l.contains("case"))
             .unwrap_or_else(|| panic!("no case for {}", f.name()));
         assert!(line.contains(&format!("case {}u", f.gpu_id())), "{line}");
     }
-    assert_eq!(MediaFilter::Cumulus.apply(0.3), MediaFilter::Stratus.apply(0.3));
+    assert_eq!(
+        MediaFilter::Cumulus.apply(0.3),
+        MediaFilter::Stratus.apply(0.3)
+    );
 }
 
 #[test]
@@ -203,8 +213,14 @@ fn only_the_slices_method_builds_the_slices_pass() {
     let scene = authored(&[]);
     let hl = Headless::new(&ctx, &scene.render, 32, 24).unwrap();
     let names = hl.renderer.pass_names();
-    assert!(names.contains(&"slices") && names.contains(&"composite"), "{names:?}");
-    assert!(!names.contains(&"clouds") && !names.contains(&"bake"), "{names:?}");
+    assert!(
+        names.contains(&"slices") && names.contains(&"composite"),
+        "{names:?}"
+    );
+    assert!(
+        !names.contains(&"clouds") && !names.contains(&"bake"),
+        "{names:?}"
+    );
 }
 
 #[test]
@@ -227,7 +243,10 @@ fn quality_does_not_change_how_much_cloud_there_is() {
     // at each cloud's edges) and 1 − exp(−τ) per plane, whose product over
     // fewer, thicker planes is slightly more transparent. Without the
     // compensation Quality 32 would be 4× fainter.
-    assert!((ma / mb - 1.0).abs() < 0.05, "quality 32: {ma:.3}, 128: {mb:.3}");
+    assert!(
+        (ma / mb - 1.0).abs() < 0.05,
+        "quality 32: {ma:.3}, 128: {mb:.3}"
+    );
 }
 
 #[test]
@@ -254,8 +273,14 @@ fn opacity_does_not_grow_or_shrink_the_cloud() {
     // compensation the cutoff would eat into the cloud (Sharpness × the
     // old plane opacity is twice the new one) and the cloud does get
     // fainter, which the last check sees.
-    assert!((sa as f64 / sb as f64 - 1.0).abs() < 0.10, "{sa} vs {sb} px");
-    assert!(ma < 0.9 * mb, "halving Opacity should thin the cloud: {ma:.3} vs {mb:.3}");
+    assert!(
+        (sa as f64 / sb as f64 - 1.0).abs() < 0.10,
+        "{sa} vs {sb} px"
+    );
+    assert!(
+        ma < 0.9 * mb,
+        "halving Opacity should thin the cloud: {ma:.3} vs {mb:.3}"
+    );
 }
 
 #[test]
@@ -274,7 +299,8 @@ fn authored_scene_matches_its_reference() {
         eprintln!("wrote reference {}", path.display());
         return;
     }
-    let rgb = |x: &[u8]| -> Vec<u8> { x.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect() };
+    let rgb =
+        |x: &[u8]| -> Vec<u8> { x.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect() };
     let reference = image::open(&path).unwrap().into_rgb8();
     assert_eq!((reference.width(), reference.height()), (w, h));
     let map = nv_flip::flip(
@@ -321,7 +347,10 @@ fn parcels_are_drawn_as_slices() {
     // The stand-in field covers a good part of the default view (the
     // ray-marched methods' tests see it there too); 2 % of the frame is a
     // floor no empty or misplaced field reaches.
-    assert!(s > SIZE.0 as usize * SIZE.1 as usize / 50, "{s} px of cloud");
+    assert!(
+        s > SIZE.0 as usize * SIZE.1 as usize / 50,
+        "{s} px of cloud"
+    );
 }
 
 #[test]

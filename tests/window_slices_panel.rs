@@ -7,7 +7,12 @@ use cumulus::app::panel::{self, PanelActions, PanelState};
 use cumulus::app::state::Model;
 use egui::{Pos2, RawInput, Rect, vec2};
 
-fn frame(ctx: &egui::Context, m: &mut Model, ps: &mut PanelState, t: f64) -> (PanelActions, String) {
+fn frame(
+    ctx: &egui::Context,
+    m: &mut Model,
+    ps: &mut PanelState,
+    t: f64,
+) -> (PanelActions, String) {
     let input = RawInput {
         screen_rect: Some(Rect::from_min_size(Pos2::ZERO, vec2(1280.0, 6000.0))),
         time: Some(t),
@@ -39,7 +44,10 @@ fn the_slices_panel_shows_the_paper_groups_and_edits_nothing_by_itself() {
     let mut text = String::new();
     for i in 0..3 {
         let (actions, t) = frame(&ctx, &mut m, &mut ps, i as f64 * 0.05);
-        assert!(!actions.render_changed, "frame {i} changed the render settings");
+        assert!(
+            !actions.render_changed,
+            "frame {i} changed the render settings"
+        );
         text = t;
     }
     for group in [

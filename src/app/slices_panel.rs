@@ -35,7 +35,11 @@ pub fn slices_section(ui: &mut egui::Ui, m: &mut Model, selected: &mut usize) ->
     let s = &mut m.render_cfg.slices;
 
     ui.label(RichText::new("Global rendering").strong());
-    ui.add(egui::Slider::new(&mut s.opacity, 0.01..=16.0).logarithmic(true).text("Opacity"));
+    ui.add(
+        egui::Slider::new(&mut s.opacity, 0.01..=16.0)
+            .logarithmic(true)
+            .text("Opacity"),
+    );
     ui.add(
         egui::Slider::new(&mut s.quality, 8..=512)
             .logarithmic(true)
@@ -63,7 +67,11 @@ pub fn slices_section(ui: &mut egui::Ui, m: &mut Model, selected: &mut usize) ->
             ui.add(egui::Slider::new(&mut s.octaves, 1..=8).text("octaves"));
             for (i, t) in s.tiers.iter_mut().enumerate() {
                 ui.label(format!("tier {i}"));
-                ui.add(DragValue::new(&mut t.bottom_m).speed(50.0).prefix("bottom m "));
+                ui.add(
+                    DragValue::new(&mut t.bottom_m)
+                        .speed(50.0)
+                        .prefix("bottom m "),
+                );
                 egui::ComboBox::from_id_salt(("media", i))
                     .selected_text(t.media.name())
                     .show_ui(ui, |ui| {
@@ -71,7 +79,11 @@ pub fn slices_section(ui: &mut egui::Ui, m: &mut Model, selected: &mut usize) ->
                             ui.selectable_value(&mut t.media, f, f.name());
                         }
                     });
-                ui.add(DragValue::new(&mut t.scale_m).speed(20.0).prefix("scale m "));
+                ui.add(
+                    DragValue::new(&mut t.scale_m)
+                        .speed(20.0)
+                        .prefix("scale m "),
+                );
                 ui.add(
                     DragValue::new(&mut t.stretch_along_wind)
                         .speed(0.05)
@@ -106,7 +118,12 @@ pub fn slices_section(ui: &mut egui::Ui, m: &mut Model, selected: &mut usize) ->
 fn particle_section(ui: &mut egui::Ui, m: &mut Model, selected: &mut usize) {
     ui.label(RichText::new("Particle animation").strong());
     let before = (m.profile.ellipsoids.clone(), m.profile.particles.clone());
-    vec3(ui, "scene wind (m/s)", &mut m.profile.particles.wind_m_s, 0.1);
+    vec3(
+        ui,
+        "scene wind (m/s)",
+        &mut m.profile.particles.wind_m_s,
+        0.1,
+    );
     let list = &mut m.profile.ellipsoids;
     ui.horizontal(|ui| {
         if ui.button("Add ellipsoid").clicked() {

@@ -664,8 +664,15 @@ mod tests {
         // dropped; every method row, both march-path rows and the slices
         // quality row kept.
         let methods = crate::render::RenderMethod::ALL.len();
-        assert_eq!(s.len(), 1 + 1 + 1 + 1 + 1 + 1 + 1 + methods + 2 + 1, "{s:#?}");
-        let q = s.iter().find(|st| st.parameter == "slices_quality").unwrap();
+        assert_eq!(
+            s.len(),
+            1 + 1 + 1 + 1 + 1 + 1 + 1 + methods + 2 + 1,
+            "{s:#?}"
+        );
+        let q = s
+            .iter()
+            .find(|st| st.parameter == "slices_quality")
+            .unwrap();
         assert_eq!(q.cfg.method, crate::render::RenderMethod::Slices);
         assert_eq!(q.cfg.slices.quality, 32);
         for st in &s {

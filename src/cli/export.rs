@@ -133,7 +133,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             (args.out.clone(), sidecar_out.clone())
         };
         clouds.at(time, &mut parcels, None)?;
-        export_frame(&args, &scene, &scene_name, &cfg, &parcels, time, &out, &sidecar_out)?;
+        export_frame(
+            &args,
+            &scene,
+            &scene_name,
+            &cfg,
+            &parcels,
+            time,
+            &out,
+            &sidecar_out,
+        )?;
     }
     Ok(())
 }
@@ -240,7 +249,11 @@ impl Density {
         time: f64,
     ) -> anyhow::Result<Self> {
         if scene.ellipsoids.is_empty() {
-            return Ok(Density::Parcels(CloudField::new(parcels, cfg, time as f32)?));
+            return Ok(Density::Parcels(CloudField::new(
+                parcels,
+                cfg,
+                time as f32,
+            )?));
         }
         let camera = Camera::from(&scene.camera);
         let frame = slices_frame(
@@ -252,7 +265,10 @@ impl Density {
             cfg.sun_direction(),
             camera.target - camera.position,
         )?;
-        Ok(Density::Authored(AuthoredField::new(&frame, cfg.noise_texels)))
+        Ok(Density::Authored(AuthoredField::new(
+            &frame,
+            cfg.noise_texels,
+        )))
     }
 
     fn bounds(&self) -> Option<(glam::Vec3, glam::Vec3)> {

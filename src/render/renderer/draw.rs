@@ -180,7 +180,10 @@ impl Renderer {
         let clear = wgpu::LoadOp::Clear(wgpu::Color::WHITE);
         let cloud_target = || &self.cloud_target.as_ref().expect("cloud target exists").0;
         let attachments = match pass {
-            Pass::Slices => color(cloud_target(), wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)),
+            Pass::Slices => color(
+                cloud_target(),
+                wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+            ),
             Pass::Shadow => color(
                 &self.shadow_view.as_ref().expect("shadow map exists").1,
                 clear,

@@ -96,7 +96,10 @@ pub struct Renderer {
     /// The `slices` method's buffers.
     slices: SlicesGpu,
     /// Authored clouds the `slices` method draws besides the parcels.
-    authored: (Vec<crate::authored::Ellipsoid>, crate::authored::ParticleConfig),
+    authored: (
+        Vec<crate::authored::Ellipsoid>,
+        crate::authored::ParticleConfig,
+    ),
 }
 
 impl Renderer {
