@@ -19,7 +19,8 @@ use crate::error::{Error, Result};
 #[serde(default, deny_unknown_fields)]
 pub struct SlicesConfig {
     /// Overall opacity of the cloud, 0.01 to 16 (the integral of plane
-    /// opacities across all planes).
+    /// opacities across all planes; the renderer scales it so it acts on
+    /// one mean primitive, see `render::slices::CloudscapeScale`).
     pub opacity: f32,
     /// Number of slicing planes, 8 to 1024.
     pub quality: u32,
