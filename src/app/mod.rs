@@ -6,6 +6,8 @@
 //! - [`state`]: the model the panel edits (scene, editor, simulation,
 //!   playback, settings), free of window and GPU types;
 //! - [`panel`]: the egui side panel;
+//! - [`slices_panel`]: the slices method's qualitative controls and the
+//!   authored ellipsoids' editor;
 //! - [`skewt_panel`]: the profile diagram's height–T and Skew-T views, the
 //!   panel's hodograph;
 //! - [`progress`]: the pre-simulation to the start time on a terminal bar;
@@ -16,6 +18,7 @@ pub mod panel;
 pub mod profile_edit;
 pub mod progress;
 pub mod skewt_panel;
+pub mod slices_panel;
 pub mod state;
 pub mod window;
 

@@ -1,6 +1,7 @@
 //! The egui side panel: profile diagram with draggable points and the lifted
 //! parcel (paper fig. 5), condensation-level and mixing-ratio handles,
-//! emission, wind, time of day, playback, render settings, frame timings and
+//! emission, wind, time of day, playback, render settings (with the slices
+//! method's controls and ellipsoids, `slices_panel`), frame timings and
 //! scene save/load. Every profile edit goes through `profile_edit`.
 
 use egui::{Color32, RichText};
@@ -43,6 +44,8 @@ pub struct PanelState {
     /// The environment the diagram was drawn on last frame (its P(z) maps
     /// heights in the Skew-T view).
     view_env: Option<crate::atmosphere::Environment>,
+    /// The authored ellipsoid the slices panel edits.
+    pub selected_ellipsoid: usize,
 }
 
 impl PanelState {
@@ -104,6 +107,11 @@ pub fn show(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) -> PanelActio
                 ui.separator();
                 actions.render_changed = render_section(ui, m);
                 ui.separator();
+                if m.render_cfg.method == crate::render::RenderMethod::Slices {
+                    actions.render_changed |=
+                        super::slices_panel::slices_section(ui, m, &mut ps.selected_ellipsoid);
+                    ui.separator();
+                }
                 stats_section(ui, m);
                 ui.separator();
                 // A loaded scene brings its own render settings.

@@ -332,6 +332,11 @@ impl App {
             g.renderer
                 .set_config(&g.ctx, &self.model.resolved_render_config())?;
         }
+        // The authored ellipsoids as the panel left them (slices method).
+        g.renderer.set_authored(
+            &self.model.profile.ellipsoids,
+            &self.model.profile.particles,
+        );
         let mut input = FrameInput {
             camera: self.model.render_camera(),
             parcels: &self.model.parcels,

@@ -19,7 +19,8 @@ use crate::error::{Error, Result};
 #[serde(default, deny_unknown_fields)]
 pub struct SlicesConfig {
     /// Overall opacity of the cloud, 0.01 to 16 (the integral of plane
-    /// opacities across all planes).
+    /// opacities across all planes; the renderer scales it so it acts on
+    /// one mean primitive, see `render::slices::CloudscapeScale`).
     pub opacity: f32,
     /// Number of slicing planes, 8 to 1024.
     pub quality: u32,
@@ -50,7 +51,10 @@ pub struct SlicesConfig {
 impl Default for SlicesConfig {
     fn default() -> Self {
         Self {
-            opacity: 1.0,
+            // With the cloudscape scaling of the renderer, τ through a mean
+            // primitive's centre is about Opacity × ½ (mean Wyvill field on
+            // a diameter) × ½ (mean noise): 6 makes it ~0.8 opaque.
+            opacity: 6.0,
             quality: 128,
             detail: 2.0,
             dirtiness: 0.5,

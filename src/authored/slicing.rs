@@ -10,7 +10,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
 use super::controls::SlicesConfig;
-use super::ellipsoid::{EllipsoidState, bounds_m, field_at};
+use super::ellipsoid::{EllipsoidState, FieldIndex, bounds_m};
 use crate::error::{Error, Result};
 
 /// Most vertices one slicing may produce (planes × (tessellation + 1)²):
@@ -144,6 +144,7 @@ pub fn build_slices(
         .collect();
     let lattice =
         |i: usize, extent: (f32, f32)| extent.0 + i as f32 * (extent.1 - extent.0) / t as f32;
+    let index = FieldIndex::new(states);
     let mut vertices = Vec::with_capacity(count as usize);
     for &d in &plane_offsets_m {
         for j in 0..side {
@@ -151,7 +152,7 @@ pub fn build_slices(
                 let p = u * lattice(i, (u0, u1)) + w * lattice(j, (w0, w1)) + n * d;
                 vertices.push(SliceVertex {
                     position_m: p.into(),
-                    density: field_at(states, p),
+                    density: index.field(p),
                     shadow: 0.0,
                 });
             }
@@ -197,8 +198,9 @@ impl SliceGeometry {
             return Ok(());
         }
         let side = ((self.vertices.len() / planes) as f64).sqrt().round() as usize;
+        let index = FieldIndex::new(states);
         for v in &mut self.vertices {
-            v.density = field_at(states, Vec3::from(v.position_m));
+            v.density = index.field(Vec3::from(v.position_m));
         }
         accumulate_shadows(
             &mut self.vertices,

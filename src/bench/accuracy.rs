@@ -215,6 +215,10 @@ pub struct RenderSweep {
     pub no_grid_culling: bool,
     pub early_exit: Vec<f32>,
     pub resolution_scales: Vec<f32>,
+    /// Quality (slicing planes) of the `slices` method (Schpok 2003): its
+    /// error-against-run-time axis, rows `slices_quality` (the default
+    /// quality is the `method = slices` row).
+    pub slices_quality: Vec<u32>,
 }
 
 impl RenderSweep {
@@ -281,6 +285,14 @@ impl RenderSweep {
         }
         for &r in &self.resolution_scales {
             out.push(s("resolution_scale", format!("{r}"), base.clone(), r));
+        }
+        for &q in &self.slices_quality {
+            let mut c = RenderConfig {
+                method: crate::render::RenderMethod::Slices,
+                ..base.clone()
+            };
+            c.slices.quality = q;
+            out.push(s("slices_quality", q.to_string(), c, 1.0));
         }
         // A swept value equal to the default is the default row again.
         let mut seen: Vec<(RenderConfig, u32)> = Vec::new();
@@ -643,13 +655,26 @@ mod tests {
             no_grid_culling: true,
             early_exit: vec![0.02, 0.0],
             resolution_scales: vec![1.0, 0.5],
+            slices_quality: vec![32],
         };
         let s = sweep.settings(&d);
         assert_eq!(s[0].parameter, "default");
         assert_eq!(s[0].cfg, d);
         // Default duplicates (step×1, 4 octaves, 4 light steps, 0.02, scale 1)
-        // dropped; both method rows and both march-path rows kept.
-        assert_eq!(s.len(), 1 + 1 + 1 + 1 + 1 + 1 + 1 + 2 + 2, "{s:#?}");
+        // dropped; every method row, both march-path rows and the slices
+        // quality row kept.
+        let methods = crate::render::RenderMethod::ALL.len();
+        assert_eq!(
+            s.len(),
+            1 + 1 + 1 + 1 + 1 + 1 + 1 + methods + 2 + 1,
+            "{s:#?}"
+        );
+        let q = s
+            .iter()
+            .find(|st| st.parameter == "slices_quality")
+            .unwrap();
+        assert_eq!(q.cfg.method, crate::render::RenderMethod::Slices);
+        assert_eq!(q.cfg.slices.quality, 32);
         for st in &s {
             st.cfg.validate().unwrap();
         }

@@ -31,7 +31,7 @@ pub struct Args {
     #[arg(long)]
     pub adapter: Option<String>,
     /// Render method of the performance and pruning tables (the scaling
-    /// table measures every method): baked (default), exact or sprites.
+    /// table measures every method): baked (default), exact, sprites or slices.
     #[arg(long, value_parser = super::watch::parse_method)]
     pub method: Option<cumulus::render::RenderMethod>,
 }

@@ -10,6 +10,8 @@ use cumulus::export::sidecar::Sidecar;
 use cumulus::export::{self, DEFAULT_MAX_MEMORY_MIB, GridSpec};
 use cumulus::render::Camera;
 use cumulus::render::field::CloudField;
+use cumulus::render::slices::field::AuthoredField;
+use cumulus::render::slices::slices_frame;
 
 use super::render::{CloudArgs, Clouds};
 
@@ -22,7 +24,12 @@ const PROGRESS_CELLS: u64 = 4_000_000;
     after_help = "Writes OUT (float32 VOL v3, x fastest, values = density rho in [0, 1]; \
 sigma_t = medium.extinction_scale_per_m x rho) and OUT with the extension .json (the sidecar). \
 In Mitsuba 3: a heterogeneous medium whose gridvolume loads OUT with to_world = translate(bounds_min_m) \
-x scale(bounds_max_m - bounds_min_m), scale = extinction_scale_per_m."
+x scale(bounds_max_m - bounds_min_m), scale = extinction_scale_per_m. \
+A scene with [[ellipsoids]] (authored, Schpok 2003) exports what the slices method draws: \
+the implicit field of the ellipsoids (animated to the frame's time) and the parcels as spheres, \
+times the tier's media filter of the noise octaves (values may exceed 1 where primitives overlap). \
+With --frames N > 1 the frames go to OUT-0000.vol, OUT-0001.vol, … (each with its .json), one \
+every --every seconds from --time: an animation's keyframes as a numbered series."
 )]
 pub struct Args {
     /// Scene profile (TOML); the embedded fair-weather scene when omitted.
@@ -35,6 +42,12 @@ pub struct Args {
     /// Simulated time of the exported frame. units: s
     #[arg(long, default_value_t = 1800.0, allow_negative_numbers = true)]
     pub time: f64,
+    /// Number of frames (a numbered series when more than one).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=100000))]
+    pub frames: u32,
+    /// Simulated time between frames. units: s
+    #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
+    pub every: f64,
     /// Voxel side; default from the render step, the noise's finest octave,
     /// the base's shell and the smallest parcel (see `cumulus::export`). units: m
     #[arg(long, allow_negative_numbers = true)]
@@ -71,6 +84,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     );
     args.clouds.validate()?;
     anyhow::ensure!(
+        args.every.is_finite() && args.every > 0.0,
+        "--every must be a positive number of seconds"
+    );
+    anyhow::ensure!(
         args.max_memory_mib >= 1,
         "--max-memory-mib must be at least 1"
     );
@@ -106,22 +123,53 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let mut clouds = Clouds::new(&args.clouds, &scene, &source.base_dir())?;
     let mut parcels = Vec::new();
-    clouds.at(args.time, &mut parcels, None)?;
-    anyhow::ensure!(
-        !parcels.is_empty(),
-        "no cloud at t = {:.0} s in {scene_name}: nothing to export (try a later --time)",
-        args.time
-    );
+    for i in 0..args.frames {
+        let time = args.time + args.every * i as f64;
+        let (out, sidecar_out) = if args.frames > 1 {
+            let out = super::render::numbered(&args.out, i);
+            let side = sidecar_path(&out);
+            (out, side)
+        } else {
+            (args.out.clone(), sidecar_out.clone())
+        };
+        clouds.at(time, &mut parcels, None)?;
+        export_frame(
+            &args,
+            &scene,
+            &scene_name,
+            &cfg,
+            &parcels,
+            time,
+            &out,
+            &sidecar_out,
+        )?;
+    }
+    Ok(())
+}
 
-    let field = CloudField::new(&parcels, &cfg, args.time as f32)?;
-    let voxel = args
-        .voxel
-        .unwrap_or_else(|| export::default_voxel_m(&cfg, &field));
-    let (lo, hi) = field.bounds();
+/// Samples and writes one frame at `time` (units: s) to `out` and its sidecar.
+#[allow(clippy::too_many_arguments)]
+fn export_frame(
+    args: &Args,
+    scene: &cumulus::scene::SceneProfile,
+    scene_name: &str,
+    cfg: &cumulus::render::RenderConfig,
+    parcels: &[cumulus::physics::CloudParcel],
+    time: f64,
+    out: &Path,
+    sidecar_out: &Path,
+) -> anyhow::Result<()> {
+    let field = Density::new(scene, cfg, parcels, time)?;
+    let Some((lo, hi)) = field.bounds() else {
+        anyhow::bail!(
+            "no cloud at t = {time:.0} s in {scene_name}: nothing to export (try a later --time)"
+        );
+    };
+    let voxel = args.voxel.unwrap_or_else(|| field.default_voxel_m(cfg));
     let spec = GridSpec::covering(lo, hi, voxel, args.max_memory_mib)?;
     eprintln!(
-        "{} parcels → grid {}×{}×{} of {voxel:.1} m voxels over ({:.0}, {:.0}, {:.0})–({:.0}, {:.0}, {:.0}) m: {:.1} MiB",
-        field.parcels().len(),
+        "t = {time:.0} s: {} → grid {}×{}×{} of {voxel:.1} m voxels over ({:.0}, {:.0}, {:.0})–({:.0}, {:.0}, {:.0}) m: {:.1} MiB",
+        field.describe(),
         spec.dims[0],
         spec.dims[1],
         spec.dims[2],
@@ -157,32 +205,108 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         b.finish_and_clear();
     }
     let grid = export::vol_grid(&spec, values);
-    cumulus::output::write_atomic_with(&args.out, |w| export::write_vol(w, &grid))
+    cumulus::output::write_atomic_with(out, |w| export::write_vol(w, &grid))
         .with_context(|| "writing the grid")?;
 
-    let vol_name = args
-        .out
+    let vol_name = out
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     // The sun of the exported frame: the scene's [sun] clock, or the pinned one.
     let clock = scene.sun.as_ref().map(|s| s.clock()).transpose()?;
-    let sun = super::sun_args::frame_sun(clock.as_ref(), &cfg, args.time);
+    let sun = super::sun_args::frame_sun(clock.as_ref(), cfg, time);
     let sidecar = Sidecar::new(
-        &scene_name,
-        args.time,
+        scene_name,
+        time,
         &vol_name,
         &spec,
-        &cfg,
+        cfg,
         &Camera::from(&scene.camera),
         &sun,
     );
     let json = serde_json::to_vec_pretty(&sidecar).context("encoding the sidecar")?;
-    if let Err(e) = cumulus::output::write_atomic(&sidecar_out, &json) {
+    if let Err(e) = cumulus::output::write_atomic(sidecar_out, &json) {
         // Whole or not at all: a grid without its sidecar is not an export.
-        let _ = std::fs::remove_file(&args.out);
+        let _ = std::fs::remove_file(out);
         return Err(e).context("writing the sidecar");
     }
-    eprintln!("wrote {} and {}", args.out.display(), sidecar_out.display());
+    eprintln!("wrote {} and {}", out.display(), sidecar_out.display());
     Ok(())
+}
+
+/// The density a frame exports: the parcels' hypertexture (eq. 18), or,
+/// for a scene with authored ellipsoids, what the slices method draws.
+enum Density {
+    Parcels(CloudField),
+    Authored(AuthoredField),
+}
+
+impl Density {
+    fn new(
+        scene: &cumulus::scene::SceneProfile,
+        cfg: &cumulus::render::RenderConfig,
+        parcels: &[cumulus::physics::CloudParcel],
+        time: f64,
+    ) -> anyhow::Result<Self> {
+        if scene.ellipsoids.is_empty() {
+            return Ok(Density::Parcels(CloudField::new(
+                parcels,
+                cfg,
+                time as f32,
+            )?));
+        }
+        let camera = Camera::from(&scene.camera);
+        let frame = slices_frame(
+            &scene.ellipsoids,
+            &scene.particles,
+            parcels,
+            cfg,
+            time as f32,
+            cfg.sun_direction(),
+            camera.target - camera.position,
+        )?;
+        Ok(Density::Authored(AuthoredField::new(
+            &frame,
+            cfg.noise_texels,
+        )))
+    }
+
+    fn bounds(&self) -> Option<(glam::Vec3, glam::Vec3)> {
+        match self {
+            Density::Parcels(f) => (!f.parcels().is_empty()).then(|| f.bounds()),
+            Density::Authored(f) => f.bounds(),
+        }
+    }
+
+    /// The parcels' default voxel, or for authored clouds a 64th of the
+    /// finest first-octave tile (the noise's coarse detail resolved by a
+    /// few voxels; finer octaves need --voxel and the memory for it).
+    fn default_voxel_m(&self, cfg: &cumulus::render::RenderConfig) -> f32 {
+        match self {
+            Density::Parcels(f) => export::default_voxel_m(cfg, f),
+            Density::Authored(_) => {
+                let finest = cfg
+                    .slices
+                    .tiers
+                    .iter()
+                    .map(|t| t.scale_m)
+                    .fold(f32::MAX, f32::min);
+                (finest / 64.0).max(export::MIN_VOXEL_M)
+            }
+        }
+    }
+
+    fn describe(&self) -> String {
+        match self {
+            Density::Parcels(f) => format!("{} parcels", f.parcels().len()),
+            Density::Authored(_) => "authored ellipsoids (slices field)".into(),
+        }
+    }
+
+    fn density(&self, p: glam::Vec3) -> f32 {
+        match self {
+            Density::Parcels(f) => f.density(p),
+            Density::Authored(f) => f.density(p),
+        }
+    }
 }

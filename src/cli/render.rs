@@ -47,7 +47,9 @@ pub struct Args {
     #[arg(long)]
     pub date: Option<String>,
     /// Cloud render method (overrides the scene's [render] method): baked
-    /// (default), exact or sprites.
+    /// (default), exact, sprites (Wang 2003) or slices (Schpok 2003: the
+    /// scene's authored [[ellipsoids]] and the parcels, by light-aligned
+    /// slicing planes).
     #[arg(long, value_parser = super::watch::parse_method)]
     pub method: Option<cumulus::render::RenderMethod>,
     #[command(flatten)]
@@ -243,6 +245,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     headless.renderer.set_sprite_clouds(&ctx, sprite_clouds)?;
+    headless
+        .renderer
+        .set_authored(&scene.ellipsoids, &scene.particles);
 
     let mut parcels = Vec::new();
     let warm = (!args.clouds.stand_in).then(|| {

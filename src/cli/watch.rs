@@ -32,7 +32,8 @@ pub struct Args {
     #[arg(long, default_value_t = 760, value_parser = clap::value_parser!(u32).range(200..=8192))]
     pub height: u32,
     /// Cloud render method (overrides the scene's [render] method): baked
-    /// (default), exact or sprites.
+    /// (default), exact, sprites (Wang 2003) or slices (Schpok 2003; its
+    /// panel edits the qualitative controls and the authored ellipsoids).
     #[arg(long, value_parser = parse_method)]
     pub method: Option<cumulus::render::RenderMethod>,
     #[command(flatten)]

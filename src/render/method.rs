@@ -4,7 +4,9 @@
 //! is how the cloud field reaches the GPU and how a pixel finds its cloud.
 //! `baked` and `exact` ray-march eq. 18 (module [`crate::render::raymarch`]);
 //! `sprites` (Wang 2003) draws the same parcels as textured sprite clouds
-//! (module [`crate::render::sprites`]).
+//! (module [`crate::render::sprites`]); `slices` (Schpok 2003) draws
+//! light-aligned slicing planes of an implicit field (module
+//! [`crate::render::slices`]).
 
 use std::fmt;
 use std::str::FromStr;
@@ -33,14 +35,21 @@ pub enum RenderMethod {
     /// no field upload). Scene `[[sprite_clouds]]`/`[[layers]]` are drawn
     /// as sprites under every method.
     Sprites,
+    /// Schpok et al. 2003 (§4): slicing planes aligned with the light,
+    /// the implicit field (authored `[[ellipsoids]]` and the parcels as
+    /// spheres) and its shadow evaluated at the planes' vertices on the
+    /// CPU, noise octaves composited per fragment, blended back to front
+    /// into a float target. Controlled by `[render.slices]`.
+    Slices,
 }
 
 impl RenderMethod {
     /// Every method, in the order the panel and the bench list them.
-    pub const ALL: [RenderMethod; 3] = [
+    pub const ALL: [RenderMethod; 4] = [
         RenderMethod::Baked,
         RenderMethod::Exact,
         RenderMethod::Sprites,
+        RenderMethod::Slices,
     ];
 
     /// Name in scene files, on the command line and in tables.
@@ -49,6 +58,7 @@ impl RenderMethod {
             RenderMethod::Baked => "baked",
             RenderMethod::Exact => "exact",
             RenderMethod::Sprites => "sprites",
+            RenderMethod::Slices => "slices",
         }
     }
 
@@ -73,10 +83,7 @@ impl FromStr for RenderMethod {
             .into_iter()
             .find(|m| m.name() == s)
             .ok_or_else(|| {
-                let names: Vec<String> = Self::ALL
-                    .iter()
-                    .map(|m| format!("\"{}\"", m.name()))
-                    .collect();
+                let names: Vec<String> = Self::ALL.iter().map(|m| format!("\"{m}\"")).collect();
                 Error::invalid("render method", s, format!("one of {}", names.join(", ")))
             })
     }

@@ -34,6 +34,7 @@ pub mod pipelines;
 pub mod raymarch;
 pub mod renderer;
 pub mod shaders;
+pub mod slices;
 pub mod sprites;
 pub mod standin;
 pub mod terrain;
@@ -89,8 +90,10 @@ impl Default for TerrainConfig {
 #[serde(default, deny_unknown_fields)]
 pub struct RenderConfig {
     /// How the clouds are drawn: "baked" (the default: macro field baked
-    /// into a 3D texture, cost flat in the parcel count) or "exact" (the
-    /// paper's per-sample union; at most 1024 condensed parcels).
+    /// into a 3D texture, cost flat in the parcel count), "exact" (the
+    /// paper's per-sample union; at most 1024 condensed parcels) or
+    /// "slices" (Schpok 2003 slicing planes of the authored ellipsoids and
+    /// the parcels; see `[render.slices]`).
     pub method: RenderMethod,
     /// Shader stage of the ray-march: "fragment", "compute" or "auto" (the
     /// default: the faster on this adapter, measured in the first frames).
@@ -513,9 +516,12 @@ pub struct Features {
     /// Draw sprite clouds (the `sprites` method's parcels or the scene's
     /// `[[sprite_clouds]]`/`[[layers]]`; the renderer sets the latter).
     pub sprites: bool,
+    /// Slicing planes (the `slices` method with at least one primitive).
+    pub slices: bool,
     /// Terrain mesh pass.
     pub terrain: bool,
-    /// Cloud-shadow pass (needs clouds and terrain).
+    /// Cloud-shadow pass (needs clouds and terrain; not drawn by the
+    /// `slices` method, whose field is not in the shadow pass's inputs).
     pub shadows: bool,
     /// Finite-difference normals compiled into the cloud shader.
     pub normals: bool,
@@ -530,6 +536,7 @@ impl Features {
         Self {
             clouds,
             sprites: drawn && cfg.method == RenderMethod::Sprites,
+            slices: drawn && cfg.method == RenderMethod::Slices,
             terrain,
             shadows: cfg.shadows && clouds && terrain,
             normals: cfg.normals && clouds,

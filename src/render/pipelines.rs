@@ -82,12 +82,15 @@ pub struct PassLayouts {
     pub depth: wgpu::BindGroupLayout,
     /// Group 2 of the compute march: its output texture.
     pub cloud_out: wgpu::BindGroupLayout,
-    /// Group 1 of the composite (the compute march's texture) and of the
-    /// tone map (the HDR scene target): one sampled float 2D texture.
+    /// Group 1 of the composite (the compute march's or the slices'
+    /// texture) and of the tone map (the HDR scene target): one sampled
+    /// float 2D texture.
     pub texture_in: wgpu::BindGroupLayout,
     /// Group 2 of the sprites: the atlas, its sampler and the sprite
     /// instances (shaders/sprites.wgsl).
     pub sprites: wgpu::BindGroupLayout,
+    /// Group 2 of the slices pass: octave transforms and controls.
+    pub slices: wgpu::BindGroupLayout,
 }
 
 impl PassLayouts {
@@ -187,6 +190,7 @@ impl PassLayouts {
             cloud_out,
             texture_in,
             sprites,
+            slices: crate::render::slices::bind_group_layout(device),
         }
     }
 }
@@ -278,7 +282,7 @@ impl PipelineCache {
         });
         let group1 = match pass {
             Pass::Terrain => Some(&layouts.shadow_tex),
-            Pass::Clouds | Pass::Sprites => Some(&layouts.depth),
+            Pass::Clouds | Pass::Sprites | Pass::Slices => Some(&layouts.depth),
             Pass::Composite | Pass::Tonemap => Some(&layouts.texture_in),
             _ => None,
         };
@@ -291,6 +295,9 @@ impl PipelineCache {
         }
         if pass == Pass::Sprites {
             layouts_list.push(Some(&layouts.sprites));
+        }
+        if pass == Pass::Slices {
+            layouts_list.push(Some(&layouts.slices));
         }
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some(pass.name()),
@@ -324,8 +331,18 @@ impl PipelineCache {
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &vertex_attrs,
         })];
+        let slice_buffers = [Some(wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<crate::authored::SliceVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &crate::render::slices::VERTEX_ATTRIBUTES,
+        })];
         let (target_format, blend) = match pass {
             Pass::Shadow => (SHADOW_FORMAT, None),
+            // Back to front into the float cloud target, premultiplied "over".
+            Pass::Slices => (
+                CLOUD_TARGET_FORMAT,
+                Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
+            ),
             Pass::Clouds | Pass::Composite | Pass::Sprites => (
                 key.format,
                 Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
@@ -345,10 +362,10 @@ impl PipelineCache {
                     module,
                     entry_point: Some("vs_main"),
                     compilation_options: options.clone(),
-                    buffers: if pass == Pass::Terrain {
-                        &terrain_buffers
-                    } else {
-                        &[]
+                    buffers: match pass {
+                        Pass::Terrain => &terrain_buffers,
+                        Pass::Slices => &slice_buffers,
+                        _ => &[],
                     },
                 },
                 primitive: wgpu::PrimitiveState {

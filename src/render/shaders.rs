@@ -39,6 +39,8 @@ pub const TONEMAP_WGSL: &str = include_str!("../../shaders/tonemap.wgsl");
 pub const CLOUDS_WGSL: &str = include_str!("../../shaders/clouds.wgsl");
 /// Wang 2003 sprite clouds (textured, artist-shaded quads).
 pub const SPRITES_WGSL: &str = include_str!("../../shaders/sprites.wgsl");
+/// Slicing planes of the `slices` method (Schpok 2003).
+pub const SLICES_WGSL: &str = include_str!("../../shaders/slices.wgsl");
 
 /// Every file in `shaders/`, by name (the shader test checks none is missing).
 pub const FILES: &[(&str, &str)] = &[
@@ -56,6 +58,7 @@ pub const FILES: &[(&str, &str)] = &[
     ("clouds.wgsl", CLOUDS_WGSL),
     ("tonemap.wgsl", TONEMAP_WGSL),
     ("sprites.wgsl", SPRITES_WGSL),
+    ("slices.wgsl", SLICES_WGSL),
 ];
 
 /// The render passes, in the order they run.
@@ -70,7 +73,9 @@ pub enum Pass {
     /// `[[sprite_clouds]]`/`[[layers]]` under any method).
     Sprites,
     Clouds,
-    /// Blends the compute march's texture over the target (compute path).
+    /// Slicing planes into the float cloud target (`slices` method only).
+    Slices,
+    /// Blends the compute march's (or the slices') texture over the target (compute path).
     Composite,
     /// The HDR scene target, tone-mapped once into the output.
     Tonemap,
@@ -85,6 +90,7 @@ impl Pass {
         Pass::Terrain,
         Pass::Sprites,
         Pass::Clouds,
+        Pass::Slices,
         Pass::Composite,
         Pass::Tonemap,
     ];
@@ -98,6 +104,7 @@ impl Pass {
             Pass::Terrain => "terrain",
             Pass::Sprites => "sprites",
             Pass::Clouds => "clouds",
+            Pass::Slices => "slices",
             Pass::Composite => "composite",
             Pass::Tonemap => "tonemap",
         }
@@ -111,6 +118,7 @@ impl Pass {
             Pass::Terrain => TERRAIN_WGSL,
             Pass::Sprites => SPRITES_WGSL,
             Pass::Clouds => CLOUDS_WGSL,
+            Pass::Slices => SLICES_WGSL,
             Pass::Composite => COMPOSITE_WGSL,
             Pass::Tonemap => TONEMAP_WGSL,
         }
@@ -121,13 +129,20 @@ impl Pass {
     }
 
     /// Whether the pass exists for `method`: the bake only for `baked`;
-    /// the density passes (shadow, clouds, composite) only for the
-    /// ray-marching methods; sprites (scene layers) for every method.
+    /// the density passes (shadow, clouds) only for the ray-marching
+    /// methods; the slicing planes only for `slices`, which has no
+    /// cloud-shadow map (its field lives in vertex buffers, not in the
+    /// uniforms or texture the shadow pass reads); the composite for the
+    /// compute march and the slices' target; sprites (scene layers) for
+    /// every method.
     pub fn used_by(self, method: RenderMethod) -> bool {
+        let slices = method == RenderMethod::Slices;
         match self {
             Pass::Bake => method == RenderMethod::Baked,
-            Pass::Shadow | Pass::Clouds | Pass::Composite => method.ray_marches(),
-            Pass::Sky | Pass::Terrain | Pass::Sprites => true,
+            Pass::Shadow | Pass::Clouds => method.ray_marches(),
+            Pass::Slices => slices,
+            Pass::Composite => method.ray_marches() || slices,
+            Pass::Sky | Pass::Terrain | Pass::Sprites | Pass::Tonemap => true,
         }
     }
 
@@ -145,6 +160,7 @@ impl Pass {
             Pass::Sprites => &["ENCODE_SRGB", "HAS_TERRAIN"],
             Pass::Clouds if exact => &["ENCODE_SRGB", "GRID_CULLING", "USE_NORMALS", "HAS_TERRAIN"],
             Pass::Clouds => &["ENCODE_SRGB", "USE_NORMALS", "HAS_TERRAIN"],
+            Pass::Slices => &["ENCODE_SRGB", "HAS_TERRAIN"],
         }
     }
 
@@ -158,9 +174,11 @@ impl Pass {
         if self.needs_density() {
             s.push_str(match method {
                 RenderMethod::Exact => FIELD_EXACT_WGSL,
-                // `used_by` gives the sprites method no density pass; its
+                // `used_by` gives sprites and slices no density pass; their
                 // arm only keeps `source` total.
-                RenderMethod::Baked | RenderMethod::Sprites => FIELD_BAKED_WGSL,
+                RenderMethod::Baked | RenderMethod::Sprites | RenderMethod::Slices => {
+                    FIELD_BAKED_WGSL
+                }
             });
             s.push_str(DENSITY_WGSL);
         }

@@ -183,7 +183,12 @@ impl Renderer {
         };
         let clear = wgpu::LoadOp::Clear(wgpu::Color::WHITE);
         let scene = self.scene.as_ref().expect("ensure made the scene target");
+        let cloud_target = || &self.cloud_target.as_ref().expect("cloud target exists").0;
         let attachments = match pass {
+            Pass::Slices => color(
+                cloud_target(),
+                wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+            ),
             Pass::Shadow => color(
                 &self.shadow_view.as_ref().expect("shadow map exists").1,
                 clear,
@@ -227,6 +232,10 @@ impl Renderer {
                 rp.set_bind_group(1, self.bind_clouds.as_ref(), &[]);
                 rp.set_bind_group(2, &s.bind, &[]);
                 rp.draw(0..6, 0..s.count);
+            }
+            Pass::Slices => {
+                rp.set_bind_group(1, self.bind_clouds.as_ref(), &[]);
+                self.slices.draw(&mut rp);
             }
             Pass::Composite => {
                 let (_, _, input) = self.cloud_target.as_ref().expect("compute target exists");

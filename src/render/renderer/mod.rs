@@ -2,11 +2,13 @@
 //! method's cloud field ([`crate::render::raymarch`]) and the pipelines,
 //! and draws a frame into any texture view (window surface or offscreen).
 //! Pass order: bake (baked method, only when the parcels moved) → shadow
-//! map → sky → terrain → clouds (fragment, or compute + composite) →
-//! tonemap. Sky, terrain and clouds write linear radiance into one HDR
-//! scene target ([`SCENE_FORMAT`]) and composite there in linear light;
-//! the tone-map pass alone writes the output (window surface or headless
-//! texture, the same path for both).
+//! map → sky → terrain → sprites → clouds (fragment, or compute +
+//! composite), or, for the `slices` method, slicing planes into the float
+//! cloud target + composite ([`crate::render::slices`]) → tonemap. Sky,
+//! terrain and clouds write linear radiance into one HDR scene target
+//! ([`SCENE_FORMAT`]) and composite there in linear light; the tone-map
+//! pass alone writes the output (window surface or headless texture, the
+//! same path for both).
 //! This file holds the state, configuration and preparation; [`draw`] the
 //! encoding and timing of a frame; [`resources`] the textures and bind
 //! groups it creates.
@@ -31,6 +33,7 @@ use crate::render::pipelines::{PassLayouts, PipelineCache, PipelineKey};
 use crate::render::raymarch::baked::{BakeInfo, BakedField};
 use crate::render::raymarch::exact::ExactField;
 use crate::render::shaders::Pass;
+use crate::render::slices::{SlicesGpu, slices_frame};
 use crate::render::sprites::{SpriteScene, SpriteStats, SpritesGpu};
 use crate::render::terrain;
 use crate::render::timing::Timestamps;
@@ -103,6 +106,13 @@ pub struct Renderer {
     sprite_scene: SpriteScene,
     /// Atlas and instances, created with the first sprite.
     sprites: Option<SpritesGpu>,
+    /// The `slices` method's buffers.
+    slices: SlicesGpu,
+    /// Authored clouds the `slices` method draws besides the parcels.
+    authored: (
+        Vec<crate::authored::Ellipsoid>,
+        crate::authored::ParticleConfig,
+    ),
 }
 
 impl Renderer {
@@ -161,6 +171,7 @@ impl Renderer {
         let noise_view = noise::NoiseVolume::new(cfg.noise_texels).texture(&ctx.device, &ctx.queue);
 
         let layouts = PassLayouts::new(device);
+        let slices = SlicesGpu::new(device, &layouts.slices);
 
         let dummy_depth_view = texture_2d(
             device,
@@ -246,9 +257,29 @@ impl Renderer {
             scene: None,
             sprite_scene: SpriteScene::default(),
             sprites: None,
+            slices,
+            authored: Default::default(),
         };
         r.ensure(ctx)?;
         Ok(r)
+    }
+
+    /// Sets the authored clouds (a scene's `[[ellipsoids]]` and
+    /// `[particles]`) that the `slices` method draws, animated to each
+    /// frame's `time_s`, besides the frame's parcels. The other methods
+    /// ignore them. Takes effect at the next `prepare`.
+    pub fn set_authored(
+        &mut self,
+        ellipsoids: &[crate::authored::Ellipsoid],
+        particles: &crate::authored::ParticleConfig,
+    ) {
+        self.authored = (ellipsoids.to_vec(), particles.clone());
+    }
+
+    /// Primitives (ellipsoids and parcel spheres) the `slices` method drew
+    /// in the last prepared frame.
+    pub fn slice_primitives(&self) -> u32 {
+        self.slices.primitives
     }
 
     /// The current configuration.
@@ -398,6 +429,7 @@ impl Renderer {
                 ("USE_NORMALS", b(f.normals)),
                 ("HAS_TERRAIN", b(f.terrain)),
             ],
+            Pass::Slices => vec![("HAS_TERRAIN", b(f.terrain))],
         };
         if exact && matches!(pass, Pass::Shadow | Pass::Clouds) {
             c.push(("GRID_CULLING", b(self.cfg.grid_culling)));
@@ -413,7 +445,10 @@ impl Renderer {
             Pass::Terrain => self.features.terrain,
             Pass::Sprites => self.features.sprites,
             Pass::Clouds => self.features.clouds,
-            Pass::Composite => self.features.clouds && self.compute_path(),
+            Pass::Slices => self.features.slices,
+            Pass::Composite => {
+                (self.features.clouds && self.compute_path()) || self.features.slices
+            }
             Pass::Tonemap => true,
         }
     }
@@ -577,8 +612,9 @@ impl Renderer {
                 self.pipelines.ensure(ctx, &self.layouts, &key)?;
             }
         }
-        let compute_possible = self.cfg.march != MarchPath::Fragment;
-        if current.clouds && compute_possible && self.cloud_target.is_none() {
+        let target_needed =
+            (current.clouds && self.cfg.march != MarchPath::Fragment) || current.slices;
+        if target_needed && self.cloud_target.is_none() {
             self.cloud_target = Some(self.make_cloud_target(device));
         }
         if self.scene.is_none() {
@@ -604,6 +640,25 @@ impl Renderer {
                 self.baked.update(ctx, input.parcels, shell, scale, sun)?
             }
             RenderMethod::Sprites => GridInfo::EMPTY,
+            RenderMethod::Slices => {
+                let frame = slices_frame(
+                    &self.authored.0,
+                    &self.authored.1,
+                    input.parcels,
+                    &self.cfg,
+                    input.time_s,
+                    input.sun.direction,
+                    input.camera.target - input.camera.position,
+                )?;
+                self.slices.upload(ctx, &frame);
+                // No ray-march grid: "parcel_count" counts the primitives
+                // when there are planes to draw, so features see clouds.
+                let mut info = GridInfo::EMPTY;
+                if self.slices.index_count > 0 {
+                    info.parcel_count = self.slices.primitives;
+                }
+                info
+            }
         };
         if self.always_bake {
             self.baked.invalidate();

@@ -95,7 +95,11 @@ impl Renderer {
             self.width,
             self.height,
             CLOUD_TARGET_FORMAT,
-            wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
+            // Storage: the compute march writes it; render attachment: the
+            // slices pass blends its planes into it.
+            wgpu::TextureUsages::STORAGE_BINDING
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::RENDER_ATTACHMENT,
         )
         .create_view(&Default::default());
         let bind = |label, layout| {
