@@ -83,7 +83,7 @@ pub enum Pass {
 
 impl Pass {
     /// All passes in execution order.
-    pub const ALL: [Pass; 7] = [
+    pub const ALL: [Pass; 9] = [
         Pass::Bake,
         Pass::Shadow,
         Pass::Sky,

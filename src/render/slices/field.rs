@@ -57,7 +57,7 @@ impl AuthoredField {
             .take(self.octaves.counts[1] as usize)
         {
             let q = Mat4::from_cols_array_2d(m).transform_point3(p);
-            sum += w * self.noise.sample(q.to_array());
+            sum += w * self.noise.sample(q.to_array(), 0.0)[0];
             w *= 0.5;
         }
         sum
