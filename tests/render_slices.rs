@@ -206,8 +206,9 @@ fn wgsl_media_filter_ids_match_the_rust_filters() {
 fn only_the_slices_method_builds_the_slices_pass() {
     for m in RenderMethod::ALL {
         assert_eq!(Pass::Slices.used_by(m), m == RenderMethod::Slices, "{m}");
-        // No ray-march and no shadow map of the parcels' field under slices.
-        assert_eq!(Pass::Clouds.used_by(m), m != RenderMethod::Slices, "{m}");
+        // No ray-march and no shadow map of the parcels' field under slices
+        // (nor under sprites).
+        assert_eq!(Pass::Clouds.used_by(m), m.ray_marches(), "{m}");
     }
     let Some(ctx) = context() else { return };
     let scene = authored(&[]);

@@ -576,7 +576,7 @@ impl Renderer {
                 }],
             }));
         }
-        if (f.clouds || f.sprites) && self.bind_clouds.is_none() {
+        if (f.clouds || f.sprites || f.slices) && self.bind_clouds.is_none() {
             let view = self.depth_view.as_ref().unwrap_or(&self.dummy_depth_view);
             self.bind_clouds = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("clouds: depth"),
