@@ -26,13 +26,14 @@ use crate::render::pipelines::{PassLayouts, PipelineCache, PipelineKey};
 use crate::render::raymarch::baked::{BakeInfo, BakedField};
 use crate::render::raymarch::exact::ExactField;
 use crate::render::shaders::Pass;
-use crate::render::sprites::{SpriteScene, SpriteStats, SpritesGpu};
+use crate::render::sprites::{RingGpu, SpriteScene, SpriteStats, SpritesGpu};
 use crate::render::terrain;
 use crate::render::timing::Timestamps;
 use crate::render::{Features, FrameInput, RenderConfig, TerrainConfig};
 
 mod draw;
 mod resources;
+mod ring;
 
 pub(crate) use resources::texture_2d;
 use resources::{make_bind_common, noise_texture};
@@ -96,6 +97,8 @@ pub struct Renderer {
     sprite_scene: SpriteScene,
     /// Atlas and instances, created with the first sprite.
     sprites: Option<SpritesGpu>,
+    /// The impostor ring (`[render.sprites] impostor_radius_m`).
+    ring: Option<RingGpu>,
 }
 
 impl Renderer {
@@ -244,6 +247,7 @@ impl Renderer {
             auto_march: AutoMarch::default(),
             sprite_scene: SpriteScene::default(),
             sprites: None,
+            ring: None,
         };
         r.ensure(ctx)?;
         Ok(r)
@@ -580,7 +584,7 @@ impl Renderer {
         if current.sprites && self.sprites.is_none() {
             self.sprites = Some(SpritesGpu::new(ctx, &self.layouts.sprites));
         }
-        Ok(())
+        self.ensure_ring(ctx)
     }
 
     /// Packs and uploads a frame's data (the exact method fails, without
@@ -608,6 +612,7 @@ impl Renderer {
         } else {
             info.parcel_count > 0
         };
+        self.advance_ring(ctx, input);
         let instances = if self.cfg.clouds {
             // The drawn spheres are radius_scale × the parcels' (§6.1, as
             // the ray-march draws them): the sprite clouds fill those.
@@ -643,6 +648,7 @@ impl Renderer {
         let frame = self.frame_uniform(input);
         ctx.queue
             .write_buffer(&self.frame_buf, 0, bytemuck::bytes_of(&frame));
+        self.upload_ring_face(ctx, input, &frame)?;
         self.upload_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(())
     }
