@@ -637,7 +637,11 @@ impl Renderer {
         } else {
             Vec::new()
         };
-        let features = self.features_for(self.any_clouds, !instances.is_empty());
+        // A ring keeps the sprite pass even when every sprite went into it.
+        let features = self.features_for(
+            self.any_clouds,
+            !instances.is_empty() || self.ring.is_some(),
+        );
         if features != self.features {
             self.features = features;
             self.ensure(ctx)?;
