@@ -236,3 +236,43 @@ impl RingGpu {
         self.job.map(|(s, k)| &self.views[s][k])
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn radius_is_validated_and_named() {
+        assert!(SpritesConfig::default().validate().is_ok());
+        let ok = SpritesConfig {
+            impostor_radius_m: Some(20_000.0),
+        };
+        assert!(ok.validate().is_ok());
+        for bad in [100.0, f32::NAN, 1.0e6] {
+            let e = SpritesConfig {
+                impostor_radius_m: Some(bad),
+            }
+            .validate()
+            .unwrap_err()
+            .to_string();
+            assert!(e.contains("render.sprites.impostor_radius_m"), "{e}");
+        }
+    }
+
+    #[test]
+    fn a_face_quad_is_its_cameras_view_at_the_ring_radius() {
+        let cam = Vec3::new(100.0, -200.0, 800.0);
+        for k in 0..SECTORS {
+            let q = face_quad(cam, 12_000.0, k, 1.0);
+            let m = face_camera(cam, k, 100_000.0).clip_from_world(1.0);
+            // Corners counter-clockwise from bottom-left land on the clip
+            // square's corners (-1,-1), (1,-1), (1,1), (-1,1).
+            let want = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+            for (c, (x, y)) in q.corners.iter().zip(want) {
+                let p = m * glam::Vec4::from(*c);
+                let (px, py) = (p.x / p.w, p.y / p.w);
+                assert!((px - x).abs() < 1e-3 && (py - y).abs() < 1e-3, "{k}: {px} {py}");
+            }
+        }
+    }
+}
