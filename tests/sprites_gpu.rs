@@ -415,12 +415,19 @@ fn the_ring_is_complete_after_8_frames_and_skips_clouds_2000_ft_above() {
     assert_eq!(counts[..7], [total; 7], "{counts:?}");
     assert_eq!(counts[7..], [0, 0], "{counts:?}");
 
-    // The same clouds lifted 700 m (more than 609.6 m) above the camera:
-    // never impostored, every frame identical to the direct render.
+    // The same clouds lifted until their lowest sprite is 700 m (more
+    // than 609.6 m) above the camera: never impostored, every frame
+    // identical to the direct render.
+    let bottom = clouds
+        .iter()
+        .flat_map(|c| &c.sprites)
+        .map(|s| s.center_m.z - 0.5 * s.height_m.max(s.width_m))
+        .fold(f32::MAX, f32::min);
+    let lift = cam.position.z + 700.0 - bottom;
     let lifted: Vec<SpriteCloud> = clouds
         .into_iter()
         .map(|mut c| {
-            let up = Vec3::Z * 700.0;
+            let up = Vec3::Z * lift;
             c.center_m += up;
             c.sprites.iter_mut().for_each(|s| s.center_m += up);
             c

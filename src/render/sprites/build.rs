@@ -22,7 +22,7 @@ use crate::sprites_model::atlas::Atlas;
 use crate::sprites_model::facing::Facing;
 use crate::sprites_model::formation::formation_alpha;
 use crate::sprites_model::impostor::{
-    SECTOR_RAD, SECTORS, ShadeCacheConfig, ShadeStamp, in_impostors,
+    SECTOR_RAD, SECTORS, ShadeCacheConfig, ShadeStamp, span_in_impostors,
 };
 use crate::sprites_model::shading::{Lighting, group_centers};
 use crate::sprites_model::vertices::corners;
@@ -139,8 +139,18 @@ pub struct SpriteScene {
     sun_dir: Vec3,
     pub stats: SpriteStats,
     /// The impostor ring's (centre, radius): the clouds it holds
-    /// ([`in_impostors`]) are left out of [`SpriteScene::frame`].
+    /// ([`span_in_impostors`]) are left out of [`SpriteScene::frame`].
     pub impostored: Option<(Vec3, f32)>,
+    /// Each cloud's sprites' (bottom, top). units: m
+    spans: Vec<(f32, f32)>,
+}
+
+/// (bottom, top) of a cloud's sprites. units: m
+fn z_span(cloud: &SpriteCloud) -> (f32, f32) {
+    cloud.sprites.iter().fold((f32::MAX, f32::MIN), |(lo, hi), s| {
+        let h = 0.5 * s.height_m.max(s.width_m);
+        (lo.min(s.center_m.z - h), hi.max(s.center_m.z + h))
+    })
 }
 
 impl SpriteScene {
@@ -151,7 +161,9 @@ impl SpriteScene {
             .map(|c| vec![Facing::default(); c.sprites.len()])
             .collect();
         let cache = clouds.iter().map(|_| None).collect();
+        let spans = clouds.iter().map(z_span).collect();
         Self {
+            spans,
             clouds,
             facing,
             cache,
@@ -189,7 +201,7 @@ impl SpriteScene {
         let mut reshaded = 0;
         for (i, cloud) in self.clouds.iter().enumerate() {
             if let Some((at, r)) = self.impostored
-                && in_impostors(at, r, cloud.center_m)
+                && span_in_impostors(at, r, cloud.center_m, self.spans[i])
             {
                 continue;
             }
@@ -255,8 +267,8 @@ impl SpriteScene {
         let a = (k as f32 + 0.5) * SECTOR_RAD;
         let dir = glam::Vec2::new(a.cos(), a.sin());
         let mut all = Vec::new();
-        for cloud in &self.clouds {
-            if in_impostors(ring_cam, radius_m, cloud.center_m) {
+        for (cloud, span) in self.clouds.iter().zip(&self.spans) {
+            if span_in_impostors(ring_cam, radius_m, cloud.center_m, *span) {
                 shade(cloud, &light, ring_cam, 1.0, None, &mut all);
             }
         }

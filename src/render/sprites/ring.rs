@@ -1,7 +1,8 @@
 //! The ring of 8 impostors on the GPU (Wang 2003 §6.2): two sets of 8
 //! textures of 256² (45° each) around the camera. The scene's sprite
 //! clouds beyond the user's radius (and within 609.6 m of the camera's
-//! height, [`crate::sprites_model::impostor::in_impostors`]) are rendered
+//! height, counted from the cloud's nearest sprite,
+//! [`crate::sprites_model::impostor::span_in_impostors`]) are rendered
 //! into them by the sprites pipeline itself (same WGSL, a per-face
 //! view-projection, no terrain test), one face per frame, and drawn as 8
 //! textured quads at the ring radius (the faces' projection planes), the
