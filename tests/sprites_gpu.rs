@@ -386,7 +386,11 @@ fn impostor_ring_matches_the_direct_render_of_far_clouds() {
     // Every far cloud went into the ring: nothing drawn directly.
     assert_eq!(*ring_n, 0);
     // The clouds are on screen (hundreds of pixels) both ways.
-    assert!(changed(direct_img, sky) > 500, "{}", changed(direct_img, sky));
+    assert!(
+        changed(direct_img, sky) > 500,
+        "{}",
+        changed(direct_img, sky)
+    );
     assert!(changed(ring_img, sky) > 500, "{}", changed(ring_img, sky));
     let mean = mean_flip(direct_img, ring_img, (192, 108));
     eprintln!("impostor ring vs direct: mean FLIP {mean:.4}");

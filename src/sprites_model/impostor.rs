@@ -69,7 +69,9 @@ pub fn span_in_impostors(
     z_span_m: (f32, f32),
 ) -> bool {
     let far = block_center(block_of(cloud_m)).distance(camera_m.truncate()) > ring_radius_m;
-    let gap = (z_span_m.0 - camera_m.z).max(camera_m.z - z_span_m.1).max(0.0);
+    let gap = (z_span_m.0 - camera_m.z)
+        .max(camera_m.z - z_span_m.1)
+        .max(0.0);
     far && gap <= MAX_VERTICAL_M
 }
 

@@ -147,10 +147,13 @@ pub struct SpriteScene {
 
 /// (bottom, top) of a cloud's sprites. units: m
 fn z_span(cloud: &SpriteCloud) -> (f32, f32) {
-    cloud.sprites.iter().fold((f32::MAX, f32::MIN), |(lo, hi), s| {
-        let h = 0.5 * s.height_m.max(s.width_m);
-        (lo.min(s.center_m.z - h), hi.max(s.center_m.z + h))
-    })
+    cloud
+        .sprites
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(lo, hi), s| {
+            let h = 0.5 * s.height_m.max(s.width_m);
+            (lo.min(s.center_m.z - h), hi.max(s.center_m.z + h))
+        })
 }
 
 impl SpriteScene {

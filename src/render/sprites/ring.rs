@@ -272,7 +272,10 @@ mod tests {
             for (c, (x, y)) in q.corners.iter().zip(want) {
                 let p = m * glam::Vec4::from(*c);
                 let (px, py) = (p.x / p.w, p.y / p.w);
-                assert!((px - x).abs() < 1e-3 && (py - y).abs() < 1e-3, "{k}: {px} {py}");
+                assert!(
+                    (px - x).abs() < 1e-3 && (py - y).abs() < 1e-3,
+                    "{k}: {px} {py}"
+                );
             }
         }
     }
