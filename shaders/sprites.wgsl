@@ -9,6 +9,11 @@
 
 // Compare with the terrain depth (false: no terrain pass this frame).
 override HAS_TERRAIN: bool = true;
+// Drawing the impostor ring's quads (src/render/sprites/ring.rs): the
+// texture is a face of the ring, already shaded, hazed and premultiplied
+// by this same shader; only the set's crossfade weight (colour alpha) is
+// applied.
+override IMPOSTOR_QUAD: bool = false;
 
 // 144 bytes; keep in sync with SpriteInstance in src/render/sprites/mod.rs.
 struct SpriteInstance {
@@ -60,6 +65,9 @@ fn fs_main(in: SpriteOut) -> @location(0) vec4<f32> {
         if in.pos.z > depth {
             discard;
         }
+    }
+    if IMPOSTOR_QUAD {
+        return tex * in.color.a;
     }
     let alpha = clamp(in.color.a * tex.a, 0.0, 1.0);
     if alpha < 1e-3 {

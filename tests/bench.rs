@@ -171,10 +171,18 @@ fn check_outputs(dir: &Path) {
     );
     let cases = cumulus::bench::methods::cases();
     assert_eq!(rows.len(), cases.len());
+    // The paper's Figure 15: the overcast with the impostor ring on and off.
+    for on in ["on", "off"] {
+        assert!(
+            rows.iter().any(|r| r[0] == "overcast" && r[2] == on),
+            "overcast with impostors {on}: {rows:?}"
+        );
+    }
     check_positive("methods.csv", &h, &rows, "frame_ms");
     for (row, case) in rows.iter().zip(&cases) {
         assert_eq!(row[1], case.method.name());
         let flip = &row[4];
+        assert_eq!(row[2], if case.impostors { "on" } else { "off" });
         if case.scene == "overcast.toml" {
             assert!(flip.is_empty(), "overcast has no exact frame: {row:?}");
         } else {

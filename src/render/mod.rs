@@ -148,6 +148,8 @@ pub struct RenderConfig {
     pub terrain: TerrainConfig,
     /// The `slices` method's qualitative controls and noise tiers.
     pub slices: crate::authored::SlicesConfig,
+    /// The `sprites` method's settings (`[render.sprites]`).
+    pub sprites: sprites::SpritesConfig,
 }
 
 impl Default for RenderConfig {
@@ -177,6 +179,7 @@ impl Default for RenderConfig {
             shadow_texels: 256,
             terrain: TerrainConfig::default(),
             slices: Default::default(),
+            sprites: Default::default(),
         }
     }
 }
@@ -288,6 +291,7 @@ impl RenderConfig {
                 "16 to 4096",
             ));
         }
+        r.sprites.validate()?;
         let t = &r.terrain;
         check(
             "render.terrain.height_scale_m",

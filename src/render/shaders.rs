@@ -157,7 +157,7 @@ impl Pass {
             Pass::Shadow => &["ENCODE_SRGB"],
             Pass::Sky => &["ENCODE_SRGB"],
             Pass::Terrain => &["ENCODE_SRGB", "HAS_SHADOWS"],
-            Pass::Sprites => &["ENCODE_SRGB", "HAS_TERRAIN"],
+            Pass::Sprites => &["ENCODE_SRGB", "HAS_TERRAIN", "IMPOSTOR_QUAD"],
             Pass::Clouds if exact => &["ENCODE_SRGB", "GRID_CULLING", "USE_NORMALS", "HAS_TERRAIN"],
             Pass::Clouds => &["ENCODE_SRGB", "USE_NORMALS", "HAS_TERRAIN"],
             Pass::Slices => &["ENCODE_SRGB", "HAS_TERRAIN"],

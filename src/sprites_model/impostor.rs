@@ -57,6 +57,24 @@ pub fn in_impostors(camera_m: Vec3, ring_radius_m: f32, cloud_m: Vec3) -> bool {
     far && (cloud_m.z - camera_m.z).abs() <= MAX_VERTICAL_M
 }
 
+/// As [`in_impostors`] for a cloud whose sprites span heights
+/// `z_span_m` (bottom, top): the 2000 ft count from the cloud's nearest
+/// height, so a deck whose base is 450 m above the camera is impostored
+/// though its centre is 1200 m up, and a cloud whose base is more than
+/// 609.6 m above the camera (or top as far below) is not.
+pub fn span_in_impostors(
+    camera_m: Vec3,
+    ring_radius_m: f32,
+    cloud_m: Vec3,
+    z_span_m: (f32, f32),
+) -> bool {
+    let far = block_center(block_of(cloud_m)).distance(camera_m.truncate()) > ring_radius_m;
+    let gap = (z_span_m.0 - camera_m.z)
+        .max(camera_m.z - z_span_m.1)
+        .max(0.0);
+    far && gap <= MAX_VERTICAL_M
+}
+
 /// Why the ring must be re-rendered.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Trigger {
@@ -236,5 +254,26 @@ impl ShadeCacheConfig {
     ) -> bool {
         let (d, t) = self.thresholds(cloud_m.distance(camera_m), forming);
         camera_m.distance(stamp.camera_m) > d || now_s - stamp.time_s > t
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_2000_ft_count_from_the_clouds_nearest_height() {
+        let cam = Vec3::new(0.0, 0.0, 250.0);
+        let far = Vec3::new(0.0, 30_000.0, 1450.0);
+        // A deck from 700 to 2200 m: its base is 450 m above the camera.
+        assert!(span_in_impostors(cam, 20_000.0, far, (700.0, 2200.0)));
+        assert!(!in_impostors(cam, 20_000.0, far));
+        // Its base 700 m above: out, as is a camera 700 m over its top.
+        assert!(!span_in_impostors(cam, 20_000.0, far, (950.0, 2200.0)));
+        let above = Vec3::new(0.0, 0.0, 2900.0);
+        assert!(!span_in_impostors(above, 20_000.0, far, (700.0, 2200.0)));
+        // Blocks inside the ring never.
+        let near = Vec3::new(0.0, 5_000.0, 400.0);
+        assert!(!span_in_impostors(cam, 20_000.0, near, (300.0, 500.0)));
     }
 }

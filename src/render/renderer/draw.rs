@@ -165,9 +165,12 @@ impl Renderer {
             }
             None => panic!("ensure built every needed pipeline ({})", pass.name()),
         };
+        // The impostor ring's face of this frame is rendered first; the
+        // pair of timestamps then spans both passes.
+        let face = pass == Pass::Sprites && self.encode_ring_face(enc, timestamps);
         let timestamp_writes = timestamps.map(|(set, i)| wgpu::RenderPassTimestampWrites {
             query_set: set,
-            beginning_of_pass_write_index: Some(i),
+            beginning_of_pass_write_index: (!face).then_some(i),
             end_of_pass_write_index: Some(i + 1),
         });
         let color = |view, load| {
@@ -230,6 +233,8 @@ impl Renderer {
             Pass::Sprites => {
                 let s = self.sprites.as_ref().expect("sprite resources exist");
                 rp.set_bind_group(1, self.bind_clouds.as_ref(), &[]);
+                self.draw_ring_quads(&mut rp);
+                rp.set_pipeline(pipeline);
                 rp.set_bind_group(2, &s.bind, &[]);
                 rp.draw(0..6, 0..s.count);
             }

@@ -34,13 +34,14 @@ use crate::render::raymarch::baked::{BakeInfo, BakedField};
 use crate::render::raymarch::exact::ExactField;
 use crate::render::shaders::Pass;
 use crate::render::slices::{SlicesGpu, slices_frame};
-use crate::render::sprites::{SpriteScene, SpriteStats, SpritesGpu};
+use crate::render::sprites::{RingGpu, SpriteScene, SpriteStats, SpritesGpu};
 use crate::render::terrain;
 use crate::render::timing::Timestamps;
 use crate::render::{Features, FrameInput, RenderConfig, TerrainConfig};
 
 mod draw;
 mod resources;
+mod ring;
 
 pub(crate) use resources::texture_2d;
 use resources::{SceneTarget, check_size, make_bind_common};
@@ -113,6 +114,8 @@ pub struct Renderer {
         Vec<crate::authored::Ellipsoid>,
         crate::authored::ParticleConfig,
     ),
+    /// The impostor ring (`[render.sprites] impostor_radius_m`).
+    ring: Option<RingGpu>,
 }
 
 impl Renderer {
@@ -259,6 +262,7 @@ impl Renderer {
             sprites: None,
             slices,
             authored: Default::default(),
+            ring: None,
         };
         r.ensure(ctx)?;
         Ok(r)
@@ -623,7 +627,7 @@ impl Renderer {
         if current.sprites && self.sprites.is_none() {
             self.sprites = Some(SpritesGpu::new(ctx, &self.layouts.sprites));
         }
-        Ok(())
+        self.ensure_ring(ctx)
     }
 
     /// Packs and uploads a frame's data (the exact method fails, without
@@ -673,6 +677,7 @@ impl Renderer {
         } else {
             info.parcel_count > 0
         };
+        self.advance_ring(ctx, input);
         let instances = if self.cfg.clouds {
             // The drawn spheres are radius_scale × the parcels' (§6.1, as
             // the ray-march draws them): the sprite clouds fill those.
@@ -697,7 +702,11 @@ impl Renderer {
         } else {
             Vec::new()
         };
-        let features = self.features_for(self.any_clouds, !instances.is_empty());
+        // A ring keeps the sprite pass even when every sprite went into it.
+        let features = self.features_for(
+            self.any_clouds,
+            !instances.is_empty() || self.ring.is_some(),
+        );
         if features != self.features {
             self.features = features;
             self.ensure(ctx)?;
@@ -708,6 +717,7 @@ impl Renderer {
         let frame = self.frame_uniform(input);
         ctx.queue
             .write_buffer(&self.frame_buf, 0, bytemuck::bytes_of(&frame));
+        self.upload_ring_face(ctx, input, &frame)?;
         self.upload_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(())
     }

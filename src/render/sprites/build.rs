@@ -21,7 +21,9 @@ use crate::physics::CloudParcel;
 use crate::sprites_model::atlas::Atlas;
 use crate::sprites_model::facing::Facing;
 use crate::sprites_model::formation::formation_alpha;
-use crate::sprites_model::impostor::{ShadeCacheConfig, ShadeStamp};
+use crate::sprites_model::impostor::{
+    SECTOR_RAD, SECTORS, ShadeCacheConfig, ShadeStamp, span_in_impostors,
+};
 use crate::sprites_model::shading::{Lighting, group_centers};
 use crate::sprites_model::vertices::corners;
 use crate::sprites_model::{SpriteCloud, parcel_cloud};
@@ -136,6 +138,22 @@ pub struct SpriteScene {
     cache_cfg: ShadeCacheConfig,
     sun_dir: Vec3,
     pub stats: SpriteStats,
+    /// The impostor ring's (centre, radius): the clouds it holds
+    /// ([`span_in_impostors`]) are left out of [`SpriteScene::frame`].
+    pub impostored: Option<(Vec3, f32)>,
+    /// Each cloud's sprites' (bottom, top). units: m
+    spans: Vec<(f32, f32)>,
+}
+
+/// (bottom, top) of a cloud's sprites. units: m
+fn z_span(cloud: &SpriteCloud) -> (f32, f32) {
+    cloud
+        .sprites
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(lo, hi), s| {
+            let h = 0.5 * s.height_m.max(s.width_m);
+            (lo.min(s.center_m.z - h), hi.max(s.center_m.z + h))
+        })
 }
 
 impl SpriteScene {
@@ -146,7 +164,9 @@ impl SpriteScene {
             .map(|c| vec![Facing::default(); c.sprites.len()])
             .collect();
         let cache = clouds.iter().map(|_| None).collect();
+        let spans = clouds.iter().map(z_span).collect();
         Self {
+            spans,
             clouds,
             facing,
             cache,
@@ -183,6 +203,11 @@ impl SpriteScene {
         let mut all = Vec::new();
         let mut reshaded = 0;
         for (i, cloud) in self.clouds.iter().enumerate() {
+            if let Some((at, r)) = self.impostored
+                && span_in_impostors(at, r, cloud.center_m, self.spans[i])
+            {
+                continue;
+            }
             let stale = self.cache[i].as_ref().is_none_or(|c| {
                 self.cache_cfg
                     .stale(c.stamp, time_s, camera_m, cloud.center_m, false)
@@ -226,6 +251,40 @@ impl SpriteScene {
             build_ms: start.elapsed().as_secs_f64() * 1e3,
         };
         sorted
+    }
+
+    /// The sprites of face `k` of an impostor ring centred at `ring_cam`
+    /// with radius `radius_m`: every scene cloud the ring holds, shaded
+    /// facing `ring_cam`, keeping the sprites that reach into the face's
+    /// 45° (its centre within 22.5° plus the sprite's own angular half
+    /// size), back to front from `ring_cam`.
+    pub fn face_instances(
+        &self,
+        ring_cam: Vec3,
+        radius_m: f32,
+        k: usize,
+        sun_dir: Vec3,
+    ) -> Vec<SpriteInstance> {
+        debug_assert!(k < SECTORS);
+        let light = lighting(sun_dir);
+        let a = (k as f32 + 0.5) * SECTOR_RAD;
+        let dir = glam::Vec2::new(a.cos(), a.sin());
+        let mut all = Vec::new();
+        for (cloud, span) in self.clouds.iter().zip(&self.spans) {
+            if span_in_impostors(ring_cam, radius_m, cloud.center_m, *span) {
+                shade(cloud, &light, ring_cam, 1.0, None, &mut all);
+            }
+        }
+        all.retain(|s| {
+            let c = 0.5 * (Vec4::from(s.corners[0]) + Vec4::from(s.corners[2])).truncate();
+            let half = 0.5 * (Vec4::from(s.corners[2]) - Vec4::from(s.corners[0])).length();
+            let d = (c - ring_cam).truncate();
+            let dist = d.length().max(1e-3);
+            let off = d.angle_to(dir).abs();
+            off <= 0.5 * SECTOR_RAD + (half / dist).min(1.0).asin()
+        });
+        let order = back_to_front(&all, ring_cam);
+        order.iter().map(|&i| all[i as usize]).collect()
     }
 }
 

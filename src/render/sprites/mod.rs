@@ -10,11 +10,13 @@
 
 pub mod atlas;
 pub mod build;
+pub mod ring;
 
 use crate::error::{Error, Result};
 use crate::render::gpu::GpuContext;
 
 pub use build::{SpriteScene, SpriteStats};
+pub use ring::{RingGpu, SpritesConfig};
 
 /// One sprite as the shader reads it (144 bytes; keep in sync with
 /// `SpriteInstance` in shaders/sprites.wgsl).
@@ -32,7 +34,7 @@ pub struct SpriteInstance {
 /// The atlas, the instance buffer and their bind group (group 2).
 pub struct SpritesGpu {
     atlas_view: wgpu::TextureView,
-    sampler: wgpu::Sampler,
+    pub(super) sampler: wgpu::Sampler,
     buffer: wgpu::Buffer,
     /// Instances the buffer holds.
     capacity: u64,
@@ -109,7 +111,7 @@ fn instance_buffer(ctx: &GpuContext, capacity: u64) -> wgpu::Buffer {
     })
 }
 
-fn bind(
+pub(super) fn bind(
     ctx: &GpuContext,
     layout: &wgpu::BindGroupLayout,
     atlas: &wgpu::TextureView,
