@@ -193,7 +193,10 @@ fn an_explicit_calm_wind_table_silences_the_soundings_wind() {
     let calm: cumulus::scene::SceneProfile =
         toml::from_str("[wind]\nsurface_m_s = [0.0, 0.0]\naloft_m_s = [0.0, 0.0]\n").unwrap();
     let none: cumulus::scene::SceneProfile = toml::from_str("").unwrap();
-    let (calm, none) = (WorldConfig::from_scene(&calm), WorldConfig::from_scene(&none));
+    let (calm, none) = (
+        WorldConfig::from_scene(&calm),
+        WorldConfig::from_scene(&none),
+    );
     assert_eq!(calm.wind, Some(WindConfig::default()));
     assert_eq!(none.wind, None);
     let sounding_wind = [6.0, -3.0];
@@ -215,16 +218,8 @@ fn sounding_shear_carries_high_parcels_faster() {
     // u from 0 at the ground to 20 m/s at 10 km: a neutral parcel at 1 km
     // drifts with 2 m/s, one at 6 km with 12 m/s (within 1 m/s, as above),
     // so a tower's top runs ahead of its base.
-    let v_low = drift_at(
-        sheared_neutral([0.0, 0.0], [20.0, 0.0]),
-        None,
-        1000.0,
-    );
-    let v_high = drift_at(
-        sheared_neutral([0.0, 0.0], [20.0, 0.0]),
-        None,
-        6000.0,
-    );
+    let v_low = drift_at(sheared_neutral([0.0, 0.0], [20.0, 0.0]), None, 1000.0);
+    let v_high = drift_at(sheared_neutral([0.0, 0.0], [20.0, 0.0]), None, 6000.0);
     assert!((v_low.x - 2.0).abs() < 1.0, "{v_low}");
     assert!((v_high.x - 12.0).abs() < 1.0, "{v_high}");
 }

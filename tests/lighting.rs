@@ -77,7 +77,11 @@ fn a_tall_cloud_lit_from_above_has_a_dark_base() {
             })
         })
         .collect();
-    assert!(rows.len() > h as usize / 3, "the tower covers {} rows", rows.len());
+    assert!(
+        rows.len() > h as usize / 3,
+        "the tower covers {} rows",
+        rows.len()
+    );
     let band = |ys: &[u32]| {
         let mut s = 0.0;
         for &y in ys {

@@ -148,7 +148,8 @@ fn max_error(
     );
     let (mut worst, mut max_lod) = (0.0f32, 0.0f32);
     for (p, g) in pts.iter().zip(&gpu) {
-        let d = ((p[0] - eye[0]).powi(2) + (p[1] - eye[1]).powi(2) + (p[2] - eye[2]).powi(2)).sqrt();
+        let d =
+            ((p[0] - eye[0]).powi(2) + (p[1] - eye[1]).powi(2) + (p[2] - eye[2]).powi(2)).sqrt();
         let lod = noise::lod(d, cone);
         max_lod = max_lod.max(lod);
         let cpu = vol.noise3_lod([p[0], p[1], p[2]], time_s, inv, octaves, lod);
@@ -173,7 +174,12 @@ fn gpu_noise_matches_its_cpu_twin_at_level_0_and_through_the_mips() {
     let pts: Vec<[f32; 4]> = (0..4096)
         .map(|_| {
             let r = 100.0 * 400.0f32.powf(rnd());
-            [r * (rnd() - 0.5), -3000.0 + r * rnd(), 900.0 + r * (rnd() - 0.3), 0.0]
+            [
+                r * (rnd() - 0.5),
+                -3000.0 + r * rnd(),
+                900.0 + r * (rnd() - 0.3),
+                0.0,
+            ]
         })
         .collect();
     // The renderer's cone at 1080 rows, 45° field of view, 64 texels / 900 m.
@@ -188,10 +194,15 @@ fn gpu_noise_matches_its_cpu_twin_at_level_0_and_through_the_mips() {
     for octaves in [1, 4, 6] {
         for c in [0.0, cone, 8.0 * cone] {
             let (err, max_lod) = max_error(&ctx, &vol, &pts, octaves, c);
-            eprintln!("octaves {octaves}, cone {c:.2e}: max |GPU − CPU| {err:.4} (levels to {max_lod:.1})");
+            eprintln!(
+                "octaves {octaves}, cone {c:.2e}: max |GPU − CPU| {err:.4} (levels to {max_lod:.1})"
+            );
             assert!(err < 0.02, "octaves {octaves}, cone {c}: {err}");
             if c > 0.0 {
-                assert!(max_lod > 1.0, "far points must use coarser levels: {max_lod}");
+                assert!(
+                    max_lod > 1.0,
+                    "far points must use coarser levels: {max_lod}"
+                );
             }
         }
     }

@@ -256,7 +256,12 @@ fn saved_scene_loads_back_with_the_edits() {
     assert!((loaded.editor.lcl_m().unwrap() - 800.0).abs() < 1.0);
     assert_eq!(loaded.world_cfg, m.world_cfg);
     assert_eq!(loaded.render_cfg, m.render_cfg);
-    let w = loaded.world_cfg.wind.as_ref().expect("the moved handle writes [wind]").aloft_m_s;
+    let w = loaded
+        .world_cfg
+        .wind
+        .as_ref()
+        .expect("the moved handle writes [wind]")
+        .aloft_m_s;
     // Wind from the south-west blows towards +x and +y.
     assert!(w[0] > 4.2 && w[1] > 4.2, "{w:?}");
     assert!((loaded.wind.from_deg - 225.0).abs() < 1e-9);

@@ -330,7 +330,10 @@ fn shadow_pass_darkens_terrain_under_the_cloud() {
         .into_iter()
         .filter(|n| *n != "composite")
         .collect();
-    assert_eq!(names, ["bake", "shadow", "sky", "terrain", "clouds", "tonemap"]);
+    assert_eq!(
+        names,
+        ["bake", "shadow", "sky", "terrain", "clouds", "tonemap"]
+    );
 }
 
 #[test]
@@ -373,13 +376,19 @@ fn pruned_scenes_create_fewer_passes() {
         ["bake", "shadow", "sky", "terrain", "clouds", "tonemap"]
     );
     let mut sky_clouds = Renderer::new(&ctx, &no_terrain(), fmt, 64, 48).unwrap();
-    assert_eq!(sky_clouds.pass_names(), ["bake", "sky", "clouds", "tonemap"]);
+    assert_eq!(
+        sky_clouds.pass_names(),
+        ["bake", "sky", "clouds", "tonemap"]
+    );
     let no_shadows = RenderConfig {
         shadows: false,
         ..RenderConfig::default()
     };
     let mut r = Renderer::new(&ctx, &no_shadows, fmt, 64, 48).unwrap();
-    assert_eq!(r.pass_names(), ["bake", "sky", "terrain", "clouds", "tonemap"]);
+    assert_eq!(
+        r.pass_names(),
+        ["bake", "sky", "terrain", "clouds", "tonemap"]
+    );
     // No parcels: no ray-march, and (with shadows on) no shadow pass either.
     let input = FrameInput {
         camera: Camera::from(&CameraConfig::default()),
@@ -398,7 +407,10 @@ fn pruned_scenes_create_fewer_passes() {
         ..input
     };
     r.prepare(&ctx, &input).unwrap();
-    assert_eq!(r.pass_names(), ["bake", "sky", "terrain", "clouds", "tonemap"]);
+    assert_eq!(
+        r.pass_names(),
+        ["bake", "sky", "terrain", "clouds", "tonemap"]
+    );
     // Shadows on: the shadow pass is built, and the terrain pipeline (its
     // HAS_SHADOWS constant changed); sky and clouds are kept.
     let built = r.pipelines_built();

@@ -132,7 +132,13 @@ fn exr_is_the_linear_scene_the_png_tone_maps() {
         let out = dir.path().join(name);
         let o = cumulus()
             .args([
-                "render", "--stand-in", "--width", "80", "--height", "56", "--out",
+                "render",
+                "--stand-in",
+                "--width",
+                "80",
+                "--height",
+                "56",
+                "--out",
             ])
             .arg(&out)
             .output()
@@ -158,5 +164,8 @@ fn exr_is_the_linear_scene_the_png_tone_maps() {
             worst = worst.max((mapped - p[c] as i32).abs());
         }
     }
-    assert!(worst <= 2, "tone-mapped EXR differs from the PNG by {worst}/255");
+    assert!(
+        worst <= 2,
+        "tone-mapped EXR differs from the PNG by {worst}/255"
+    );
 }

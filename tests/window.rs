@@ -137,7 +137,10 @@ fn capture_with_log(
     if let Some(k) = std::env::var_os("CUMULUS_KEEP_SCREENSHOTS") {
         std::fs::copy(&out, Path::new(&k).join(keep_as)).unwrap();
     }
-    Some((image::open(&out).expect("a PNG").to_rgba8(), stderr.into_owned()))
+    Some((
+        image::open(&out).expect("a PNG").to_rgba8(),
+        stderr.into_owned(),
+    ))
 }
 
 /// Left edge of the 3D view in the capture: the panel is 380 points wide
@@ -257,8 +260,16 @@ fn a_lost_device_is_reported_and_replaced() {
     let Some((img, log)) = capture_with_log(
         &display,
         &[
-            "--frames", "4", "--warmup", "600", "--width", "900", "--height", "560",
-            "--lose-device-after", "2",
+            "--frames",
+            "4",
+            "--warmup",
+            "600",
+            "--width",
+            "900",
+            "--height",
+            "560",
+            "--lose-device-after",
+            "2",
         ],
         "window-device-lost.png",
     ) else {
@@ -273,5 +284,8 @@ fn a_lost_device_is_reported_and_replaced() {
     let area = (img.width() - VIEW_X0) * img.height();
     let cloud = cloud_pixels(&img);
     // As in screenshot_shows_panel_and_clouds: at least 0.1% of the view.
-    assert!(cloud * 1000 > area, "{cloud} cloud pixels of {area} after the recovery");
+    assert!(
+        cloud * 1000 > area,
+        "{cloud} cloud pixels of {area} after the recovery"
+    );
 }

@@ -59,7 +59,11 @@ impl UnitSphere {
                 (t.cos(), t.sin())
             })
             .collect();
-        let (mut band_x, mut band_y, mut band_z) = ([[0.0; SLICES]; BANDS], [[0.0; SLICES]; BANDS], [[0.0; SLICES]; BANDS]);
+        let (mut band_x, mut band_y, mut band_z) = (
+            [[0.0; SLICES]; BANDS],
+            [[0.0; SLICES]; BANDS],
+            [[0.0; SLICES]; BANDS],
+        );
         for (q, n) in normal.iter().enumerate() {
             let (b, s) = (q / SLICES, q % SLICES);
             (band_x[b][s], band_y[b][s], band_z[b][s]) = (n.x, n.y, n.z);

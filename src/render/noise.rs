@@ -199,7 +199,8 @@ impl NoiseVolume {
             let z = (i0[2] + dz).rem_euclid(n);
             texels[(x + n * (y + n * z)) as usize].map(|v| v as f32 / 255.0)
         };
-        let lerp = |a: [f32; 4], b: [f32; 4], t: f32| [0, 1, 2, 3].map(|c| a[c] + (b[c] - a[c]) * t);
+        let lerp =
+            |a: [f32; 4], b: [f32; 4], t: f32| [0, 1, 2, 3].map(|c| a[c] + (b[c] - a[c]) * t);
         let x00 = lerp(at(0, 0, 0), at(1, 0, 0), f[0]);
         let x10 = lerp(at(0, 1, 0), at(1, 1, 0), f[0]);
         let x01 = lerp(at(0, 0, 1), at(1, 0, 1), f[0]);
@@ -414,7 +415,10 @@ mod tests {
             }
             // 1.5× + 8: the seam is an ordinary neighbour pair; allow the
             // spread of a maximum over one plane of pairs.
-            assert!(seam as f32 <= inner as f32 * 1.5 + 8.0, "channel {c}: seam {seam} inner {inner}");
+            assert!(
+                seam as f32 <= inner as f32 * 1.5 + 8.0,
+                "channel {c}: seam {seam} inner {inner}"
+            );
         }
         // Channel c has 2^c times the lattice frequency: its neighbours
         // differ more (×1.3 at least, of the ideal ×2 for a ramp; the finest
@@ -438,8 +442,14 @@ mod tests {
         // Past the mip chain every octave is its tile mean: the noise is
         // the same everywhere (no detail left to alias).
         let (p, r) = ([123.0, 456.0, 789.0], [-4000.0, 77.0, 2.0]);
-        assert_ne!(v.noise3_lod(p, 0.0, inv, 6, 0.0), v.noise3_lod(r, 0.0, inv, 6, 0.0));
-        assert_eq!(v.noise3_lod(p, 0.0, inv, 6, 40.0), v.noise3_lod(r, 0.0, inv, 6, 40.0));
+        assert_ne!(
+            v.noise3_lod(p, 0.0, inv, 6, 0.0),
+            v.noise3_lod(r, 0.0, inv, 6, 0.0)
+        );
+        assert_eq!(
+            v.noise3_lod(p, 0.0, inv, 6, 40.0),
+            v.noise3_lod(r, 0.0, inv, 6, 40.0)
+        );
         assert_eq!(lod(10.0, 0.0), 0.0);
         assert!((lod(1000.0, 0.008) - 3.0).abs() < 1e-5);
     }

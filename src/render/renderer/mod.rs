@@ -376,7 +376,8 @@ impl Renderer {
     pub fn set_config(&mut self, ctx: &GpuContext, cfg: &RenderConfig) -> Result<()> {
         cfg.validate()?;
         if cfg.noise_texels != self.noise_texels {
-            self.noise_view = noise::NoiseVolume::new(cfg.noise_texels).texture(&ctx.device, &ctx.queue);
+            self.noise_view =
+                noise::NoiseVolume::new(cfg.noise_texels).texture(&ctx.device, &ctx.queue);
             self.noise_texels = cfg.noise_texels;
             self.rebind_common(ctx);
         }
@@ -429,10 +430,7 @@ impl Renderer {
             Pass::Bake | Pass::Sky | Pass::Composite | Pass::Shadow => vec![],
             Pass::Terrain => vec![("HAS_SHADOWS", b(f.shadows))],
             Pass::Sprites => vec![("HAS_TERRAIN", b(f.terrain))],
-            Pass::Clouds => vec![
-                ("USE_NORMALS", b(f.normals)),
-                ("HAS_TERRAIN", b(f.terrain)),
-            ],
+            Pass::Clouds => vec![("USE_NORMALS", b(f.normals)), ("HAS_TERRAIN", b(f.terrain))],
             Pass::Slices => vec![("HAS_TERRAIN", b(f.terrain))],
         };
         if exact && matches!(pass, Pass::Shadow | Pass::Clouds) {
@@ -478,7 +476,13 @@ impl Renderer {
         } else {
             SCENE_FORMAT
         };
-        PipelineKey::new(pass, self.cfg.method, &self.constants(pass), format, compute)
+        PipelineKey::new(
+            pass,
+            self.cfg.method,
+            &self.constants(pass),
+            format,
+            compute,
+        )
     }
 
     /// Both cloud-pass pipelines when `auto` is still measuring (it

@@ -120,7 +120,11 @@ impl Renderer {
     /// The last frame's linear HDR scene (Rgba16Float, the renderer's
     /// size), before the tone map: what `--out x.exr` writes.
     pub fn scene_texture(&self) -> &wgpu::Texture {
-        &self.scene.as_ref().expect("ensure made the scene target").texture
+        &self
+            .scene
+            .as_ref()
+            .expect("ensure made the scene target")
+            .texture
     }
 
     /// The HDR scene target of the renderer's size and the tone map's bind

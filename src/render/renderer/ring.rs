@@ -15,24 +15,21 @@ use crate::render::sprites::RingGpu;
 use crate::render::sprites::ring::face_camera;
 use crate::sprites_model::impostor::SECTORS;
 
-use super::Renderer;
+use super::{Renderer, SCENE_FORMAT};
 
 impl Renderer {
     /// The sprites pipeline for a ring face (no terrain test: the face has
     /// no depth) or for the ring's quads.
     pub(super) fn ring_key(&self, quad: bool) -> PipelineKey {
         let b = |v: bool| if v { 1.0 } else { 0.0 };
-        let srgb = b(!self.format.is_srgb());
         let terrain = quad && self.features.terrain;
+        // Faces hold linear, premultiplied radiance like the scene target
+        // the quads are drawn into; the frame's one tone map comes after.
         PipelineKey::new(
             Pass::Sprites,
             self.cfg.method,
-            &[
-                ("ENCODE_SRGB", srgb),
-                ("HAS_TERRAIN", b(terrain)),
-                ("IMPOSTOR_QUAD", b(quad)),
-            ],
-            self.format,
+            &[("HAS_TERRAIN", b(terrain)), ("IMPOSTOR_QUAD", b(quad))],
+            SCENE_FORMAT,
             false,
         )
     }
@@ -55,7 +52,7 @@ impl Renderer {
                     self.ring = Some(RingGpu::new(
                         ctx,
                         &self.layouts.sprites,
-                        self.format,
+                        SCENE_FORMAT,
                         r,
                         std::mem::size_of::<FrameUniform>() as u64,
                     ));
