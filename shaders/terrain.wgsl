@@ -47,8 +47,11 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let n = normalize(in.normal);
     let sun = frame.sun_dir.xyz;
     // Albedo: meadows and fields on gentle slopes, rock on steep ones,
-    // patchy by a large-scale noise lookup.
-    let patchiness = textureSampleLevel(noise_tex, repeat_sampler, vec3<f32>(in.world.xy * 1.1e-3, 0.37), 0.0).r;
+    // patchy by a large-scale noise lookup: the four packed octaves summed
+    // with weights 2^-c (a single octave shows its value-noise lattice), at
+    // the mip level the pixel's footprint picks (no aliasing far away).
+    let octaves = textureSample(noise_tex, repeat_sampler, vec3<f32>(in.world.xy * 1.1e-3, 0.37));
+    let patchiness = dot(octaves, vec4<f32>(8.0, 4.0, 2.0, 1.0) / 15.0);
     let fields = smoothstep(0.35, 0.65, patchiness);
     let meadow = mix(vec3<f32>(0.06, 0.10, 0.035), vec3<f32>(0.13, 0.15, 0.06), fields);
     let rock = vec3<f32>(0.22, 0.2, 0.18);
