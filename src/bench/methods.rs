@@ -32,7 +32,8 @@ pub struct Case {
 }
 
 /// Every case of the table: every method but the reference on the physics
-/// scene, and the paper's overcast (Figure 15) as sprites.
+/// scene, the paper's overcast (Figure 15) as sprites, and Schpok's
+/// authored scene by slicing.
 pub fn cases() -> Vec<Case> {
     let mut c: Vec<Case> = RenderMethod::ALL
         .into_iter()
@@ -50,6 +51,11 @@ pub fn cases() -> Vec<Case> {
             impostors,
         });
     }
+    c.push(Case {
+        scene: "authored.toml",
+        method: RenderMethod::Slices,
+        impostors: false,
+    });
     c
 }
 
@@ -179,6 +185,8 @@ fn run_case(
     let mut hl = Headless::new(ctx, &cfg, size.0, size.1)?;
     hl.renderer
         .set_sprite_clouds(ctx, crate::sprites_model::scene_clouds(&l.profile))?;
+    hl.renderer
+        .set_authored(&l.profile.ellipsoids, &l.profile.particles);
     if impostors {
         // The ring completes one face per frame: measure it built, from a
         // camera that has not moved (the paper's steady state; a moving
