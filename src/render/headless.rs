@@ -16,7 +16,6 @@ pub struct Headless {
     texture: wgpu::Texture,
     view: wgpu::TextureView,
     readback: wgpu::Buffer,
-    padded_row: u32,
     bgra: bool,
 }
 
@@ -57,19 +56,12 @@ impl Headless {
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
         );
         let view = texture.create_view(&Default::default());
-        let padded_row = (4 * width).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
-        let readback = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("headless readback"),
-            size: padded_row as u64 * height as u64,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let readback = readback_buffer(ctx, "headless readback", 4, (width, height));
         Ok(Self {
             renderer,
             texture,
             view,
             readback,
-            padded_row,
             bgra,
         })
     }
@@ -84,29 +76,7 @@ impl Headless {
         self.renderer.prepare(ctx, input)?;
         let timings = self.renderer.render(ctx, &self.view);
         let (w, h) = self.renderer.size();
-        let mut enc = ctx.device.create_command_encoder(&Default::default());
-        enc.copy_texture_to_buffer(
-            self.texture.as_image_copy(),
-            wgpu::TexelCopyBufferInfo {
-                buffer: &self.readback,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(self.padded_row),
-                    rows_per_image: Some(h),
-                },
-            },
-            wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            },
-        );
-        ctx.queue.submit([enc.finish()]);
-        let padded = read_buffer(ctx, &self.readback, self.padded_row as u64 * h as u64)?;
-        let mut rgba = Vec::with_capacity((4 * w * h) as usize);
-        for row in padded.chunks_exact(self.padded_row as usize) {
-            rgba.extend_from_slice(&row[..4 * w as usize]);
-        }
+        let mut rgba = read_rows(ctx, &self.texture, &self.readback, 4, (w, h))?;
         if self.bgra {
             rgba.chunks_exact_mut(4).for_each(|p| p.swap(0, 2));
         }
@@ -122,43 +92,72 @@ impl Headless {
         let texture = self.renderer.scene_texture();
         let (w, h) = self.renderer.size();
         // Rgba16Float: 8 bytes per texel.
-        let padded_row = (8 * w).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
-        let size = padded_row as u64 * h as u64;
-        let readback = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("HDR readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut enc = ctx.device.create_command_encoder(&Default::default());
-        enc.copy_texture_to_buffer(
-            texture.as_image_copy(),
-            wgpu::TexelCopyBufferInfo {
-                buffer: &readback,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(padded_row),
-                    rows_per_image: Some(h),
-                },
-            },
-            wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            },
-        );
-        ctx.queue.submit([enc.finish()]);
-        let padded = read_buffer(ctx, &readback, size)?;
+        let readback = readback_buffer(ctx, "HDR readback", 8, (w, h));
+        let texels = read_rows(ctx, texture, &readback, 8, (w, h))?;
         let mut rgb = Vec::with_capacity((3 * w * h) as usize);
-        for row in padded.chunks_exact(padded_row as usize) {
-            for texel in row[..8 * w as usize].chunks_exact(8) {
-                for c in texel[..6].chunks_exact(2) {
-                    rgb.push(half::f16::from_le_bytes([c[0], c[1]]).to_f32());
-                }
+        for texel in texels.chunks_exact(8) {
+            for c in texel[..6].chunks_exact(2) {
+                rgb.push(half::f16::from_le_bytes([c[0], c[1]]).to_f32());
             }
         }
         Ok(rgb)
     }
+}
+
+/// Bytes per row of a texture copy of `width` texels of `texel_bytes`.
+fn padded_row(texel_bytes: u32, width: u32) -> u32 {
+    (texel_bytes * width).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+}
+
+/// A mappable buffer that holds one copy of a `size` texture.
+fn readback_buffer(
+    ctx: &GpuContext,
+    label: &str,
+    texel_bytes: u32,
+    (w, h): (u32, u32),
+) -> wgpu::Buffer {
+    ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: padded_row(texel_bytes, w) as u64 * h as u64,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// Copies `texture` (`size`, `texel_bytes` per texel) through `readback`
+/// and returns its rows tightly packed, top row first.
+fn read_rows(
+    ctx: &GpuContext,
+    texture: &wgpu::Texture,
+    readback: &wgpu::Buffer,
+    texel_bytes: u32,
+    (w, h): (u32, u32),
+) -> Result<Vec<u8>> {
+    let row = padded_row(texel_bytes, w);
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    enc.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: readback,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(row),
+                rows_per_image: Some(h),
+            },
+        },
+        wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+    );
+    ctx.queue.submit([enc.finish()]);
+    let padded = read_buffer(ctx, readback, row as u64 * h as u64)?;
+    let mut out = Vec::with_capacity((texel_bytes * w * h) as usize);
+    for r in padded.chunks_exact(row as usize) {
+        out.extend_from_slice(&r[..(texel_bytes * w) as usize]);
+    }
+    Ok(out)
 }
 
 /// Renders one frame headless: (RGBA8 sRGB bytes, width, height).

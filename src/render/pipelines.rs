@@ -70,6 +70,19 @@ fn sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
+fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: STAGES,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
 /// The bind-group layouts every render pass shares.
 pub struct PassLayouts {
     /// Group 0: frame, parcels, grid (exact), noise, samplers, baked field
@@ -113,16 +126,7 @@ impl PassLayouts {
                     binding: 6,
                     ..float3d
                 },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 7,
-                    visibility: STAGES,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: true },
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
+                storage_entry(7),
             ],
         });
         let shadow_tex = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -171,16 +175,7 @@ impl PassLayouts {
                     wgpu::TextureViewDimension::D2,
                 ),
                 sampler_entry(1),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 2,
-                    visibility: STAGES,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: true },
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
+                storage_entry(2),
             ],
         });
         Self {
