@@ -7,8 +7,8 @@
 //! lavapipe on a machine with no GPU), the test FAILS when CI=true (CI
 //! installs both) and otherwise prints a notice and passes.
 
+use std::io::{BufRead, BufReader};
 use std::path::Path;
-
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -43,44 +43,37 @@ fn on_path(program: &str) -> bool {
         .unwrap_or(false)
 }
 
-/// Starts Xvfb on the first display number with neither a lock file nor a
-/// socket, and waits for its socket.
+/// Starts Xvfb on a display number it picks itself (`-displayfd`: it writes
+/// the number once it accepts connections). Choosing the number here raced
+/// when two tests of this binary started servers at once: the loser saw the
+/// winner's socket, used its display, and lost it when that test ended.
 fn start_xvfb() -> Option<Xvfb> {
-    for n in 90..140 {
-        let lock = format!("/tmp/.X{n}-lock");
-        let socket = format!("/tmp/.X11-unix/X{n}");
-        if Path::new(&lock).exists() || Path::new(&socket).exists() {
-            continue;
-        }
-        let child = Command::new("Xvfb")
-            .args([
-                &format!(":{n}"),
-                "-screen",
-                "0",
-                "1280x800x24",
-                "-nolisten",
-                "tcp",
-            ])
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .ok()?;
-        let mut x = Xvfb {
-            child,
-            display: format!(":{n}"),
-        };
-        let t0 = Instant::now();
-        while t0.elapsed() < Duration::from_secs(10) {
-            if Path::new(&socket).exists() {
-                return Some(x);
-            }
-            if let Ok(Some(_)) = x.child.try_wait() {
-                break; // lost a race for this number: try the next
-            }
-            std::thread::sleep(Duration::from_millis(50));
-        }
-    }
-    None
+    let child = Command::new("Xvfb")
+        .args([
+            "-displayfd",
+            "1",
+            "-screen",
+            "0",
+            "1280x800x24",
+            "-nolisten",
+            "tcp",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .ok()?;
+    // Killed on drop from here on, whatever happens below.
+    let mut x = Xvfb {
+        child,
+        display: String::new(),
+    };
+    let mut line = String::new();
+    BufReader::new(x.child.stdout.take()?)
+        .read_line(&mut line)
+        .ok()?;
+    let n: u32 = line.trim().parse().ok()?;
+    x.display = format!(":{n}");
+    Some(x)
 }
 
 /// The display to use, and the server to keep alive while using it.
