@@ -4,7 +4,7 @@
 Exports one fixed frame with `cumulus export` (the density of eq. 18 on a
 grid plus a JSON sidecar), path-traces it with Mitsuba 3's `volpath`
 (multiple scattering, the renderer's two-lobe Henyey-Greenstein phase,
-albedo 1, the same sun and a sky environment map of the same gradient),
+albedo 1, the same sun and a sky environment map of the same sky table),
 renders the same frame with `cumulus render` at each setting of the error
 sweep (and each `--method` the binary offers), and writes
 
@@ -146,21 +146,30 @@ def tone_map(radiance, exposure):
     return srgb_encode(1.0 - np.exp(-exposure * radiance))
 
 
-def sky_color(d, sun):
-    """Sky radiance along unit directions d (..., 3), z up. Mirrors
-    `sky_color` in shaders/common.wgsl."""
+def sky_color(d, sun, sky):
+    """Sky radiance along unit directions d (..., 3), z up, from the
+    sidecar's sky table (the atmosphere model of src/sky.rs). Mirrors
+    `sky_color` in shaders/common.wgsl and `SkyLight::radiance` in src/sky.rs."""
+    ray = np.asarray(sky["rayleigh_rgb"], dtype=float)
+    mie = np.asarray(sky["mie_rgb"], dtype=float)
+    g = sky["mie_g"]
+    n = len(ray)
     up = np.clip(d[..., 2:3], -1.0, 1.0)
-    zenith = np.array([0.16, 0.34, 0.85])
-    horizon = np.array([0.62, 0.74, 0.92])
-    t = np.power(np.maximum(up, 0.0), 0.45)
-    c = horizon + (zenith - horizon) * t
-    below = horizon + (np.array([0.42, 0.45, 0.5]) - horizon) * np.clip(-up * 3.0, 0.0, 1.0)
-    c = np.where(up < 0.0, below, c)
-    mu = np.maximum((d * sun).sum(-1, keepdims=True), 0.0)
-    return c + np.array([1.0, 0.85, 0.6]) * (0.35 * mu**12 + 0.08 * mu**2)
+    x = np.sqrt(np.clip(up, 0.0, 1.0)) * (n - 1)
+    k = np.minimum(np.floor(x).astype(int), n - 2)
+    f = x - k
+    r = ray[k[..., 0]] * (1.0 - f) + ray[k[..., 0] + 1] * f
+    m = mie[k[..., 0]] * (1.0 - f) + mie[k[..., 0] + 1] * f
+    mu = (d * sun).sum(-1, keepdims=True)
+    p_r = 3.0 / (16.0 * math.pi) * (1.0 + mu * mu)
+    p_m = (
+        3.0 / (8.0 * math.pi) * (1.0 - g * g) * (1.0 + mu * mu)
+        / ((2.0 + g * g) * np.power(np.maximum(1.0 + g * g - 2.0 * g * mu, 1e-6), 1.5))
+    )
+    return (r * p_r + m * p_m) * (1.0 - 0.4 * np.clip(-3.0 * up, 0.0, 1.0))
 
 
-def sky_envmap(sun, width=512):
+def sky_envmap(sun, sky, width=512):
     """Lat-long bitmap in Mitsuba's envmap frame (y up), to be placed with a
     +90 degree rotation about x so that its y becomes our z."""
     h = width // 2
@@ -173,7 +182,7 @@ def sky_envmap(sun, width=512):
     )
     # Rotation about x by +90 degrees: (x, y, z) -> (x, -z, y).
     world = np.stack([local[..., 0], -local[..., 2], local[..., 1]], -1)
-    return sky_color(world, np.asarray(sun)).astype(np.float32)
+    return sky_color(world, np.asarray(sun), sky).astype(np.float32)
 
 
 def path_trace(side, vol_path, size, spp, variant, max_depth):
@@ -227,7 +236,7 @@ def path_trace(side, vol_path, size, spp, variant, max_depth):
         },
         "sky": {
             "type": "envmap",
-            "bitmap": mi.Bitmap(sky_envmap(light["sun_direction"])),
+            "bitmap": mi.Bitmap(sky_envmap(light["sun_direction"], light["sky"])),
             "to_world": T().rotate([1, 0, 0], 90),
         },
         "clouds": {

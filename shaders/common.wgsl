@@ -2,7 +2,7 @@
 //
 // Keep in sync with src/render/pack.rs (FrameUniform, GpuParcel,
 // ParcelsUniform, GridUniform). The array sizes MAX_PARCELS,
-// GRID_CELL_PAIRS and GRID_ENTRY_QUADS are prepended by
+// GRID_CELL_PAIRS, GRID_ENTRY_QUADS and SKY_KNOTS are prepended by
 // src/render/shaders.rs from the Rust constants, so they cannot drift.
 // naga has no #include: src/render/shaders.rs concatenates
 // prelude + common.wgsl (+ density.wgsl) + the pass file.
@@ -12,7 +12,7 @@
 // Encode sRGB in the tone-map pass (its target format is not sRGB).
 override ENCODE_SRGB: bool = false;
 
-// 288 bytes; keep in sync with FrameUniform in src/render/pack.rs.
+// 304 + 32·SKY_KNOTS bytes; keep in sync with FrameUniform in src/render/pack.rs.
 struct Frame {
     clip_from_world: mat4x4<f32>,
     world_from_clip: mat4x4<f32>,
@@ -26,6 +26,11 @@ struct Frame {
     grid_cell: vec4<f32>,  // xyz: cell size (m)
     grid_dims: vec4<u32>,  // nx, ny, nz, parcel count
     shadow_rect: vec4<f32>, // ground rectangle of the shadow map: min x, min y, max x, max y (m)
+    sky_ambient: vec4<f32>, // rgb: sky irradiance on an up-facing surface / π; w: Mie phase g
+    // Sky radiance per unit phase at view elevations sin(el) = (k/(SKY_KNOTS−1))²:
+    // Rayleigh and Mie parts (rgb), from the atmosphere model of src/sky.rs.
+    sky_rayleigh: array<vec4<f32>, SKY_KNOTS>,
+    sky_mie: array<vec4<f32>, SKY_KNOTS>,
 }
 
 // 32 bytes; keep in sync with GpuParcel in src/render/pack.rs.
@@ -131,24 +136,40 @@ fn hash2(p: vec2<f32>) -> f32 {
     return fract((r.x + r.y) * r.x);
 }
 
-// Sky radiance along a direction: zenith-to-horizon gradient, haze below
-// the horizon, and a glow around the sun.
-fn sky_color(dir: vec3<f32>) -> vec3<f32> {
-    let up = clamp(dir.z, -1.0, 1.0);
-    let zenith = vec3<f32>(0.16, 0.34, 0.85);
-    let horizon = vec3<f32>(0.62, 0.74, 0.92);
-    var c = mix(horizon, zenith, pow(max(up, 0.0), 0.45));
-    if up < 0.0 {
-        c = mix(horizon, vec3<f32>(0.42, 0.45, 0.5), clamp(-up * 3.0, 0.0, 1.0));
-    }
-    let mu = max(dot(dir, frame.sun_dir.xyz), 0.0);
-    c += vec3<f32>(1.0, 0.85, 0.6) * (0.35 * pow(mu, 12.0) + 0.08 * pow(mu, 2.0));
-    return c;
+// Rayleigh phase function. units: 1/sr
+fn rayleigh_phase(mu: f32) -> f32 {
+    return 3.0 / (16.0 * PI) * (1.0 + mu * mu);
 }
 
-// Light arriving from the whole sky on an upward-facing surface.
+// Cornette–Shanks phase function (the sky's aerosols). units: 1/sr
+fn mie_phase(mu: f32, g: f32) -> f32 {
+    let g2 = g * g;
+    return 3.0 / (8.0 * PI) * (1.0 - g2) * (1.0 + mu * mu) / ((2.0 + g2) * pow(max(1.0 + g2 - 2.0 * g * mu, 1e-6), 1.5));
+}
+
+// Sky radiance along a direction, from the atmosphere model's table in the
+// frame (src/sky.rs, single scattering in Rayleigh + Mie + ozone air, for
+// the frame's sun): the Rayleigh and Mie parts at the view's elevation,
+// linear between knots, each times its phase of the angle to the sun (the
+// glow around the sun is the Mie lobe); below the horizon, the horizon's
+// radiance darkening toward the ground haze. CPU twin: SkyLight::radiance
+// in src/sky.rs (keep in sync; benches/pathtraced.py mirrors it too).
+fn sky_color(dir: vec3<f32>) -> vec3<f32> {
+    let x = sqrt(clamp(dir.z, 0.0, 1.0)) * f32(SKY_KNOTS - 1u);
+    let k = min(u32(x), SKY_KNOTS - 2u);
+    let f = x - f32(k);
+    let r = mix(frame.sky_rayleigh[k].rgb, frame.sky_rayleigh[k + 1u].rgb, f);
+    let m = mix(frame.sky_mie[k].rgb, frame.sky_mie[k + 1u].rgb, f);
+    let mu = dot(dir, frame.sun_dir.xyz);
+    let c = r * rayleigh_phase(mu) + m * mie_phase(mu, frame.sky_ambient.w);
+    return c * (1.0 - 0.4 * clamp(-3.0 * dir.z, 0.0, 1.0));
+}
+
+// Light arriving from the whole sky on an upward-facing surface, over π
+// (the sky's cosine-weighted mean radiance), integrated on the CPU from
+// the same sky (src/sky.rs).
 fn sky_ambient() -> vec3<f32> {
-    return vec3<f32>(0.30, 0.40, 0.60);
+    return frame.sky_ambient.rgb;
 }
 
 // Colour of the haze that distant objects fade into.

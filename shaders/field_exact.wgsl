@@ -7,37 +7,50 @@
 //   field_sample(p)         (v(P), condensation plane under P (m))
 //   far_light_depth(p)      optical depth ∫ρ ds of the parcels alone (no
 //                           noise; density × m) from P to the cloud
-//                           region's edge toward the sun (x; 0 here, see
-//                           below) and up (y)
+//                           region's edge toward the sun (x) and up (y)
 //   empty_skip(p, rd)       > 0: distance along rd over which v + k/2 ≤ 0
 //                           (no density can appear); 0: p may be cloudy.
 
-// Steps of the exact method's far light march upward (the baked method
-// reads a light volume instead); 16 equal steps across the grid box.
-const FAR_LIGHT_STEPS: u32 = 16u;
+// The exact method's far light march (the baked method reads a light
+// volume instead): from P along `dir` to the grid box's edge, at a fixed
+// step of one grid cell's shortest side, samples at the step centres
+// counted from P. Empty cells (no parcel listed, `empty_skip`) are crossed
+// in one jump to the next sample on the same lattice, so culling skips
+// only samples where brute force finds no density either. The step is
+// fixed in metres, not a share of the box, so the samples do not move with
+// the box's size. Over the whole cloud height: a tower's top shadows its
+// base and its neighbours, as the baked light volume does.
+const FAR_LIGHT_MAX_STEPS: u32 = 256u;
 
 fn far_depth_along(p: vec3<f32>, dir: vec3<f32>) -> f32 {
     let box_max = frame.grid_min.xyz + frame.grid_cell.xyz * vec3<f32>(frame.grid_dims.xyz);
     let span = ray_box(p, dir, frame.grid_min.xyz, box_max);
-    let t0 = max(span.x, 0.0);
-    if span.y <= t0 {
-        return 0.0;
-    }
-    let ds = (span.y - t0) / f32(FAR_LIGHT_STEPS);
+    let cell = frame.grid_cell.xyz;
+    let ds = min(cell.x, min(cell.y, cell.z));
+    // First sample at or past the box's entry, on the lattice (k + ½)·ds.
+    var k = max(ceil(max(span.x, 0.0) / ds - 0.5), 0.0);
     var od = 0.0;
-    for (var i = 0u; i < FAR_LIGHT_STEPS; i++) {
-        od += coarse_density(p + dir * (t0 + (f32(i) + 0.5) * ds));
+    for (var i = 0u; i < FAR_LIGHT_MAX_STEPS; i++) {
+        let t = (k + 0.5) * ds;
+        if t >= span.y {
+            break;
+        }
+        let q = p + dir * t;
+        let skip = empty_skip(q, dir);
+        if skip > 0.0 {
+            k = max(ceil((t + skip) / ds - 0.5), k + 1.0);
+            continue;
+        }
+        od += coarse_density(q);
+        k += 1.0;
     }
     return od * ds;
 }
 
-// Toward the sun the exact method keeps only the short light march of
-// lighting.wgsl (x = 0): a far march toward the sun here gave images that
-// differed between grid culling and brute force (tests/render.rs
-// grid_culling_matches_brute_force, up to 69/255 on 31 pixels), which is
-// not understood yet; straight up the two agree exactly.
+// Optical depths (density × m) of the parcels alone from P to the grid
+// box's edge toward the sun (x) and straight up (y).
 fn far_light_depth(p: vec3<f32>) -> vec2<f32> {
-    return vec2<f32>(0.0, far_depth_along(p, vec3<f32>(0.0, 0.0, 1.0)));
+    return vec2<f32>(far_depth_along(p, frame.sun_dir.xyz), far_depth_along(p, vec3<f32>(0.0, 0.0, 1.0)));
 }
 
 // Evaluate only the parcels listed in the sample's grid cell (paper §6.2).

@@ -32,7 +32,7 @@ const LIGHT_DENSITY: f32 = 1.0;
 // The phase's back lobe: g and weight in the mix with the forward lobe
 // (whose g is the scene's phase_g). Keep in sync with BACK_LOBE_G and
 // BACK_LOBE_WEIGHT in src/export/sidecar.rs (the path tracer uses them).
-const HG_BACK_G: f32 = -0.2;
+const HG_BACK_G: f32 = -0.3;
 const HG_BACK_WEIGHT: f32 = 0.25;
 
 // Height above a cloud's condensation plane over which diffuse light

@@ -4,8 +4,9 @@
 //! Layers, bottom up (each only reads the ones below it):
 //! - [`atmosphere`]: thermodynamics, environment profiles, sounding reader;
 //! - [`physics`]: parcels, SPH, mixing, condensation, emission, integrator;
-//! - [`landscape`] (ground height) and [`sun`] (solar position from the
-//!   clock): pure CPU, read by the physics and the renderer alike;
+//! - [`landscape`] (ground height), [`sun`] (solar position from the
+//!   clock) and [`sky`] (sun and sky colours from an atmosphere model):
+//!   pure CPU, read by the physics and the renderer alike;
 //! - [`scene`]: a scene profile (TOML) → validated configuration;
 //! - [`sprites_model`]: Wang 2003's sprite clouds, CPU side (reads the physics);
 //! - [`render`]: wgpu renderer (headless or to a window surface);
@@ -24,6 +25,7 @@ pub mod plots;
 pub mod render;
 pub mod scene;
 pub mod scene_set;
+pub mod sky;
 pub mod sprites_model;
 pub mod stability;
 pub mod sun;

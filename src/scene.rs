@@ -106,15 +106,11 @@ pub const MAX_START_S: f64 = 86_400.0;
 /// whether the sun was below [`crate::sun::MIN_LIGHT_ELEVATION_DEG`], so the
 /// light's direction was held there (front ends show it).
 pub fn render_sun(clock: Option<&SolarClock>, render: &RenderConfig, t_s: f64) -> (Sun, bool) {
-    let pinned = render.sun();
     match clock {
-        None => (pinned, false),
+        None => (render.sun(), false),
         Some(c) => {
             let (direction, strength, held) = crate::sun::light(c.position(t_s));
-            let sun = Sun {
-                direction,
-                color: pinned.color * strength,
-            };
+            let sun = Sun::from_sky(direction, strength);
             (sun, held)
         }
     }

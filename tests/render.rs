@@ -330,10 +330,8 @@ fn shadow_pass_darkens_terrain_under_the_cloud() {
         .into_iter()
         .filter(|n| *n != "composite")
         .collect();
-    assert_eq!(
-        names,
-        ["bake", "shadow", "sky", "terrain", "clouds", "tonemap"]
-    );
+    // The baked method's terrain reads the light volume: no shadow map pass.
+    assert_eq!(names, ["bake", "sky", "terrain", "clouds", "tonemap"]);
 }
 
 #[test]
@@ -369,11 +367,22 @@ fn normals_on_and_off_both_render_and_differ() {
 fn pruned_scenes_create_fewer_passes() {
     let Some(ctx) = context() else { return };
     let fmt = wgpu::TextureFormat::Rgba8UnormSrgb;
-    // The baked method (the default) adds its bake pass before the others.
+    // The baked method (the default) adds its bake pass before the others;
+    // its terrain reads the shadows from the bake's light volume, so it has
+    // no shadow map pass (the exact method has one).
     let full = Renderer::new(&ctx, &RenderConfig::default(), fmt, 64, 48).unwrap();
     assert_eq!(
         full.pass_names(),
-        ["bake", "shadow", "sky", "terrain", "clouds", "tonemap"]
+        ["bake", "sky", "terrain", "clouds", "tonemap"]
+    );
+    let exact = RenderConfig {
+        method: cumulus::render::RenderMethod::Exact,
+        ..RenderConfig::default()
+    };
+    let exact = Renderer::new(&ctx, &exact, fmt, 64, 48).unwrap();
+    assert_eq!(
+        exact.pass_names(),
+        ["shadow", "sky", "terrain", "clouds", "tonemap"]
     );
     let mut sky_clouds = Renderer::new(&ctx, &no_terrain(), fmt, 64, 48).unwrap();
     assert_eq!(
@@ -411,15 +420,16 @@ fn pruned_scenes_create_fewer_passes() {
         r.pass_names(),
         ["bake", "sky", "terrain", "clouds", "tonemap"]
     );
-    // Shadows on: the shadow pass is built, and the terrain pipeline (its
-    // HAS_SHADOWS constant changed); sky and clouds are kept.
+    // Shadows on: only the terrain pipeline is built anew (its HAS_SHADOWS
+    // constant changed; under `baked` it reads the light volume, no shadow
+    // map pass); sky and clouds are kept.
     let built = r.pipelines_built();
     r.set_config(&ctx, &RenderConfig::default()).unwrap();
     assert_eq!(
         r.pass_names(),
-        ["bake", "shadow", "sky", "terrain", "clouds", "tonemap"]
+        ["bake", "sky", "terrain", "clouds", "tonemap"]
     );
-    assert_eq!(r.pipelines_built(), built + 2);
+    assert_eq!(r.pipelines_built(), built + 1);
     // Normals: only the cloud pipeline changes.
     let normals = RenderConfig {
         normals: true,
@@ -428,14 +438,14 @@ fn pruned_scenes_create_fewer_passes() {
     // Normals: only the cloud pipelines change (fragment and compute, both
     // built while march = "auto" is still measuring).
     r.set_config(&ctx, &normals).unwrap();
-    assert_eq!(r.pipelines_built(), built + 4);
+    assert_eq!(r.pipelines_built(), built + 3);
     // A march parameter is a uniform: nothing is rebuilt.
     let steps = RenderConfig {
         step_m: 80.0,
         ..normals
     };
     r.set_config(&ctx, &steps).unwrap();
-    assert_eq!(r.pipelines_built(), built + 4);
+    assert_eq!(r.pipelines_built(), built + 3);
 }
 
 #[test]
@@ -642,6 +652,6 @@ fn a_target_of_another_size_resizes_the_renderer() {
     });
     let t = r.render(&ctx, &tex.create_view(&Default::default()));
     assert_eq!(r.size(), (80, 40));
-    // bake, shadow, sky, terrain, clouds, tonemap
-    assert_eq!(t.passes.len(), 6);
+    // bake, sky, terrain, clouds, tonemap
+    assert_eq!(t.passes.len(), 5);
 }

@@ -4,7 +4,8 @@
 //!
 //! The lighting constants below mirror the WGSL of the cloud pass; keep in
 //! sync with shaders/lighting.wgsl (`sun_phase_weights`, `HG_BACK_G`, `HG_BACK_WEIGHT`, `LIGHT_DENSITY`) and
-//! shaders/common.wgsl (`sky_ambient`, `tone_map`).
+//! shaders/common.wgsl (`sky_color`, `tone_map`); the sky itself is the
+//! frame's table from the atmosphere model (src/sky.rs).
 
 use serde::{Deserialize, Serialize};
 
@@ -13,14 +14,12 @@ use crate::render::{Camera, RenderConfig, Sun};
 use super::GridSpec;
 
 /// Henyey–Greenstein g of the weak back lobe (lighting.wgsl `HG_BACK_G`).
-pub const BACK_LOBE_G: f32 = -0.2;
+pub const BACK_LOBE_G: f32 = -0.3;
 /// Weight of the back lobe in the mix (lighting.wgsl `HG_BACK_WEIGHT`).
 pub const BACK_LOBE_WEIGHT: f32 = 0.25;
 /// Extra density factor of the light march toward the sun (lighting.wgsl `LIGHT_DENSITY`;
 /// 1: the same medium as the view rays and the path tracer).
 pub const LIGHT_DENSITY: f32 = 1.0;
-/// Sky ambient radiance (common.wgsl `sky_ambient`). units: linear RGB
-pub const SKY_AMBIENT_RGB: [f32; 3] = [0.30, 0.40, 0.60];
 /// Exposure of the tone curve 1 − exp(−k·L) (common.wgsl `tone_map`).
 pub const TONE_EXPOSURE: f32 = 1.1;
 
@@ -80,11 +79,29 @@ pub struct LightInfo {
     /// Physical irradiance equivalent: 4π·sun_color (the march's source term
     /// is sun_color·4π·p(θ)). units: linear RGB per unit area
     pub sun_irradiance_rgb: [f32; 3],
-    /// Skylight the march adds (×0.8, shaded); the visible sky is the
-    /// gradient of common.wgsl `sky_color`. units: linear RGB radiance
+    /// Skylight the march adds (×0.8, shaded): the sky's irradiance on an
+    /// up-facing surface over π. units: linear RGB radiance
     pub sky_ambient_rgb: [f32; 3],
+    /// The sky's radiance (common.wgsl `sky_color`).
+    pub sky: SkyInfo,
     /// Display value = 1 − exp(−exposure·L), then sRGB-encoded.
     pub tone_exposure: f32,
+}
+
+/// The sky's radiance as a table over view elevation (src/sky.rs): toward
+/// unit direction d (z up) with mu = d·sun and x = sqrt(max(d.z, 0))·(n − 1),
+/// L = P_R(mu)·lerp(rayleigh, x) + P_M(mu; g)·lerp(mie, x), with P_R the
+/// Rayleigh and P_M the Cornette–Shanks phase; below the horizon times
+/// 1 − 0.4·clamp(−3·d.z, 0, 1).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SkyInfo {
+    /// units: linear RGB radiance per unit phase (1/sr)
+    pub rayleigh_rgb: Vec<[f32; 3]>,
+    /// units: linear RGB radiance per unit phase (1/sr)
+    pub mie_rgb: Vec<[f32; 3]>,
+    /// Asymmetry of the Mie phase.
+    pub mie_g: f32,
+    pub model: String,
 }
 
 /// The whole sidecar.
@@ -136,9 +153,9 @@ impl Sidecar {
                 phase_g_back: BACK_LOBE_G,
                 phase_back_weight: BACK_LOBE_WEIGHT,
                 light_march_density_factor: LIGHT_DENSITY,
-                notes: "The real-time renderer approximates multiple scattering with three \
-                        octaves (Wrenninge) and adds sky ambient; a path tracer with this \
-                        medium computes it exactly."
+                notes: "The real-time renderer approximates multiple scattering with a \
+                        two-stream (diffusion-like) falloff and adds sky ambient; a path tracer \
+                        with this medium computes it exactly."
                     .into(),
             },
             camera: CameraInfo {
@@ -153,7 +170,15 @@ impl Sidecar {
                 sun_direction: sun.direction.normalize().to_array(),
                 sun_color_rgb: sun.color.to_array(),
                 sun_irradiance_rgb: irr.to_array(),
-                sky_ambient_rgb: SKY_AMBIENT_RGB,
+                sky_ambient_rgb: sun.sky.ambient.to_array(),
+                sky: SkyInfo {
+                    rayleigh_rgb: sun.sky.rayleigh.iter().map(|c| c.to_array()).collect(),
+                    mie_rgb: sun.sky.mie.iter().map(|c| c.to_array()).collect(),
+                    mie_g: sun.sky.mie_g,
+                    model: "single scattering, Rayleigh + Mie + ozone, Earth parameters of \
+                            Bruneton 2017 / Hillaire 2020 (src/sky.rs)"
+                        .into(),
+                },
                 tone_exposure: TONE_EXPOSURE,
             },
         }

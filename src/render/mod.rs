@@ -47,6 +47,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::physics::CloudParcel;
+use crate::sky::{Atmosphere, SkyLight};
 
 pub use gpu::GpuContext;
 pub use method::{MarchPath, RenderMethod};
@@ -172,7 +173,7 @@ impl Default for RenderConfig {
             shell_m: 280.0,
             extinction_per_m: 0.03,
             early_exit_transmittance: 0.02,
-            phase_g: 0.35,
+            phase_g: 0.8,
             sun_azimuth_deg: 100.0,
             sun_elevation_deg: 30.0,
             noise_texels: 64,
@@ -334,10 +335,7 @@ impl RenderConfig {
 
     /// The sun described by this configuration.
     pub fn sun(&self) -> Sun {
-        Sun {
-            direction: self.sun_direction(),
-            ..Sun::default()
-        }
+        Sun::from_sky(self.sun_direction(), 1.0)
     }
 }
 
@@ -481,21 +479,64 @@ impl Camera {
     }
 }
 
-/// The sun as a directional light.
+/// The sun as a directional light, and the sky it makes.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sun {
     /// Unit vector toward the sun.
     pub direction: Vec3,
-    /// Linear RGB irradiance scale (1 = nominal daylight exposure).
+    /// Linear RGB irradiance scale (1 = nominal daylight exposure): the
+    /// sun's colour after the air (`sky.sun`), unless a caller sets it.
     pub color: Vec3,
+    /// Sky radiance table and ambient light for this sun (src/sky.rs).
+    pub sky: SkyLight,
+}
+
+impl Sun {
+    /// The sun toward `direction`, its light scaled by `strength` (1 in
+    /// daylight, fading to 0 at dusk), coloured by the atmosphere model
+    /// at the direction's elevation (held at 0 below the horizon).
+    pub fn from_sky(direction: Vec3, strength: f32) -> Self {
+        let sky = sky_light_cached(direction.z.clamp(0.0, 1.0).asin(), strength);
+        Self {
+            direction,
+            color: sky.sun,
+            sky,
+        }
+    }
+}
+
+/// Steps the sky is computed at: elevation 0.05° (the sun moves that far in
+/// about 12 s of clock time; its colour changes by well under 1 %), the
+/// dusk fade 1/256.
+const SKY_ELEVATION_STEP_DEG: f32 = 0.05;
+const SKY_STRENGTH_STEPS: f32 = 256.0;
+
+/// [`Atmosphere::sky_light`] of the Earth at the nearest step of elevation
+/// and strength, remembered for the last step asked for: the window asks
+/// every frame, and a new step costs a few ms of CPU.
+fn sky_light_cached(elevation_rad: f32, strength: f32) -> SkyLight {
+    use std::sync::Mutex;
+    static LAST: Mutex<Option<((i32, i32), SkyLight)>> = Mutex::new(None);
+    let key = (
+        (elevation_rad.to_degrees() / SKY_ELEVATION_STEP_DEG).round() as i32,
+        (strength.clamp(0.0, 1.0) * SKY_STRENGTH_STEPS).round() as i32,
+    );
+    let mut last = LAST.lock().unwrap_or_else(|e| e.into_inner());
+    match *last {
+        Some((k, sky)) if k == key => sky,
+        _ => {
+            let elevation = (key.0 as f64 * SKY_ELEVATION_STEP_DEG as f64).to_radians();
+            let strength = key.1 as f64 / SKY_STRENGTH_STEPS as f64;
+            let sky = Atmosphere::EARTH.sky_light(elevation, strength);
+            *last = Some((key, sky));
+            sky
+        }
+    }
 }
 
 impl Default for Sun {
     fn default() -> Self {
-        Self {
-            direction: RenderConfig::default().sun_direction(),
-            color: Vec3::new(1.0, 0.96, 0.9) * 2.2,
-        }
+        Self::from_sky(RenderConfig::default().sun_direction(), 1.0)
     }
 }
 
@@ -524,9 +565,12 @@ pub struct Features {
     pub slices: bool,
     /// Terrain mesh pass.
     pub terrain: bool,
-    /// Cloud-shadow pass (needs clouds and terrain; not drawn by the
-    /// `slices` method, whose field is not in the shadow pass's inputs).
+    /// Cloud shadows on the terrain (needs clouds and terrain; not drawn by
+    /// the `slices` method, whose field is not in the shadow inputs).
     pub shadows: bool,
+    /// The cloud-shadow map pass: the `exact` method's shadows. The
+    /// `baked` method's terrain reads its light volume instead.
+    pub shadow_map: bool,
     /// Finite-difference normals compiled into the cloud shader.
     pub normals: bool,
 }
@@ -543,6 +587,7 @@ impl Features {
             slices: drawn && cfg.method == RenderMethod::Slices,
             terrain,
             shadows: cfg.shadows && clouds && terrain,
+            shadow_map: cfg.shadows && clouds && terrain && cfg.method != RenderMethod::Baked,
             normals: cfg.normals && clouds,
         }
     }

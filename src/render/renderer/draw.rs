@@ -50,6 +50,9 @@ impl Renderer {
             grid_cell: g.cell.extend(0.0).to_array(),
             grid_dims: [g.dims[0], g.dims[1], g.dims[2], g.parcel_count],
             shadow_rect: shadow_rect(g, input.sun.direction),
+            sky_ambient: input.sun.sky.ambient.extend(input.sun.sky.mie_g).to_array(),
+            sky_rayleigh: input.sun.sky.rayleigh.map(|c| c.extend(0.0).to_array()),
+            sky_mie: input.sun.sky.mie.map(|c| c.extend(0.0).to_array()),
         }
     }
 

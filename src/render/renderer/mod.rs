@@ -428,7 +428,10 @@ impl Renderer {
         let mut c = match pass {
             Pass::Tonemap => vec![("ENCODE_SRGB", srgb)],
             Pass::Bake | Pass::Sky | Pass::Composite | Pass::Shadow => vec![],
-            Pass::Terrain => vec![("HAS_SHADOWS", b(f.shadows))],
+            Pass::Terrain => vec![
+                ("HAS_SHADOWS", b(f.shadows)),
+                ("SHADOW_FROM_VOLUME", b(!f.shadow_map)),
+            ],
             Pass::Sprites => vec![("HAS_TERRAIN", b(f.terrain))],
             Pass::Clouds => vec![("USE_NORMALS", b(f.normals)), ("HAS_TERRAIN", b(f.terrain))],
             Pass::Slices => vec![("HAS_TERRAIN", b(f.terrain))],
@@ -442,7 +445,7 @@ impl Renderer {
     fn needed(&self, pass: Pass) -> bool {
         match pass {
             Pass::Bake => self.features.clouds && self.cfg.method == RenderMethod::Baked,
-            Pass::Shadow => self.features.shadows,
+            Pass::Shadow => self.features.shadow_map,
             Pass::Sky => true,
             Pass::Terrain => self.features.terrain,
             Pass::Sprites => self.features.sprites,
@@ -551,7 +554,7 @@ impl Renderer {
             }
         }
         let shadow_n = self.cfg.shadow_texels;
-        if f.shadows {
+        if f.shadow_map {
             if self.shadow_view.as_ref().map(|(n, _)| *n) != Some(shadow_n) {
                 let tex = texture_2d(
                     device,
