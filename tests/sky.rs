@@ -85,7 +85,13 @@ fn zenith_single_scattering_matches_the_plane_parallel_formula() {
 
 #[test]
 fn the_low_sun_is_red_and_the_zenith_bluer_than_the_horizon() {
+    let start = std::time::Instant::now();
     let low = Atmosphere::EARTH.sky_light(5f64.to_radians(), 1.0);
+    // The CPU cost of one sun position (the renderer caches the last).
+    eprintln!(
+        "sky for one sun: {:.2} ms",
+        start.elapsed().as_secs_f64() * 1e3
+    );
     let high = Atmosphere::EARTH.sky_light(60f64.to_radians(), 1.0);
     let rb = |c: Vec3| c.x / c.z;
     eprintln!(
