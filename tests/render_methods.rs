@@ -22,7 +22,11 @@ use glam::Vec3;
 /// saturation edge one shell inside) over about a voxel, a few percent of
 /// a cloud's width. What the eye sees differ is a thin rim of the base and
 /// the noise-eroded edge; a moved, missing or wrongly lit cloud scores far
-/// above 0.02 (see `a_shifted_cloud_fails_the_tolerance`).
+/// above 0.02 (see `a_shifted_cloud_fails_the_tolerance`). Both methods
+/// shade with a sun march over the whole cloud height (the light volume;
+/// exact's grid-culled far march): measured 0.016 (towers) and 0.012
+/// (mixed) on llvmpipe, against 0.016 and 0.015 when exact had only the
+/// short march toward the sun.
 const BAKED_VS_EXACT_FLIP: f32 = 0.02;
 
 fn context() -> Option<GpuContext> {
