@@ -69,10 +69,13 @@ pub enum Pass {
     Shadow,
     Sky,
     Terrain,
-    /// Sprite clouds (the `sprites` method's parcels, and a scene's
-    /// `[[sprite_clouds]]`/`[[layers]]` under any method).
-    Sprites,
     Clouds,
+    /// Sprite clouds (the `sprites` method's parcels, and a scene's
+    /// `[[sprite_clouds]]`/`[[layers]]` under any method). With ray-marched
+    /// clouds in the frame, the march (compute) runs first and this pass
+    /// draws the sprite fragments behind its cloud depth; the composite
+    /// then blends the clouds and draws the fragments in front.
+    Sprites,
     /// Slicing planes into the float cloud target (`slices` method only).
     Slices,
     /// Blends the compute march's (or the slices') texture over the target (compute path).
@@ -88,8 +91,8 @@ impl Pass {
         Pass::Shadow,
         Pass::Sky,
         Pass::Terrain,
-        Pass::Sprites,
         Pass::Clouds,
+        Pass::Sprites,
         Pass::Slices,
         Pass::Composite,
         Pass::Tonemap,
@@ -157,7 +160,13 @@ impl Pass {
             Pass::Shadow => &["ENCODE_SRGB"],
             Pass::Sky => &["ENCODE_SRGB"],
             Pass::Terrain => &["ENCODE_SRGB", "HAS_SHADOWS"],
-            Pass::Sprites => &["ENCODE_SRGB", "HAS_TERRAIN", "IMPOSTOR_QUAD"],
+            Pass::Sprites => &[
+                "ENCODE_SRGB",
+                "HAS_TERRAIN",
+                "IMPOSTOR_QUAD",
+                "CLOUD_DEPTH",
+                "SHADOW_SPLAT",
+            ],
             Pass::Clouds if exact => &["ENCODE_SRGB", "GRID_CULLING", "USE_NORMALS", "HAS_TERRAIN"],
             Pass::Clouds => &["ENCODE_SRGB", "USE_NORMALS", "HAS_TERRAIN"],
             Pass::Slices => &["ENCODE_SRGB", "HAS_TERRAIN"],
