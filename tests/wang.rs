@@ -164,14 +164,12 @@ fn facing_locks_within_half_a_radius_and_fades_by_angle() {
     assert!(n2 == n && close(a, 0.5) && b == 0.0, "{a} {b}");
     let [(_, a), _] = f.update(Vec3::ZERO, 100.0, Vec3::new(40.0, 0.0, 0.0));
     assert!(a.abs() < 1e-6, "edge-on is invisible");
-    // Released by a crossfade: at 70 m (40 % of the way from 50 to 100 m)
-    // the locked quad at cos 45° × 0.6, the camera-facing one at 0.4.
-    let [(n3, a), (m, b)] = f.update(Vec3::ZERO, 100.0, Vec3::new(-49.5, -49.5, 0.0));
-    assert!(
-        n3 == n && close(a, std::f32::consts::FRAC_1_SQRT_2 * 0.6),
-        "{a}"
-    );
-    assert!(close(b, 0.4) && m.abs_diff_eq(Vec3::new(-1.0, -1.0, 0.0).normalize(), 1e-6));
+    // Released by a crossfade: at 70 m (40 % of the way from 50 to 100 m),
+    // on the far side of the locked plane, the locked quad at |cos 180°|
+    // × 0.6, the camera-facing one at 0.4.
+    let [(n3, a), (m, b)] = f.update(Vec3::ZERO, 100.0, Vec3::new(0.0, 70.0, 0.0));
+    assert!(n3 == n && close(a, 0.6), "{a}");
+    assert!(close(b, 0.4) && m.abs_diff_eq(Vec3::Y, 1e-6), "{b}");
     assert!(f.locked.is_some(), "still locked inside the radius");
     f.update(Vec3::ZERO, 100.0, Vec3::new(100.5, 0.0, 0.0));
     assert!(f.locked.is_none(), "unlocks outside the radius");
