@@ -12,12 +12,19 @@
 // (ONE, ONE_MINUS_SRC_ALPHA) in the HDR scene target. `march` is the one march routine; the
 // entry points only supply the pixel: `fs_main` (fragment path) returns it,
 // `cs_main` (compute path) stores it into `cloud_out`, which composite.wgsl
-// then blends over the target the same way.
+// then blends over the target the same way. The march also leaves the
+// pixel's cloud depth (the opacity-weighted mean distance of its samples,
+// `march_depth`); the compute path stores it in `cloud_depth_out`, and the
+// sprites of a frame that has both sort against it (shaders/sprites.wgsl).
 
 // Read the terrain depth (false: no terrain pass, rays run to the box end).
 override HAS_TERRAIN: bool = true;
 
 @group(1) @binding(0) var depth_tex: texture_depth_2d;
+
+// Opacity-weighted mean distance of the last march's samples (1e30: no
+// cloud on the ray). units: m
+var<private> march_depth: f32;
 
 @vertex
 fn vs_main(@builtin(vertex_index) i: u32) -> FullscreenOut {
@@ -27,6 +34,7 @@ fn vs_main(@builtin(vertex_index) i: u32) -> FullscreenOut {
 // Premultiplied linear cloud radiance of the pixel at `pix` (pixel
 // centre coordinates), whose centre is at `ndc`.
 fn march(pix: vec2<f32>, ndc: vec2<f32>) -> vec4<f32> {
+    march_depth = 1e30;
     let ro = frame.camera_pos.xyz;
     let rd = view_dir(ndc);
     var t_end = 1e30;
@@ -55,6 +63,8 @@ fn march(pix: vec2<f32>, ndc: vec2<f32>) -> vec4<f32> {
     var trans = 1.0;
     var radiance = vec3<f32>(0.0);
     var first_hit = -1.0;
+    // Σ opacity × distance and Σ opacity, for march_depth.
+    var depth_sum = vec2<f32>(0.0);
     for (var i = 0u; i < max_steps; i++) {
         let t = t_first + k * dt;
         if t >= t1 {
@@ -76,6 +86,7 @@ fn march(pix: vec2<f32>, ndc: vec2<f32>) -> vec4<f32> {
             let source = sample_source(light, p, vp.y);
             let step_t = exp(-rho * sigma_max * dt);
             radiance += trans * source * (1.0 - step_t);
+            depth_sum += trans * (1.0 - step_t) * vec2<f32>(t, 1.0);
             trans *= step_t;
             if trans < frame.cloud.w {
                 break;
@@ -86,6 +97,7 @@ fn march(pix: vec2<f32>, ndc: vec2<f32>) -> vec4<f32> {
     if first_hit < 0.0 {
         return vec4<f32>(0.0);
     }
+    march_depth = depth_sum.x / max(depth_sum.y, 1e-30);
     // Aerial perspective, as on the terrain.
     let haze = 1.0 - exp(-first_hit / 60000.0);
     radiance = mix(radiance, haze_color(rd) * (1.0 - trans), haze);
@@ -101,6 +113,7 @@ fn fs_main(in: FullscreenOut) -> @location(0) vec4<f32> {
 
 // Compute path: the march's premultiplied colour per pixel.
 @group(2) @binding(0) var cloud_out: texture_storage_2d<rgba16float, write>;
+@group(2) @binding(1) var cloud_depth_out: texture_storage_2d<r32float, write>;
 
 @compute @workgroup_size(8, 8)
 fn cs_main(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -112,4 +125,5 @@ fn cs_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let pix = vec2<f32>(gid.xy) + 0.5;
     let ndc = vec2<f32>(2.0 * pix.x / f32(size.x) - 1.0, 1.0 - 2.0 * pix.y / f32(size.y));
     textureStore(cloud_out, gid.xy, march(pix, ndc));
+    textureStore(cloud_depth_out, gid.xy, vec4<f32>(march_depth));
 }

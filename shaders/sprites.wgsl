@@ -6,6 +6,17 @@
 // the atlas texel in (eq. 3), hides what lies behind the terrain depth,
 // fades into the haze like the ray-marched clouds and writes premultiplied
 // colour, blended with (ONE, ONE_MINUS_SRC_ALPHA) as the cloud pass does.
+// Depth against ray-marched clouds in the same frame: the march runs first
+// and leaves its cloud depth per pixel (clouds.wgsl, the opacity-weighted
+// mean distance along the ray); the sprite pass keeps the fragments
+// farther than it (CLOUD_DEPTH = 1), the clouds are blended over them, and
+// a second draw after the composite keeps the nearer ones (CLOUD_DEPTH =
+// 2), so each sprite fragment lands on its side of the clouds.
+// Shadows (SHADOW_SPLAT): the same instances, turned to face the sun and
+// projected along it onto the ground plane into the cloud-shadow map (the
+// rectangle and lookup of shadow.wgsl and terrain.wgsl), each multiplying
+// the sun's transmittance there by (1 − its opacity). Only the sprites
+// drawn directly cast shadows (not those in the impostor ring).
 
 // Compare with the terrain depth (false: no terrain pass this frame).
 override HAS_TERRAIN: bool = true;
@@ -14,6 +25,11 @@ override HAS_TERRAIN: bool = true;
 // by this same shader; only the set's crossfade weight (colour alpha) is
 // applied.
 override IMPOSTOR_QUAD: bool = false;
+// 0: no ray-marched clouds; 1: keep fragments behind the cloud depth;
+// 2: keep those in front of it.
+override CLOUD_DEPTH: u32 = 0u;
+// Splat into the cloud-shadow map instead of drawing.
+override SHADOW_SPLAT: bool = false;
 
 // 144 bytes; keep in sync with SpriteInstance in src/render/sprites/mod.rs.
 struct SpriteInstance {
@@ -23,6 +39,7 @@ struct SpriteInstance {
 }
 
 @group(1) @binding(0) var depth_tex: texture_depth_2d;
+@group(1) @binding(1) var cloud_depth_tex: texture_2d<f32>;
 @group(2) @binding(0) var atlas_tex: texture_2d<f32>;
 @group(2) @binding(1) var atlas_sampler: sampler;
 @group(2) @binding(2) var<storage, read> sprites: array<SpriteInstance>;
@@ -53,13 +70,54 @@ fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> Sp
     o.color = s.colors[c];
     o.uv = vec2<f32>(select(s.uv.x, s.uv.z, right), select(s.uv.w, s.uv.y, top));
     o.world = p;
+    if SHADOW_SPLAT {
+        o.pos = shadow_splat_position(s, right, top);
+    }
     return o;
+}
+
+// Corner (right, top) of sprite `s` turned to face the sun (same centre
+// and size; its in-plane rotation is dropped: a shadow's blur hides it),
+// carried along the sun ray to the ground plane and placed in the shadow
+// map's clip space (texel row 0 at the rectangle's north edge).
+fn shadow_splat_position(s: SpriteInstance, right: bool, top: bool) -> vec4<f32> {
+    let sun = frame.sun_dir.xyz;
+    let centre = 0.5 * (s.corners[0].xyz + s.corners[2].xyz);
+    // A sprite under the ground plane shades nothing (carried "up" the
+    // sun ray it would land on the wrong side): a point outside the clip
+    // volume draws no fragment.
+    if centre.z <= 0.0 {
+        return vec4<f32>(0.0, 0.0, 2.0, 1.0);
+    }
+    let half_w = 0.5 * distance(s.corners[0].xyz, s.corners[1].xyz);
+    let half_h = 0.5 * distance(s.corners[0].xyz, s.corners[3].xyz);
+    var side = cross(vec3<f32>(0.0, 0.0, 1.0), sun);
+    if dot(side, side) < 1e-6 {
+        side = vec3<f32>(1.0, 0.0, 0.0);
+    }
+    side = normalize(side);
+    let up = cross(sun, side);
+    let p = centre + side * select(-half_w, half_w, right) + up * select(-half_h, half_h, top);
+    let g = p.xy - p.z * sun.xy / max(sun.z, 0.03);
+    let r = frame.shadow_rect;
+    let uv = vec2<f32>((g.x - r.x) / max(r.z - r.x, 1.0), (r.w - g.y) / max(r.w - r.y, 1.0));
+    return vec4<f32>(2.0 * uv.x - 1.0, 1.0 - 2.0 * uv.y, 0.5, 1.0);
 }
 
 @fragment
 fn fs_main(in: SpriteOut) -> @location(0) vec4<f32> {
     // Sampled first, in uniform control flow (implicit mip level).
     let tex = textureSample(atlas_tex, atlas_sampler, in.uv);
+    if SHADOW_SPLAT {
+        return vec4<f32>(1.0 - clamp(in.color.a * tex.a, 0.0, 1.0));
+    }
+    if CLOUD_DEPTH != 0u {
+        let behind = length(in.world - frame.camera_pos.xyz)
+            > textureLoad(cloud_depth_tex, vec2<i32>(in.pos.xy), 0).r;
+        if behind != (CLOUD_DEPTH == 1u) {
+            discard;
+        }
+    }
     if HAS_TERRAIN {
         let depth = textureLoad(depth_tex, vec2<i32>(in.pos.xy), 0);
         if in.pos.z > depth {
@@ -69,13 +127,19 @@ fn fs_main(in: SpriteOut) -> @location(0) vec4<f32> {
     if IMPOSTOR_QUAD {
         return tex * in.color.a;
     }
-    let alpha = clamp(in.color.a * tex.a, 0.0, 1.0);
+    let to_eye = in.world - frame.camera_pos.xyz;
+    // Near fade: a quad the camera flies into reaches zero alpha before
+    // the near plane clips it (a fragment at view depth `near` lies within
+    // 1.3 × near of the eye at our fields of view), instead of vanishing
+    // at once while still partly opaque.
+    let near = distance(world_from_ndc(vec2<f32>(0.0), 0.0), frame.camera_pos.xyz);
+    let near_fade = smoothstep(1.5 * near, 6.0 * near, length(to_eye));
+    let alpha = clamp(in.color.a * tex.a, 0.0, 1.0) * near_fade;
     if alpha < 1e-3 {
         discard;
     }
     var rgb = in.color.rgb * tex.rgb * ARTIST_EXPOSURE;
     // Aerial perspective, as on the ray-marched clouds and the terrain.
-    let to_eye = in.world - frame.camera_pos.xyz;
     let haze = 1.0 - exp(-length(to_eye) / 60000.0);
     rgb = mix(rgb, haze_color(normalize(to_eye)), haze);
     return vec4<f32>(output_color(rgb) * alpha, alpha);

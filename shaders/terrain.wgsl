@@ -1,15 +1,17 @@
 // Terrain pass: the heightfield mesh (procedural fBm or a heightmap PNG,
 // built on the CPU by src/render/terrain.rs) with depth, lit by the sun
-// (Lambert, darkened by the clouds' transmittance: the light volume under
-// `baked`, the cloud-shadow map under `exact`) and the sky, fading into haze.
+// (Lambert, darkened by the clouds' transmittance: the light volume for
+// `baked` clouds, the cloud-shadow map for `exact` clouds and for sprites)
+// and the sky, fading into haze.
 
 // Darken the sun by the clouds (false: no cloud shadows this frame).
 override HAS_SHADOWS: bool = true;
-// Where the clouds' transmittance comes from: true, the `baked` method's
-// light volume (field_baked.wgsl, the same optical depth toward the sun
-// that lights the clouds); false, the `exact` method's shadow map
-// (shadow.wgsl).
+// Where the clouds' transmittance comes from (both may hold; they
+// multiply): the `baked` method's light volume (field_baked.wgsl, the same
+// optical depth toward the sun that lights the clouds), and the shadow map
+// (shadow.wgsl's `exact` march and the sprites splatted into it).
 override SHADOW_FROM_VOLUME: bool = false;
+override SHADOW_FROM_MAP: bool = true;
 
 @group(1) @binding(0) var shadow_tex: texture_2d<f32>;
 
@@ -39,22 +41,36 @@ fn cloud_shadow(p: vec3<f32>) -> f32 {
         return 1.0;
     }
     let sun = frame.sun_dir.xyz;
+    var t = 1.0;
     if SHADOW_FROM_VOLUME {
-        // The light volume holds, at each point of the cloud region, the
-        // optical depth from there to the region's edge toward the sun.
-        // Below the region (hills under the clouds) the point's own sun
-        // ray enters it at the bottom face (or a side): read it there; a
-        // point inside the region (a mountain among the clouds) reads its
-        // own height. Same extinction as the clouds' light (LIGHT_DENSITY
-        // of lighting.wgsl is 1: the same medium).
-        let region_max = frame.grid_min.xyz + frame.grid_cell.xyz * vec3<f32>(frame.grid_dims.xyz);
-        let span = ray_box(p, sun, frame.grid_min.xyz, region_max);
-        let t0 = max(span.x, 0.0);
-        if span.y <= t0 {
-            return 1.0;
-        }
-        return exp(-far_light_depth(p + sun * t0).x * frame.cloud.z);
+        t = volume_shadow(p, sun);
     }
+    if SHADOW_FROM_MAP {
+        t *= map_shadow(p, sun);
+    }
+    return t;
+}
+
+// Transmittance of the baked clouds over p, from the light volume.
+fn volume_shadow(p: vec3<f32>, sun: vec3<f32>) -> f32 {
+    // The light volume holds, at each point of the cloud region, the
+    // optical depth from there to the region's edge toward the sun.
+    // Below the region (hills under the clouds) the point's own sun
+    // ray enters it at the bottom face (or a side): read it there; a
+    // point inside the region (a mountain among the clouds) reads its
+    // own height. Same extinction as the clouds' light (LIGHT_DENSITY
+    // of lighting.wgsl is 1: the same medium).
+    let region_max = frame.grid_min.xyz + frame.grid_cell.xyz * vec3<f32>(frame.grid_dims.xyz);
+    let span = ray_box(p, sun, frame.grid_min.xyz, region_max);
+    let t0 = max(span.x, 0.0);
+    if span.y <= t0 {
+        return 1.0;
+    }
+    return exp(-far_light_depth(p + sun * t0).x * frame.cloud.z);
+}
+
+// Transmittance over p from the cloud-shadow map.
+fn map_shadow(p: vec3<f32>, sun: vec3<f32>) -> f32 {
     let g = p.xy - p.z * sun.xy / max(sun.z, 0.03);
     let r = frame.shadow_rect;
     let uv = vec2<f32>((g.x - r.x) / max(r.z - r.x, 1.0), (r.w - g.y) / max(r.w - r.y, 1.0));

@@ -73,6 +73,7 @@ fn one_analytic_sphere_exports_to_the_expected_voxel_values() {
         ..RenderConfig::default()
     };
     let parcel = |f: f32| CloudParcel {
+        id: 0,
         center_m: c,
         radius_m: r,
         fill: f,

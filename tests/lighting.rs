@@ -16,6 +16,7 @@ use glam::Vec3;
 fn tower() -> Vec<CloudParcel> {
     (0..10)
         .map(|i| CloudParcel {
+            id: i as u64,
             center_m: Vec3::new(0.0, 0.0, 1500.0 + 400.0 * i as f32),
             radius_m: 500.0,
             fill: 1.0,

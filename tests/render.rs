@@ -119,6 +119,7 @@ fn one_parcel(shell_m: f32) -> (RenderConfig, CloudParcel) {
         ..no_terrain()
     };
     let p = CloudParcel {
+        id: 0,
         center_m: Vec3::new(0.0, 0.0, 2000.0),
         radius_m: 600.0,
         fill: 1.0,
@@ -261,6 +262,7 @@ fn shadow_pass_darkens_terrain_under_the_cloud() {
         ..on.clone()
     };
     let p = CloudParcel {
+        id: 0,
         center_m: Vec3::new(0.0, 0.0, 1800.0),
         radius_m: 700.0,
         fill: 1.0,
@@ -584,6 +586,7 @@ fn the_most_parcels_the_uniforms_hold_render() {
     let side = (MAX_PARCELS as f32).sqrt() as usize;
     let parcels: Vec<CloudParcel> = (0..MAX_PARCELS)
         .map(|i| CloudParcel {
+            id: i as u64,
             center_m: Vec3::new(
                 (i % side) as f32 * 300.0 - 4800.0,
                 (i / side) as f32 * 300.0 - 4800.0,

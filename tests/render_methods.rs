@@ -121,6 +121,7 @@ fn mixed_parcels() -> Vec<CloudParcel> {
         .map(|i| {
             let a = i as f32 * 0.9;
             CloudParcel {
+                id: i as u64,
                 center_m: Vec3::new(
                     a.cos() * 900.0 + i as f32 * 120.0 - 600.0,
                     a.sin() * 700.0,
@@ -212,6 +213,7 @@ fn lattice(n: usize) -> Vec<CloudParcel> {
     let pitch = 12_000.0 / side as f32;
     (0..n)
         .map(|i| CloudParcel {
+            id: i as u64,
             center_m: Vec3::new(
                 (i % side) as f32 * pitch - 6000.0,
                 (i / side) as f32 * pitch - 6000.0,

@@ -126,6 +126,7 @@ fn bad_sprite_clouds_name_file_line_and_column() {
 #[test]
 fn parcels_become_sprite_clouds_by_radius_and_fill() {
     let p = |fill| CloudParcel {
+        id: 0,
         center_m: Vec3::new(100.0, 0.0, 1500.0),
         radius_m: 300.0,
         fill,
@@ -259,19 +260,44 @@ fn block_overdraw_is_sprite_area_over_16_km2() {
 #[test]
 fn only_condensed_parcels_become_clouds() {
     use cumulus::sprites_model::parcel_clouds;
-    let p = |x: f32, fill| CloudParcel {
+    let p = |id: u64, x: f32, fill| CloudParcel {
+        id,
         center_m: Vec3::new(x, 0.0, 1500.0),
         radius_m: 200.0,
         fill,
         cond_plane_z_m: 1400.0,
     };
-    let clouds = parcel_clouds(&[p(0.0, 0.5), p(1000.0, 0.0), p(2000.0, 1.0)]);
+    let clouds = parcel_clouds(&[p(7, 0.0, 0.5), p(8, 1000.0, 0.0), p(9, 2000.0, 1.0)]);
     assert_eq!(clouds.len(), 2, "the dry parcel makes no cloud");
     assert_eq!(
         clouds[1],
-        parcel_cloud(&p(2000.0, 1.0), 2),
-        "seeded by the parcel's index"
+        parcel_cloud(&p(9, 2000.0, 1.0), 9),
+        "seeded by the parcel's id"
     );
+}
+
+/// Issue 13: a parcel's sprites are seeded by its stable id, so removing
+/// (evaporating) another parcel earlier in the list, or adding one,
+/// leaves them where they were; the same list with the ids swapped
+/// moves them (the test can fail).
+#[test]
+fn removing_an_unrelated_parcel_leaves_a_clouds_sprites_unchanged() {
+    use cumulus::sprites_model::parcel_clouds;
+    let p = |id: u64, x: f32| CloudParcel {
+        id,
+        center_m: Vec3::new(x, 0.0, 1500.0),
+        radius_m: 250.0,
+        fill: 1.0,
+        cond_plane_z_m: 1350.0,
+    };
+    let before = parcel_clouds(&[p(3, 0.0), p(4, 1000.0), p(5, 2000.0)]);
+    let after = parcel_clouds(&[p(4, 1000.0), p(5, 2000.0)]);
+    let grown = parcel_clouds(&[p(11, -900.0), p(4, 1000.0), p(5, 2000.0)]);
+    assert_eq!(before[1], after[0]);
+    assert_eq!(before[2], after[1]);
+    assert_eq!(before[1], grown[1]);
+    let swapped = parcel_clouds(&[p(5, 1000.0)]);
+    assert_ne!(before[1].sprites, swapped[0].sprites);
 }
 
 #[test]

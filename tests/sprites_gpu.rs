@@ -8,6 +8,8 @@
 
 mod common;
 
+use common::render::{camera, no_terrain};
+
 use std::path::PathBuf;
 
 use cumulus::physics::CloudParcel;
@@ -53,27 +55,6 @@ fn changed(a: &[u8], b: &[u8]) -> usize {
         .zip(b.chunks_exact(4))
         .filter(|(p, q)| (0..3).any(|c| p[c].abs_diff(q[c]) > 8))
         .count()
-}
-
-fn camera(position: Vec3, target: Vec3) -> Camera {
-    Camera {
-        position,
-        target,
-        vfov_rad: 50f32.to_radians(),
-        near_m: 10.0,
-        far_m: 100_000.0,
-    }
-}
-
-fn no_terrain(method: RenderMethod) -> RenderConfig {
-    RenderConfig {
-        method,
-        terrain: TerrainConfig {
-            enabled: false,
-            ..TerrainConfig::default()
-        },
-        ..RenderConfig::default()
-    }
 }
 
 #[test]

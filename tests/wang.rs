@@ -148,23 +148,31 @@ fn formation_fades_the_core_in_first_and_dissipation_the_edges_out_first() {
 #[test]
 fn facing_locks_within_half_a_radius_and_fades_by_angle() {
     let mut f = Facing::default();
-    let (n, a) = f.update(Vec3::ZERO, 100.0, Vec3::new(0.0, -50.1, 0.0));
+    let [(n, a), (_, b)] = f.update(Vec3::ZERO, 100.0, Vec3::new(0.0, -50.1, 0.0));
     assert!(f.locked.is_none() && close(a, 1.0) && n.abs_diff_eq(-Vec3::Y, 1e-6));
-    let (n, a) = f.update(Vec3::ZERO, 100.0, Vec3::new(0.0, -49.9, 0.0));
+    assert_eq!(b, 0.0);
+    let [(n, a), _] = f.update(Vec3::ZERO, 100.0, Vec3::new(0.0, -49.9, 0.0));
     assert_eq!(f.locked, Some(n));
     assert!(close(a, 1.0));
     // 60° off the locked normal: alpha cos 60° = 0.5, normal unchanged.
     let s = 60.0_f32.to_radians();
-    let (n2, a) = f.update(
+    let [(n2, a), (_, b)] = f.update(
         Vec3::ZERO,
         100.0,
         Vec3::new(40.0 * s.sin(), -40.0 * s.cos(), 0.0),
     );
-    assert!(n2 == n && close(a, 0.5), "{a}");
-    let (_, a) = f.update(Vec3::ZERO, 100.0, Vec3::new(40.0, 0.0, 0.0));
+    assert!(n2 == n && close(a, 0.5) && b == 0.0, "{a} {b}");
+    let [(_, a), _] = f.update(Vec3::ZERO, 100.0, Vec3::new(40.0, 0.0, 0.0));
     assert!(a.abs() < 1e-6, "edge-on is invisible");
-    f.update(Vec3::ZERO, 100.0, Vec3::new(60.0, 0.0, 0.0));
-    assert!(f.locked.is_none(), "unlocks outside half a radius");
+    // Released by a crossfade: at 70 m (40 % of the way from 50 to 100 m),
+    // on the far side of the locked plane, the locked quad at |cos 180°|
+    // × 0.6, the camera-facing one at 0.4.
+    let [(n3, a), (m, b)] = f.update(Vec3::ZERO, 100.0, Vec3::new(0.0, 70.0, 0.0));
+    assert!(n3 == n && close(a, 0.6), "{a}");
+    assert!(close(b, 0.4) && m.abs_diff_eq(Vec3::Y, 1e-6), "{b}");
+    assert!(f.locked.is_some(), "still locked inside the radius");
+    f.update(Vec3::ZERO, 100.0, Vec3::new(100.5, 0.0, 0.0));
+    assert!(f.locked.is_none(), "unlocks outside the radius");
 }
 
 #[test]

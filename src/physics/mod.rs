@@ -57,6 +57,10 @@ pub use world::{
 /// physics and the renderer. The renderer reads these and nothing else.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CloudParcel {
+    /// The parcel's stable identity ([`Parcel::id`]); what a renderer
+    /// seeds per-cloud randomness with, so a cloud keeps its look when
+    /// another parcel condenses or evaporates.
+    pub id: u64,
     /// Centre of the sphere (x, y horizontal, z up). units: m
     pub center_m: glam::Vec3,
     /// Radius of the rendered sphere. units: m

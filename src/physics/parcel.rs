@@ -8,6 +8,9 @@ use crate::atmosphere::thermo;
 /// A parcel's full state. Mixing ratios are per kg of dry air.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Parcel {
+    /// Stable identity: the world's spawn count when it was made, never
+    /// reused, unchanged while it lives (seeds what the renderer draws of it).
+    pub id: u64,
     /// Centre. units: m
     pub position_m: DVec3,
     /// Velocity (the full-step value between frames). units: m s⁻¹

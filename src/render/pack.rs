@@ -366,6 +366,7 @@ mod tests {
 
     fn parcel(x: f32, y: f32, z: f32, r: f32) -> CloudParcel {
         CloudParcel {
+            id: 0,
             center_m: Vec3::new(x, y, z),
             radius_m: r,
             fill: 0.8,

@@ -25,6 +25,9 @@ const STAGES: wgpu::ShaderStages =
     wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE);
 /// Format of the compute march's output (premultiplied linear radiance).
 pub const CLOUD_TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Format of the compute march's cloud depth (the opacity-weighted mean
+/// distance of the clouds along each pixel's ray; sprites sort against it).
+pub const CLOUD_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 /// Format of the HDR scene target: every scene pass (sky, terrain, clouds,
 /// composite) writes linear radiance into it; the tone-map pass alone
 /// writes the output format. Half floats hold radiance up to 65504 (the
@@ -93,8 +96,11 @@ pub struct PassLayouts {
     pub shadow_tex: wgpu::BindGroupLayout,
     /// Group 1 of the clouds: the terrain depth.
     pub depth: wgpu::BindGroupLayout,
-    /// Group 2 of the compute march: its output texture.
+    /// Group 2 of the compute march: its output texture and cloud depth.
     pub cloud_out: wgpu::BindGroupLayout,
+    /// Group 1 of the sprites: the terrain depth and the march's cloud
+    /// depth (shaders/sprites.wgsl).
+    pub sprite_depth: wgpu::BindGroupLayout,
     /// Group 1 of the composite (the compute march's or the slices'
     /// texture) and of the tone map (the HDR scene target): one sampled
     /// float 2D texture.
@@ -147,16 +153,33 @@ impl PassLayouts {
         });
         let cloud_out = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("clouds: compute output"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::StorageTexture {
-                    access: wgpu::StorageTextureAccess::WriteOnly,
-                    format: CLOUD_TARGET_FORMAT,
-                    view_dimension: wgpu::TextureViewDimension::D2,
+            entries: &[(0, CLOUD_TARGET_FORMAT), (1, CLOUD_DEPTH_FORMAT)].map(
+                |(binding, format)| wgpu::BindGroupLayoutEntry {
+                    binding,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::WriteOnly,
+                        format,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                    },
+                    count: None,
                 },
-                count: None,
-            }],
+            ),
+        });
+        let sprite_depth = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sprites: terrain and cloud depth"),
+            entries: &[
+                texture_entry(
+                    0,
+                    wgpu::TextureSampleType::Depth,
+                    wgpu::TextureViewDimension::D2,
+                ),
+                texture_entry(
+                    1,
+                    wgpu::TextureSampleType::Float { filterable: false },
+                    wgpu::TextureViewDimension::D2,
+                ),
+            ],
         });
         let texture_in = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("composite/tonemap: input texture"),
@@ -183,6 +206,7 @@ impl PassLayouts {
             shadow_tex,
             depth,
             cloud_out,
+            sprite_depth,
             texture_in,
             sprites,
             slices: crate::render::slices::bind_group_layout(device),
@@ -277,7 +301,8 @@ impl PipelineCache {
         });
         let group1 = match pass {
             Pass::Terrain => Some(&layouts.shadow_tex),
-            Pass::Clouds | Pass::Sprites | Pass::Slices => Some(&layouts.depth),
+            Pass::Clouds | Pass::Slices => Some(&layouts.depth),
+            Pass::Sprites => Some(&layouts.sprite_depth),
             Pass::Composite | Pass::Tonemap => Some(&layouts.texture_in),
             _ => None,
         };
@@ -333,6 +358,19 @@ impl PipelineCache {
         })];
         let (target_format, blend) = match pass {
             Pass::Shadow => (SHADOW_FORMAT, None),
+            // Sprite shadows splatted into the shadow map: each multiplies
+            // the sun's transmittance there by its own (1 − its opacity).
+            Pass::Sprites if key.format == SHADOW_FORMAT => (
+                SHADOW_FORMAT,
+                Some(wgpu::BlendState {
+                    color: wgpu::BlendComponent {
+                        src_factor: wgpu::BlendFactor::Zero,
+                        dst_factor: wgpu::BlendFactor::Src,
+                        operation: wgpu::BlendOperation::Add,
+                    },
+                    alpha: wgpu::BlendComponent::REPLACE,
+                }),
+            ),
             // Back to front into the float cloud target, premultiplied "over".
             Pass::Slices => (
                 CLOUD_TARGET_FORMAT,

@@ -70,10 +70,13 @@ pub enum Pass {
     Shadow,
     Sky,
     Terrain,
-    /// Sprite clouds (the `sprites` method's parcels, and a scene's
-    /// `[[sprite_clouds]]`/`[[layers]]` under any method).
-    Sprites,
     Clouds,
+    /// Sprite clouds (the `sprites` method's parcels, and a scene's
+    /// `[[sprite_clouds]]`/`[[layers]]` under any method). With ray-marched
+    /// clouds in the frame, the march (compute) runs first and this pass
+    /// draws the sprite fragments behind its cloud depth; the composite
+    /// then blends the clouds and draws the fragments in front.
+    Sprites,
     /// Slicing planes into the float cloud target (`slices` method only).
     Slices,
     /// Blends the compute march's (or the slices') texture over the target (compute path).
@@ -89,8 +92,8 @@ impl Pass {
         Pass::Shadow,
         Pass::Sky,
         Pass::Terrain,
-        Pass::Sprites,
         Pass::Clouds,
+        Pass::Sprites,
         Pass::Slices,
         Pass::Composite,
         Pass::Tonemap,
@@ -158,8 +161,14 @@ impl Pass {
             Pass::Shadow if exact => &["ENCODE_SRGB", "GRID_CULLING"],
             Pass::Shadow => &["ENCODE_SRGB"],
             Pass::Sky => &["ENCODE_SRGB"],
-            Pass::Terrain => &["ENCODE_SRGB", "HAS_SHADOWS", "SHADOW_FROM_VOLUME"],
-            Pass::Sprites => &["ENCODE_SRGB", "HAS_TERRAIN", "IMPOSTOR_QUAD"],
+            Pass::Terrain => &["ENCODE_SRGB", "HAS_SHADOWS", "SHADOW_FROM_VOLUME", "SHADOW_FROM_MAP"],
+            Pass::Sprites => &[
+                "ENCODE_SRGB",
+                "HAS_TERRAIN",
+                "IMPOSTOR_QUAD",
+                "CLOUD_DEPTH",
+                "SHADOW_SPLAT",
+            ],
             Pass::Clouds if exact => &["ENCODE_SRGB", "GRID_CULLING", "USE_NORMALS", "HAS_TERRAIN"],
             Pass::Clouds => &["ENCODE_SRGB", "USE_NORMALS", "HAS_TERRAIN"],
             Pass::Slices => &["ENCODE_SRGB", "HAS_TERRAIN"],

@@ -46,6 +46,7 @@ pub fn cumulus_field(
                 let r = r0 * (1.0 - 0.12 * l as f32).max(0.45);
                 let z = base_m + 2.5 * (r * 0.55 + l as f32 * r0 * 0.85);
                 out.push(CloudParcel {
+                    id: out.len() as u64,
                     center_m: Vec3::new(cx + a.cos() * spread, cy + a.sin() * spread, z),
                     radius_m: r,
                     fill: (0.75 + 0.25 * rand(s, 40 + i)) * (0.6 + 0.4 * g),

@@ -329,7 +329,7 @@ pub const PARCEL_SPRITES: u32 = 40;
 /// A condensed parcel as a sprite cloud: one box spanning its sphere down to
 /// its condensation plane (the flat base), `fill` × [`PARCEL_SPRITES`]
 /// sprites of a third of its diameter, cumulus tiles, a flat-bottomed tile on
-/// the base row. `seed` makes it deterministic (use the parcel's index).
+/// the base row. `seed` makes it deterministic (use the parcel's id).
 pub fn parcel_cloud(p: &CloudParcel, seed: u64) -> SpriteCloud {
     let r = p.radius_m.max(1.0);
     let base = (p.cond_plane_z_m - p.center_m.z).clamp(-r, r);
@@ -368,13 +368,13 @@ pub fn parcel_cloud(p: &CloudParcel, seed: u64) -> SpriteCloud {
     spec.build()
 }
 
-/// Every condensed parcel (fill > 0) as a sprite cloud, seeded by its index
-/// in `parcels`, so the same physics state gives the same sprites.
+/// Every condensed parcel (fill > 0) as a sprite cloud, seeded by its
+/// stable id ([`CloudParcel::id`]): the same parcel gives the same sprites
+/// whichever parcels condense or evaporate around it.
 pub fn parcel_clouds(parcels: &[CloudParcel]) -> Vec<SpriteCloud> {
     parcels
         .iter()
-        .enumerate()
-        .filter(|(_, p)| p.fill > 0.0 && p.radius_m.is_finite() && p.center_m.is_finite())
-        .map(|(i, p)| parcel_cloud(p, i as u64))
+        .filter(|p| p.fill > 0.0 && p.radius_m.is_finite() && p.center_m.is_finite())
+        .map(|p| parcel_cloud(p, p.id))
         .collect()
 }

@@ -75,6 +75,39 @@ pub fn span_in_impostors(
     far && gap <= MAX_VERTICAL_M
 }
 
+/// The faces of a ring centred at `ring_cam` that block `b` is drawn
+/// into (paper §6.2: clouds go into impostors by 16 km² blocks). The
+/// block is its 4 km square grown by `reach_m` on every side (how far its
+/// clouds' sprites stick out of it); a face takes the whole block when
+/// the square's angular span from the ring's centre overlaps the face's
+/// 45°. A block straddling a face boundary goes whole into both faces:
+/// each face's projection clips it at the shared edge, where the two
+/// faces' quads meet, so it is neither cut short nor drawn twice on
+/// screen. A camera inside the grown square sees the block all round.
+pub fn block_faces(ring_cam: Vec3, b: (i32, i32), reach_m: f32) -> [bool; SECTORS] {
+    let c = block_center(b);
+    let half = 0.5 * BLOCK_SIDE_M + reach_m.max(0.0);
+    let d = c - ring_cam.truncate();
+    if d.x.abs() <= half && d.y.abs() <= half {
+        return [true; SECTORS];
+    }
+    // Angles of the corners relative to the centre's direction: the
+    // square does not hold the camera, so they span less than π.
+    let mid = d.y.atan2(d.x);
+    let wrap = |a: f32| (a + std::f32::consts::PI).rem_euclid(TAU) - std::f32::consts::PI;
+    let (lo, hi) = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+        .into_iter()
+        .map(|(sx, sy)| {
+            let q = d + Vec2::new(sx, sy) * half;
+            wrap(q.y.atan2(q.x) - mid)
+        })
+        .fold((f32::MAX, f32::MIN), |(lo, hi), a| (lo.min(a), hi.max(a)));
+    std::array::from_fn(|k| {
+        let off = wrap((k as f32 + 0.5) * SECTOR_RAD - mid);
+        off + 0.5 * SECTOR_RAD > lo && off - 0.5 * SECTOR_RAD < hi
+    })
+}
+
 /// Why the ring must be re-rendered.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Trigger {
@@ -83,6 +116,9 @@ pub enum Trigger {
     Horizontal,
     Vertical,
     Sun,
+    /// The clouds it holds changed (physics clouds condensed into or
+    /// evaporated out of its reach), see [`ImpostorRing::invalidate`].
+    Clouds,
 }
 
 /// Ring settings.
@@ -129,6 +165,8 @@ pub struct ImpostorRing {
     fade_s: Option<f32>,
     /// Whether an older set exists to fade from.
     has_old: bool,
+    /// The held clouds changed since the newest set ([`Self::invalidate`]).
+    clouds_changed: bool,
 }
 
 impl ImpostorRing {
@@ -139,6 +177,7 @@ impl ImpostorRing {
             pending: None,
             fade_s: None,
             has_old: false,
+            clouds_changed: false,
         }
     }
 
@@ -156,15 +195,30 @@ impl ImpostorRing {
             Some(Trigger::Vertical)
         } else if sun.angle_between(sun_dir) >= self.config.sun_threshold_rad {
             Some(Trigger::Sun)
+        } else if self.clouds_changed {
+            Some(Trigger::Clouds)
         } else {
             None
         }
+    }
+
+    /// The clouds the ring holds changed (a physics cloud beyond the
+    /// radius condensed or evaporated): the next frame starts a new set
+    /// unless one is being rendered.
+    pub fn invalidate(&mut self) {
+        self.clouds_changed = true;
+    }
+
+    /// Whether a set is being rendered (its faces spread over 8 frames).
+    pub fn is_building(&self) -> bool {
+        self.pending.is_some()
     }
 
     /// Advances one frame of `dt_s` seconds.
     pub fn frame(&mut self, camera_m: Vec3, sun_dir: Vec3, dt_s: f32) -> RingFrame {
         if self.pending.is_none() && self.trigger(camera_m, sun_dir).is_some() {
             self.pending = Some((camera_m, sun_dir, 0));
+            self.clouds_changed = false;
         }
         let mut render = None;
         if let Some((cam, sun, k)) = self.pending {
@@ -252,7 +306,23 @@ impl ShadeCacheConfig {
         cloud_m: Vec3,
         forming: bool,
     ) -> bool {
-        let (d, t) = self.thresholds(cloud_m.distance(camera_m), forming);
+        self.stale_within(stamp, now_s, camera_m, cloud_m, 0.0, forming)
+    }
+
+    /// As [`Self::stale`] for a cloud of radius `radius_m`: the distance
+    /// that sets the thresholds is to its nearest sprite (0 inside it), as
+    /// a camera flying through turns the sprites next to it fastest.
+    pub fn stale_within(
+        &self,
+        stamp: ShadeStamp,
+        now_s: f32,
+        camera_m: Vec3,
+        cloud_m: Vec3,
+        radius_m: f32,
+        forming: bool,
+    ) -> bool {
+        let near = (cloud_m.distance(camera_m) - radius_m).max(0.0);
+        let (d, t) = self.thresholds(near, forming);
         camera_m.distance(stamp.camera_m) > d || now_s - stamp.time_s > t
     }
 }
@@ -260,6 +330,29 @@ impl ShadeCacheConfig {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn blocks_go_whole_into_the_faces_they_reach() {
+        let cam = Vec3::new(0.0, 0.0, 1000.0);
+        let faces = |b, reach| -> Vec<usize> {
+            let f = block_faces(cam, b, reach);
+            (0..SECTORS).filter(|&k| f[k]).collect()
+        };
+        // Block (-2, 6) spans x −8..−4 km, 24..28 km north: 98°–108°, face 2.
+        assert_eq!(faces((-2, 6), 0.0), vec![2]);
+        // Block (1, 6) spans x 4..8 km: 72°–82°, face 1 alone; grown by
+        // 4.5 km (clouds sticking out of it) it straddles the 90° border
+        // and goes whole into both faces.
+        assert_eq!(faces((1, 6), 0.0), vec![1]);
+        assert_eq!(faces((1, 6), 1000.0), vec![1]);
+        assert_eq!(faces((1, 6), 4500.0), vec![1, 2]);
+        // Due east across the 0°/360° seam: faces 7 and 0.
+        assert_eq!(faces((6, -1), 500.0), vec![0, 7]);
+        // The camera inside the grown square: every face.
+        assert_eq!(faces((0, 0), 0.0).len(), SECTORS);
+        // A block on the 45° diagonal: both faces beside it, no others.
+        assert_eq!(faces((5, 5), 0.0), vec![0, 1]);
+    }
 
     #[test]
     fn the_2000_ft_count_from_the_clouds_nearest_height() {

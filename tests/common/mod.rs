@@ -7,6 +7,7 @@ use cumulus::atmosphere::{EnvLevel, Environment, PressureModel};
 use cumulus::render::GpuContext;
 
 pub mod physics;
+pub mod render;
 
 /// A minimal `[atmosphere]` table (two levels) for test profiles: a profile
 /// file must say what its atmosphere is. Append it after the lines a test

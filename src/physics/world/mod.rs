@@ -105,6 +105,8 @@ pub struct ParcelWorld {
     rng: SplitMix64,
     ground: GroundMap,
     parcels: Vec<Parcel>,
+    /// Id of the next spawned parcel ([`Parcel::id`]).
+    next_id: u64,
     time_s: f64,
     sphere: UnitSphere,
     grid: NeighbourGrid,
@@ -136,6 +138,7 @@ impl ParcelWorld {
             cfg,
             rng: SplitMix64::new(seed),
             parcels: Vec::new(),
+            next_id: 0,
             time_s: 0.0,
             sphere: UnitSphere::new(),
             grid: NeighbourGrid::default(),
@@ -257,6 +260,7 @@ impl ParcelWorld {
         let dry = spec.dry_mass_kg(p_pa);
         let volume = sphere_volume_m3(spec.radius_m);
         let mut p = Parcel {
+            id: self.next_id,
             position_m: spec.position_m,
             velocity_m_s: spec.velocity_m_s,
             accel_m_s2: DVec3::ZERO,
@@ -291,6 +295,7 @@ impl ParcelWorld {
         p.cond_plane_z_m = moisture::condensation_plane_m(&self.env, z_max, &p);
         p.fill = moisture::fill_ratio(&p, self.cfg.physics.opaque_lwc_kg_m3).0;
         self.parcels.push(p);
+        self.next_id += 1;
         self.forces_stale = true;
         Ok(())
     }
@@ -303,6 +308,7 @@ impl ParcelWorld {
                 .iter()
                 .filter(|p| p.alive && p.fill > 0.0)
                 .map(|p| CloudParcel {
+                    id: p.id,
                     center_m: p.position_m.as_vec3(),
                     radius_m: p.radius_m as f32,
                     fill: p.fill as f32,

@@ -10,7 +10,7 @@ use crate::render::pipelines::Pipeline;
 use crate::render::shaders::Pass;
 use crate::render::timing::{FrameTimings, TimingMode};
 
-use super::{Renderer, shadow_rect};
+use super::{Renderer, shadow_rect, shadow_rect_of};
 
 impl Renderer {
     pub(super) fn frame_uniform(&self, input: &FrameInput<'_>) -> FrameUniform {
@@ -49,10 +49,27 @@ impl Renderer {
             grid_min: g.min.extend(0.0).to_array(),
             grid_cell: g.cell.extend(0.0).to_array(),
             grid_dims: [g.dims[0], g.dims[1], g.dims[2], g.parcel_count],
-            shadow_rect: shadow_rect(g, input.sun.direction),
+            shadow_rect: self.shadow_rect(input.sun.direction),
             sky_ambient: input.sun.sky.ambient.extend(input.sun.sky.mie_g).to_array(),
             sky_rayleigh: input.sun.sky.rayleigh.map(|c| c.extend(0.0).to_array()),
             sky_mie: input.sun.sky.mie.map(|c| c.extend(0.0).to_array()),
+        }
+    }
+
+    /// The shadow map's ground rectangle: the march grid's and this
+    /// frame's sprites' shadows together.
+    fn shadow_rect(&self, sun: glam::Vec3) -> [f32; 4] {
+        let g = &self.grid_info;
+        let grid = (g.parcel_count > 0 || self.sprite_box.is_none()).then(|| shadow_rect(g, sun));
+        let sprites = self.sprite_box.map(|(lo, hi)| shadow_rect_of(lo, hi, sun));
+        match (grid, sprites) {
+            (Some(a), Some(b)) => [
+                a[0].min(b[0]),
+                a[1].min(b[1]),
+                a[2].max(b[2]),
+                a[3].max(b[3]),
+            ],
+            (a, b) => a.or(b).expect("one of the two exists"),
         }
     }
 
@@ -122,6 +139,11 @@ impl Renderer {
             }
         }
         self.timestamps = ts;
+        // With sprites the march is compute whatever `auto` measures:
+        // such frames do not count as its measurements.
+        if self.split() {
+            return timings;
+        }
         if self.features.clouds {
             self.auto_march.drew();
         }
@@ -148,9 +170,9 @@ impl Renderer {
             return;
         }
         let pipeline = match self.pipelines.get(&self.key(pass)) {
-            Some(Pipeline::Render(p)) => p,
+            Some(Pipeline::Render(p)) => Some(p),
             Some(Pipeline::Compute(p)) => {
-                let (_, out, _) = self.cloud_target.as_ref().expect("compute target exists");
+                let (_, out, _, _) = self.cloud_target.as_ref().expect("compute target exists");
                 let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some("clouds (compute)"),
                     timestamp_writes: timestamps.map(|(set, i)| wgpu::ComputePassTimestampWrites {
@@ -166,6 +188,9 @@ impl Renderer {
                 cp.dispatch_workgroups(self.width.div_ceil(8), self.height.div_ceil(8), 1);
                 return;
             }
+            // The shadow map of sprites alone (no ray-marched clouds): the
+            // pass only clears it and splats them.
+            None if pass == Pass::Shadow => None,
             None => panic!("ensure built every needed pipeline ({})", pass.name()),
         };
         // The impostor ring's face of this frame is rendered first; the
@@ -219,7 +244,9 @@ impl Renderer {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        rp.set_pipeline(pipeline);
+        if let Some(p) = pipeline {
+            rp.set_pipeline(p);
+        }
         rp.set_bind_group(0, &self.bind_common, &[]);
         match pass {
             Pass::Terrain => {
@@ -234,21 +261,34 @@ impl Renderer {
                 rp.draw(0..3, 0..1);
             }
             Pass::Sprites => {
-                let s = self.sprites.as_ref().expect("sprite resources exist");
-                rp.set_bind_group(1, self.bind_clouds.as_ref(), &[]);
+                rp.set_bind_group(1, self.bind_sprites.as_ref(), &[]);
                 self.draw_ring_quads(&mut rp);
-                rp.set_pipeline(pipeline);
-                rp.set_bind_group(2, &s.bind, &[]);
-                rp.draw(0..6, 0..s.count);
+                self.draw_sprites(&mut rp, pipeline);
+            }
+            Pass::Shadow => {
+                if pipeline.is_some() {
+                    rp.draw(0..3, 0..1);
+                }
+                if self.features.sprites {
+                    let key = self.sprite_shadow_key();
+                    rp.set_bind_group(1, self.bind_sprites.as_ref(), &[]);
+                    self.draw_sprites(&mut rp, self.render_pipeline(&key));
+                }
             }
             Pass::Slices => {
                 rp.set_bind_group(1, self.bind_clouds.as_ref(), &[]);
                 self.slices.draw(&mut rp);
             }
             Pass::Composite => {
-                let (_, _, input) = self.cloud_target.as_ref().expect("compute target exists");
+                let (_, _, input, _) = self.cloud_target.as_ref().expect("compute target exists");
                 rp.set_bind_group(1, input, &[]);
                 rp.draw(0..3, 0..1);
+                if self.split() {
+                    // The sprite fragments in front of the clouds.
+                    let key = self.sprites_front_key();
+                    rp.set_bind_group(1, self.bind_sprites.as_ref(), &[]);
+                    self.draw_sprites(&mut rp, self.render_pipeline(&key));
+                }
             }
             Pass::Tonemap => {
                 rp.set_bind_group(1, &scene.bind, &[]);
@@ -256,5 +296,26 @@ impl Renderer {
             }
             _ => rp.draw(0..3, 0..1),
         }
+    }
+
+    /// A render pipeline `ensure` built.
+    fn render_pipeline(
+        &self,
+        key: &crate::render::pipelines::PipelineKey,
+    ) -> Option<&wgpu::RenderPipeline> {
+        match self.pipelines.get(key) {
+            Some(Pipeline::Render(p)) => Some(p),
+            _ => None,
+        }
+    }
+
+    /// Draws this frame's sprite instances with `pipeline` (group 1 set
+    /// by the caller).
+    fn draw_sprites(&self, rp: &mut wgpu::RenderPass<'_>, pipeline: Option<&wgpu::RenderPipeline>) {
+        let s = self.sprites.as_ref().expect("sprite resources exist");
+        let p = pipeline.expect("ensure built the sprite pipelines");
+        rp.set_pipeline(p);
+        rp.set_bind_group(2, &s.bind, &[]);
+        rp.draw(0..6, 0..s.count);
     }
 }

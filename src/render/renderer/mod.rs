@@ -44,7 +44,7 @@ mod resources;
 mod ring;
 
 pub(crate) use resources::texture_2d;
-use resources::{SceneTarget, check_size, make_bind_common};
+use resources::{CloudTarget, SceneTarget, check_size, make_bind_common};
 
 pub use crate::render::pipelines::{DEPTH_FORMAT, SCENE_FORMAT, SHADOW_FORMAT};
 pub(crate) use crate::render::timing::read_buffer;
@@ -97,8 +97,15 @@ pub struct Renderer {
     /// Re-bake every frame (bench: the cost when every parcel moves).
     always_bake: bool,
     /// The compute march's output: (view, its storage bind group, its
-    /// sampled bind group for the composite).
-    cloud_target: Option<(wgpu::TextureView, wgpu::BindGroup, wgpu::BindGroup)>,
+    /// sampled bind group for the composite, the cloud-depth view).
+    cloud_target: Option<CloudTarget>,
+    /// Cloud depth bound while no march target exists (never read then).
+    dummy_cloud_depth_view: wgpu::TextureView,
+    /// Group 1 of the sprite pipelines (terrain and cloud depth).
+    bind_sprites: Option<wgpu::BindGroup>,
+    /// Box around this frame's directly drawn sprites (min, max; None
+    /// without any): the cloud-shadow map covers it. units: m
+    sprite_box: Option<(glam::Vec3, glam::Vec3)>,
     /// `march = "auto"`: measurements and decision.
     auto_march: AutoMarch,
     /// The HDR scene target (made by `ensure`, dropped on resize).
@@ -185,6 +192,15 @@ impl Renderer {
             wgpu::TextureUsages::TEXTURE_BINDING,
         )
         .create_view(&Default::default());
+        let dummy_cloud_depth_view = texture_2d(
+            device,
+            "no cloud depth",
+            1,
+            1,
+            crate::render::pipelines::CLOUD_DEPTH_FORMAT,
+            wgpu::TextureUsages::TEXTURE_BINDING,
+        )
+        .create_view(&Default::default());
         let white = texture_2d(
             device,
             "no shadow",
@@ -256,6 +272,9 @@ impl Renderer {
             timing: TimingMode::GpuBlocking,
             always_bake: false,
             cloud_target: None,
+            dummy_cloud_depth_view,
+            bind_sprites: None,
+            sprite_box: None,
             auto_march: AutoMarch::default(),
             scene: None,
             sprite_scene: SpriteScene::default(),
@@ -411,10 +430,60 @@ impl Renderer {
 
     /// Features of a frame with or without parcels and sprites: the
     /// method's own, plus the scene's sprite clouds.
+    /// Sprites cast shadows on the terrain like the ray-marched clouds
+    /// (splatted into the same map).
     fn features_for(&self, any_clouds: bool, any_sprites: bool) -> Features {
         let mut f = Features::new(&self.cfg, any_clouds);
         f.sprites = self.cfg.clouds && (f.sprites || any_sprites);
+        f.shadows = self.cfg.shadows && f.terrain && (f.clouds || f.sprites);
+        f.shadow_map = f.shadows && (self.map_marches_clouds(f) || f.sprites);
         f
+    }
+
+    /// Whether the shadow map holds the ray-marched clouds (`exact`; the
+    /// `baked` terrain reads the light volume for them instead).
+    fn map_marches_clouds(&self, f: Features) -> bool {
+        f.clouds && self.cfg.method == RenderMethod::Exact
+    }
+
+    /// Whether the terrain reads the ray-marched clouds' shadows from the
+    /// baked light volume.
+    fn volume_shadows(&self) -> bool {
+        self.features.clouds && self.cfg.method == RenderMethod::Baked
+    }
+
+    /// Whether sprites and ray-marched clouds both draw: the march then
+    /// runs in compute (it leaves its cloud depth) and the sprites are
+    /// drawn in two halves around its composite (see shaders/sprites.wgsl).
+    fn split(&self) -> bool {
+        self.features.clouds && self.features.sprites
+    }
+
+    /// The sprite pipeline drawing the fragments in front of the clouds
+    /// (after their composite; the sprite pass itself draws those behind).
+    fn sprites_front_key(&self) -> PipelineKey {
+        let b = |v: bool| if v { 1.0 } else { 0.0 };
+        PipelineKey::new(
+            Pass::Sprites,
+            self.cfg.method,
+            &[
+                ("HAS_TERRAIN", b(self.features.terrain)),
+                ("CLOUD_DEPTH", 2.0),
+            ],
+            SCENE_FORMAT,
+            false,
+        )
+    }
+
+    /// The sprite pipeline splatting their shadows into the shadow map.
+    fn sprite_shadow_key(&self) -> PipelineKey {
+        PipelineKey::new(
+            Pass::Sprites,
+            self.cfg.method,
+            &[("HAS_TERRAIN", 0.0), ("SHADOW_SPLAT", 1.0)],
+            crate::render::pipelines::SHADOW_FORMAT,
+            false,
+        )
     }
 
     /// The `override` constants of `pass` under the current features.
@@ -430,9 +499,13 @@ impl Renderer {
             Pass::Bake | Pass::Sky | Pass::Composite | Pass::Shadow => vec![],
             Pass::Terrain => vec![
                 ("HAS_SHADOWS", b(f.shadows)),
-                ("SHADOW_FROM_VOLUME", b(!f.shadow_map)),
+                ("SHADOW_FROM_VOLUME", b(f.shadows && self.volume_shadows())),
+                ("SHADOW_FROM_MAP", b(f.shadow_map)),
             ],
-            Pass::Sprites => vec![("HAS_TERRAIN", b(f.terrain))],
+            Pass::Sprites => vec![
+                ("HAS_TERRAIN", b(f.terrain)),
+                ("CLOUD_DEPTH", if self.split() { 1.0 } else { 0.0 }),
+            ],
             Pass::Clouds => vec![("USE_NORMALS", b(f.normals)), ("HAS_TERRAIN", b(f.terrain))],
             Pass::Slices => vec![("HAS_TERRAIN", b(f.terrain))],
         };
@@ -459,8 +532,10 @@ impl Renderer {
     }
 
     /// Whether the next frame marches in a compute shader.
+    /// (Always when sprites draw too: it leaves the cloud depth they sort
+    /// against.)
     fn compute_path(&self) -> bool {
-        self.auto_march.path(self.cfg.march) == MarchPath::Compute
+        self.auto_march.path(self.cfg.march) == MarchPath::Compute || self.split()
     }
 
     /// The march path in use: the configured one, or what `auto` chose
@@ -610,23 +685,36 @@ impl Renderer {
             current,
         ] {
             self.features = features;
+            // The shadow pass marches only the `exact` clouds; the sprites
+            // splat into it with a pipeline of their own.
             let mut keys: Vec<PipelineKey> = Pass::ALL
                 .into_iter()
                 .filter(|p| *p != Pass::Bake && self.needed(*p))
+                .filter(|p| *p != Pass::Shadow || self.map_marches_clouds(self.features))
                 .map(|p| self.key(p))
                 .collect();
             if self.features.clouds {
                 keys.extend(self.cloud_keys());
+            }
+            if self.split() {
+                keys.push(self.sprites_front_key());
+            }
+            if self.features.sprites && self.features.shadows {
+                keys.push(self.sprite_shadow_key());
             }
             self.features = current;
             for key in keys {
                 self.pipelines.ensure(ctx, &self.layouts, &key)?;
             }
         }
-        let target_needed =
-            (current.clouds && self.cfg.march != MarchPath::Fragment) || current.slices;
+        let target_needed = (current.clouds && self.cfg.march != MarchPath::Fragment)
+            || current.slices
+            || self.split();
         if target_needed && self.cloud_target.is_none() {
             self.cloud_target = Some(self.make_cloud_target(device));
+        }
+        if current.sprites {
+            self.bind_sprites = Some(self.make_bind_sprites(device));
         }
         if self.scene.is_none() {
             self.scene = Some(self.make_scene_target(device));
@@ -684,22 +772,22 @@ impl Renderer {
         } else {
             info.parcel_count > 0
         };
-        self.advance_ring(ctx, input);
+        // The drawn spheres are radius_scale × the parcels' (§6.1, as the
+        // ray-march draws them): the sprite clouds fill those.
+        let parcels: Vec<CloudParcel> = if sprite_method && self.cfg.clouds {
+            input
+                .parcels
+                .iter()
+                .map(|p| CloudParcel {
+                    radius_m: p.radius_m * scale,
+                    ..*p
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        self.advance_ring(ctx, input, &parcels);
         let instances = if self.cfg.clouds {
-            // The drawn spheres are radius_scale × the parcels' (§6.1, as
-            // the ray-march draws them): the sprite clouds fill those.
-            let parcels: Vec<CloudParcel> = if sprite_method {
-                input
-                    .parcels
-                    .iter()
-                    .map(|p| CloudParcel {
-                        radius_m: p.radius_m * scale,
-                        ..*p
-                    })
-                    .collect()
-            } else {
-                Vec::new()
-            };
             self.sprite_scene.frame(
                 &parcels,
                 input.sun.direction,
@@ -721,6 +809,7 @@ impl Renderer {
         if let Some(gpu) = self.sprites.as_mut() {
             gpu.upload(ctx, &self.layouts.sprites, &instances)?;
         }
+        self.sprite_box = sprite_box(&instances);
         let frame = self.frame_uniform(input);
         ctx.queue
             .write_buffer(&self.frame_buf, 0, bytemuck::bytes_of(&frame));
@@ -730,11 +819,32 @@ impl Renderer {
     }
 }
 
+/// Box around every sprite of `instances` turned any way (centre ± the
+/// larger half size), or None without sprites. units: m
+fn sprite_box(
+    instances: &[crate::render::sprites::SpriteInstance],
+) -> Option<(glam::Vec3, glam::Vec3)> {
+    use glam::{Vec3, Vec4};
+    instances
+        .iter()
+        .map(|s| {
+            let (a, b) = (Vec4::from(s.corners[0]), Vec4::from(s.corners[2]));
+            let half = 0.5 * (b - a).truncate().length();
+            let c = 0.5 * (a + b).truncate();
+            (c - Vec3::splat(half), c + Vec3::splat(half))
+        })
+        .reduce(|(lo, hi), (a, b)| (lo.min(a), hi.max(b)))
+}
+
 /// Ground rectangle (min x, min y, max x, max y) whose sun rays can cross
 /// the grid box: the box's footprint and its shadow cast from its top.
 pub fn shadow_rect(g: &GridInfo, sun: glam::Vec3) -> [f32; 4] {
+    shadow_rect_of(g.min, g.max(), sun)
+}
+
+/// [`shadow_rect`] of the box (`lo`, `hi`).
+pub fn shadow_rect_of(lo: glam::Vec3, hi: glam::Vec3, sun: glam::Vec3) -> [f32; 4] {
     let sun = sun.normalize();
-    let (lo, hi) = (g.min, g.max());
     // Along the sun ray from ground (x, y, 0), height z is reached at x + z·s.
     let s = glam::Vec2::new(sun.x, sun.y) / sun.z.max(0.03);
     let a = lo.truncate() - s * hi.z;

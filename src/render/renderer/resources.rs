@@ -1,7 +1,9 @@
 //! GPU resources the renderer creates: plain textures, the shared bind group (group 0) and the compute march's target.
 
 use crate::render::gpu::GpuContext;
-use crate::render::pipelines::{CLOUD_TARGET_FORMAT, PassLayouts, SCENE_FORMAT};
+use crate::render::pipelines::{
+    CLOUD_DEPTH_FORMAT, CLOUD_TARGET_FORMAT, PassLayouts, SCENE_FORMAT,
+};
 use crate::render::raymarch::baked::BakedField;
 use crate::render::raymarch::exact::ExactField;
 
@@ -85,10 +87,10 @@ impl Renderer {
         self.bound_generation = self.baked.generation;
     }
 
-    pub(super) fn make_cloud_target(
-        &self,
-        device: &wgpu::Device,
-    ) -> (wgpu::TextureView, wgpu::BindGroup, wgpu::BindGroup) {
+    /// The compute march's target: its colour view, the march's output
+    /// bind group (colour and cloud depth), the composite's input bind
+    /// group, and the cloud-depth view (the sprites sort against it).
+    pub(super) fn make_cloud_target(&self, device: &wgpu::Device) -> CloudTarget {
         let view = texture_2d(
             device,
             "clouds (compute)",
@@ -102,19 +104,62 @@ impl Renderer {
                 | wgpu::TextureUsages::RENDER_ATTACHMENT,
         )
         .create_view(&Default::default());
-        let bind = |label, layout| {
+        let depth = texture_2d(
+            device,
+            "cloud depth (compute)",
+            self.width,
+            self.height,
+            CLOUD_DEPTH_FORMAT,
+            wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
+        )
+        .create_view(&Default::default());
+        let bind = |label, layout, views: &[&wgpu::TextureView]| {
+            let entries: Vec<wgpu::BindGroupEntry> = views
+                .iter()
+                .enumerate()
+                .map(|(i, v)| wgpu::BindGroupEntry {
+                    binding: i as u32,
+                    resource: wgpu::BindingResource::TextureView(v),
+                })
+                .collect();
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some(label),
                 layout,
-                entries: &[wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&view),
-                }],
+                entries: &entries,
             })
         };
-        let out = bind("clouds: compute output", &self.layouts.cloud_out);
-        let input = bind("composite: clouds", &self.layouts.texture_in);
-        (view, out, input)
+        let out = bind(
+            "clouds: compute output",
+            &self.layouts.cloud_out,
+            &[&view, &depth],
+        );
+        let input = bind("composite: clouds", &self.layouts.texture_in, &[&view]);
+        (view, out, input, depth)
+    }
+
+    /// Group 1 of the sprite pipelines: the terrain depth (or a dummy)
+    /// and the march's cloud depth (or a dummy; read only when both draw).
+    pub(super) fn make_bind_sprites(&self, device: &wgpu::Device) -> wgpu::BindGroup {
+        let depth = self.depth_view.as_ref().unwrap_or(&self.dummy_depth_view);
+        let clouds = self
+            .cloud_target
+            .as_ref()
+            .map(|t| &t.3)
+            .unwrap_or(&self.dummy_cloud_depth_view);
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("sprites: depths"),
+            layout: &self.layouts.sprite_depth,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(depth),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(clouds),
+                },
+            ],
+        })
     }
 
     /// The last frame's linear HDR scene (Rgba16Float, the renderer's
@@ -156,6 +201,14 @@ impl Renderer {
         }
     }
 }
+
+/// See [`Renderer::make_cloud_target`].
+pub(super) type CloudTarget = (
+    wgpu::TextureView,
+    wgpu::BindGroup,
+    wgpu::BindGroup,
+    wgpu::TextureView,
+);
 
 /// The linear HDR target the scene passes draw into (see
 /// [`crate::render::pipelines::SCENE_FORMAT`]).

@@ -69,15 +69,39 @@ impl Renderer {
 
     /// Advances the ring one frame, before the frame's sprites are built:
     /// the clouds the newest complete set holds are left out of them.
-    pub(super) fn advance_ring(&mut self, ctx: &GpuContext, input: &FrameInput<'_>) {
+    /// `parcels` are the frame's physics clouds (sprites method): those
+    /// beyond the radius go into the ring by the same rules as the
+    /// scene's, taken when a set starts; when the ones it would hold are
+    /// no longer those of its newest set (one condensed, evaporated or
+    /// crossed the radius), a new set is rendered.
+    pub(super) fn advance_ring(
+        &mut self,
+        ctx: &GpuContext,
+        input: &FrameInput<'_>,
+        parcels: &[crate::physics::CloudParcel],
+    ) {
         if let Some(ring) = self.ring.as_mut() {
+            let r = ring.model.config.radius_m;
+            if let Some(at) = ring.anchor
+                && !ring.model.is_building()
+                && self.sprite_scene.ring_changed(parcels, at, r)
+            {
+                ring.model.invalidate();
+            }
             ring.advance(
                 ctx,
                 input.camera.position,
                 input.sun.direction,
                 input.time_s,
             );
-            let r = ring.model.config.radius_m;
+            if let Some((k, cam)) = ring.frame.render {
+                if k == 0 {
+                    self.sprite_scene.ring_started(parcels, cam, r);
+                }
+                if k + 1 == SECTORS {
+                    self.sprite_scene.ring_completed();
+                }
+            }
             self.sprite_scene.impostored = ring.anchor.map(|a| (a, r));
         }
     }
@@ -160,7 +184,7 @@ impl Renderer {
         });
         rp.set_pipeline(pipeline);
         rp.set_bind_group(0, common, &[]);
-        rp.set_bind_group(1, self.bind_clouds.as_ref(), &[]);
+        rp.set_bind_group(1, self.bind_sprites.as_ref(), &[]);
         rp.set_bind_group(2, &ring.face.bind, &[]);
         rp.draw(0..6, 0..ring.face.count);
         true

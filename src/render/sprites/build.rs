@@ -9,10 +9,9 @@
 //! §6.1 says so (camera move or time past thresholds that grow with
 //! distance, [`ShadeCacheConfig`]) or the sun moved; physics clouds move
 //! every step and are shaded every frame, their formation following the
-//! parcel's condensed fill. A parcel's sprites are seeded by its index in
-//! the frame's list of condensed parcels: a parcel that dies or condenses
-//! earlier in the list re-seeds the clouds after it (the physics has no
-//! parcel identity to seed by yet).
+//! parcel's condensed fill. A parcel's sprites are seeded by its stable id
+//! ([`CloudParcel::id`]), so a parcel that condenses or evaporates leaves
+//! every other parcel's sprites where they were.
 
 use glam::{Vec3, Vec4};
 
@@ -22,7 +21,7 @@ use crate::sprites_model::atlas::Atlas;
 use crate::sprites_model::facing::Facing;
 use crate::sprites_model::formation::formation_alpha;
 use crate::sprites_model::impostor::{
-    SECTOR_RAD, SECTORS, ShadeCacheConfig, ShadeStamp, span_in_impostors,
+    SECTORS, ShadeCacheConfig, ShadeStamp, block_faces, block_of, span_in_impostors,
 };
 use crate::sprites_model::shading::{Lighting, group_centers};
 use crate::sprites_model::vertices::corners;
@@ -69,30 +68,33 @@ pub fn shade(
     let groups = group_centers(&cloud.sprites);
     let radius = cloud.radius_m.max(1e-3);
     for (i, s) in cloud.sprites.iter().enumerate() {
-        let (normal, fade) = if cloud.kind.is_flat() {
-            (Vec3::Z, 1.0)
+        let views = if cloud.kind.is_flat() {
+            [(Vec3::Z, 1.0), (Vec3::Z, 0.0)]
         } else if let Some(f) = facing.as_deref_mut() {
             f[i].update(s.center_m, 0.5 * s.width_m.max(s.height_m), camera_m)
         } else {
             let n = (camera_m - s.center_m).try_normalize().unwrap_or(Vec3::Z);
-            (n, 1.0)
+            [(n, 1.0), (n, 0.0)]
         };
         let radial = (s.center_m - cloud.center_m).length() / radius;
-        let alpha = formation_alpha(progress, radial) * fade;
-        if alpha <= 0.0 {
-            continue;
-        }
+        let formed = formation_alpha(progress, radial);
         let g = groups[s.group as usize];
-        let c = corners(s.center_m, normal, s.width_m, s.height_m, s.rotation_rad);
-        let color = |p: Vec3| -> [f32; 4] {
-            let v: Vec4 = lighting.vertex_color(&cloud.levels, p, g, alpha);
-            v.to_array()
-        };
-        out.push(SpriteInstance {
-            corners: c.map(|p| p.extend(1.0).to_array()),
-            colors: c.map(color),
-            uv: Atlas::uv_rect(s.texture),
-        });
+        for (normal, fade) in views {
+            let alpha = formed * fade;
+            if alpha <= 0.0 {
+                continue;
+            }
+            let c = corners(s.center_m, normal, s.width_m, s.height_m, s.rotation_rad);
+            let color = |p: Vec3| -> [f32; 4] {
+                let v: Vec4 = lighting.vertex_color(&cloud.levels, p, g, alpha);
+                v.to_array()
+            };
+            out.push(SpriteInstance {
+                corners: c.map(|p| p.extend(1.0).to_array()),
+                colors: c.map(color),
+                uv: Atlas::uv_rect(s.texture),
+            });
+        }
     }
 }
 
@@ -129,6 +131,17 @@ pub struct SpriteStats {
     pub build_ms: f64,
 }
 
+/// A condensed parcel drawn as a sprite cloud.
+#[derive(Clone)]
+struct ParcelCloud {
+    /// [`CloudParcel::id`].
+    id: u64,
+    /// Its fill: the formation progress (Listing 1).
+    fill: f32,
+    cloud: SpriteCloud,
+    span: (f32, f32),
+}
+
 /// The scene's sprite clouds and their per-sprite state between frames.
 #[derive(Default)]
 pub struct SpriteScene {
@@ -143,6 +156,15 @@ pub struct SpriteScene {
     pub impostored: Option<(Vec3, f32)>,
     /// Each cloud's sprites' (bottom, top). units: m
     spans: Vec<(f32, f32)>,
+    /// The parcels of the last frame and their sprite clouds (rebuilt
+    /// only when the parcels change).
+    parcels_in: Vec<CloudParcel>,
+    parcels: Vec<ParcelCloud>,
+    /// Physics clouds of the ring set being rendered (taken at its first
+    /// face, so its 8 faces show one state of the field) and the ids of
+    /// those in the newest complete set (left out of the direct draw).
+    ring_building: Vec<ParcelCloud>,
+    ring_ids: std::collections::BTreeSet<u64>,
 }
 
 /// (bottom, top) of a cloud's sprites. units: m
@@ -186,7 +208,7 @@ impl SpriteScene {
 
     /// Every sprite of the frame, back to front: the scene's clouds (from
     /// the cache where it holds) and, for the sprites method, `parcels` as
-    /// sprite clouds (seeded by their index, formed as far as their fill).
+    /// sprite clouds (seeded by their id, formed as far as their fill).
     pub fn frame(
         &mut self,
         parcels: &[CloudParcel],
@@ -209,8 +231,14 @@ impl SpriteScene {
                 continue;
             }
             let stale = self.cache[i].as_ref().is_none_or(|c| {
-                self.cache_cfg
-                    .stale(c.stamp, time_s, camera_m, cloud.center_m, false)
+                self.cache_cfg.stale_within(
+                    c.stamp,
+                    time_s,
+                    camera_m,
+                    cloud.center_m,
+                    cloud.radius_m,
+                    false,
+                )
             });
             if stale {
                 let mut instances = Vec::with_capacity(cloud.sprites.len());
@@ -230,17 +258,18 @@ impl SpriteScene {
             }
             all.extend_from_slice(&self.cache[i].as_ref().expect("filled above").instances);
         }
+        self.set_parcels(parcels);
+        let ring = self.impostored.is_some();
         let mut parcel_clouds = 0;
-        for (i, p) in parcels.iter().enumerate() {
-            if p.fill > 0.0 && p.radius_m.is_finite() && p.center_m.is_finite() {
-                // Placed as a full cloud, faded in by its fill: the sprite
-                // layout does not change (pop) as the fill moves, only the
-                // formation alpha does.
-                let full = CloudParcel { fill: 1.0, ..*p };
-                let cloud = parcel_cloud(&full, i as u64);
-                shade(&cloud, &light, camera_m, p.fill, None, &mut all);
-                parcel_clouds += 1;
+        for p in &self.parcels {
+            if ring && self.ring_ids.contains(&p.id) {
+                continue;
             }
+            // Placed as a full cloud, faded in by its fill: the sprite
+            // layout does not change (pop) as the fill moves, only the
+            // formation alpha does.
+            shade(&p.cloud, &light, camera_m, p.fill, None, &mut all);
+            parcel_clouds += 1;
         }
         let order = back_to_front(&all, camera_m);
         let sorted: Vec<SpriteInstance> = order.iter().map(|&i| all[i as usize]).collect();
@@ -253,11 +282,69 @@ impl SpriteScene {
         sorted
     }
 
+    /// Builds the sprite clouds of `parcels` (full clouds, seeded by their
+    /// ids; formation follows the fill at draw time), unless they are the
+    /// last frame's.
+    fn set_parcels(&mut self, parcels: &[CloudParcel]) {
+        if parcels == self.parcels_in.as_slice() {
+            return;
+        }
+        self.parcels_in = parcels.to_vec();
+        self.parcels = parcels
+            .iter()
+            .filter(|p| p.fill > 0.0 && p.radius_m.is_finite() && p.center_m.is_finite())
+            .map(|p| {
+                let cloud = parcel_cloud(&CloudParcel { fill: 1.0, ..*p }, p.id);
+                ParcelCloud {
+                    id: p.id,
+                    fill: p.fill,
+                    span: z_span(&cloud),
+                    cloud,
+                }
+            })
+            .collect();
+    }
+
+    /// Ids of this frame's physics clouds that a ring at `ring_cam` with
+    /// radius `radius_m` holds (same rules as the scene's clouds).
+    fn ring_parcels(&self, ring_cam: Vec3, radius_m: f32) -> impl Iterator<Item = &ParcelCloud> {
+        self.parcels
+            .iter()
+            .filter(move |p| span_in_impostors(ring_cam, radius_m, p.cloud.center_m, p.span))
+    }
+
+    /// A ring set starts at `ring_cam`: the physics clouds it will hold
+    /// are taken now, for all 8 of its faces.
+    pub fn ring_started(&mut self, parcels: &[CloudParcel], ring_cam: Vec3, radius_m: f32) {
+        self.set_parcels(parcels);
+        self.ring_building = self.ring_parcels(ring_cam, radius_m).cloned().collect();
+    }
+
+    /// The set started by [`Self::ring_started`] is complete: its physics
+    /// clouds leave the direct draw.
+    pub fn ring_completed(&mut self) {
+        self.ring_ids = self.ring_building.iter().map(|p| p.id).collect();
+    }
+
+    /// Whether the physics clouds a ring at `ring_cam` would hold now are
+    /// not those of its newest set (one condensed or evaporated beyond
+    /// the radius, or crossed it): the ring must be re-rendered.
+    pub fn ring_changed(&mut self, parcels: &[CloudParcel], ring_cam: Vec3, radius_m: f32) -> bool {
+        self.set_parcels(parcels);
+        !self
+            .ring_parcels(ring_cam, radius_m)
+            .map(|p| p.id)
+            .eq(self.ring_ids.iter().copied())
+    }
+
     /// The sprites of face `k` of an impostor ring centred at `ring_cam`
-    /// with radius `radius_m`: every scene cloud the ring holds, shaded
-    /// facing `ring_cam`, keeping the sprites that reach into the face's
-    /// 45° (its centre within 22.5° plus the sprite's own angular half
-    /// size), back to front from `ring_cam`.
+    /// with radius `radius_m`: the clouds the ring holds (the scene's, and
+    /// the physics clouds taken by [`Self::ring_started`]) grouped into
+    /// the paper's 16 km² blocks, every block whose square (grown by its
+    /// clouds' reach) meets the face's 45° drawn whole
+    /// ([`block_faces`]: a block across a face border goes into both
+    /// faces and each face's projection cuts it at the shared edge),
+    /// shaded facing `ring_cam`, back to front from `ring_cam`.
     pub fn face_instances(
         &self,
         ring_cam: Vec3,
@@ -267,22 +354,29 @@ impl SpriteScene {
     ) -> Vec<SpriteInstance> {
         debug_assert!(k < SECTORS);
         let light = lighting(sun_dir);
-        let a = (k as f32 + 0.5) * SECTOR_RAD;
-        let dir = glam::Vec2::new(a.cos(), a.sin());
+        // Block → (its clouds with their formation, its reach).
+        let mut blocks: std::collections::BTreeMap<(i32, i32), (Vec<(&SpriteCloud, f32)>, f32)> =
+            Default::default();
+        let scene = self
+            .clouds
+            .iter()
+            .zip(&self.spans)
+            .filter(|(c, span)| span_in_impostors(ring_cam, radius_m, c.center_m, **span))
+            .map(|(c, _)| (c, 1.0));
+        let physics = self.ring_building.iter().map(|p| (&p.cloud, p.fill));
+        for (cloud, progress) in scene.chain(physics) {
+            let b = blocks.entry(block_of(cloud.center_m)).or_default();
+            b.0.push((cloud, progress));
+            b.1 = b.1.max(cloud.radius_m);
+        }
         let mut all = Vec::new();
-        for (cloud, span) in self.clouds.iter().zip(&self.spans) {
-            if span_in_impostors(ring_cam, radius_m, cloud.center_m, *span) {
-                shade(cloud, &light, ring_cam, 1.0, None, &mut all);
+        for (b, (clouds, reach)) in &blocks {
+            if block_faces(ring_cam, *b, *reach)[k] {
+                for (cloud, progress) in clouds {
+                    shade(cloud, &light, ring_cam, *progress, None, &mut all);
+                }
             }
         }
-        all.retain(|s| {
-            let c = 0.5 * (Vec4::from(s.corners[0]) + Vec4::from(s.corners[2])).truncate();
-            let half = 0.5 * (Vec4::from(s.corners[2]) - Vec4::from(s.corners[0])).length();
-            let d = (c - ring_cam).truncate();
-            let dist = d.length().max(1e-3);
-            let off = d.angle_to(dir).abs();
-            off <= 0.5 * SECTOR_RAD + (half / dist).min(1.0).asin()
-        });
         let order = back_to_front(&all, ring_cam);
         order.iter().map(|&i| all[i as usize]).collect()
     }
@@ -330,8 +424,14 @@ mod tests {
         );
         // Edge-on (camera in the locked plane): fully faded, not drawn.
         assert!(at(s.center_m + Vec3::new(0.9 * half, 0.0, 0.0)).is_empty());
-        // Leaving: it turns to the camera again.
+        // Leaving (between half and the whole radius): the locked quad
+        // fades out as the camera-facing one fades in; beyond, it faces
+        // the camera again.
+        let leaving = at(s.center_m + Vec3::new(0.0, 1.5 * half, 0.0));
+        assert_eq!(leaving.len(), 2);
+        assert_eq!(leaving[0].corners, enter[0].corners);
         let out = at(s.center_m + Vec3::new(10.0 * half, 0.0, 0.0));
+        assert_eq!(out.len(), 1);
         assert_eq!(out[0].corners, far_b[0].corners);
     }
 
@@ -363,6 +463,7 @@ mod tests {
     #[test]
     fn a_parcel_keeps_its_sprites_as_its_fill_changes() {
         let p = |fill: f32| CloudParcel {
+            id: 0,
             center_m: Vec3::new(0.0, 2000.0, 1500.0),
             radius_m: 300.0,
             fill,
@@ -379,6 +480,31 @@ mod tests {
         // Core sprites already formed, edges still fading in at 0.8.
         let alpha = |v: &[SpriteInstance]| v.iter().map(|s| s.colors[0][3]).sum::<f32>();
         assert!(alpha(&thin) < alpha(&full));
+    }
+
+    #[test]
+    fn a_parcels_sprites_survive_another_parcel_evaporating() {
+        let p = |id: u64, x: f32| CloudParcel {
+            id,
+            center_m: Vec3::new(x, 3000.0, 1500.0),
+            radius_m: 300.0,
+            fill: 1.0,
+            cond_plane_z_m: 1300.0,
+        };
+        let mut scene = SpriteScene::default();
+        let cam = Vec3::ZERO;
+        let both = scene.frame(&[p(1, -2000.0), p(2, 2000.0)], Vec3::Z, cam, 0.0);
+        let alone = scene.frame(&[p(2, 2000.0)], Vec3::Z, cam, 0.0);
+        assert!(!alone.is_empty());
+        // Every sprite of parcel 2 is still drawn, corner for corner.
+        assert!(alone.iter().all(|s| both.contains(s)));
+        assert_eq!(both.len(), alone.len() + scene_len(&[p(1, -2000.0)]));
+    }
+
+    fn scene_len(parcels: &[CloudParcel]) -> usize {
+        SpriteScene::default()
+            .frame(parcels, Vec3::Z, Vec3::ZERO, 0.0)
+            .len()
     }
 
     #[test]
