@@ -269,6 +269,14 @@ impl Environment {
 
     /// Environment pressure P(z). units: m → Pa
     pub fn pressure_pa(&self, z_m: f64) -> f64 {
+        self.pressure_exner(z_m).0
+    }
+
+    /// Environment pressure P(z) and its Exner function Π = (P/P0)^κ
+    /// together: the hydrostatic model holds Π and raises it to 1/κ for P,
+    /// so Π costs nothing more (the physics needs both at every parcel
+    /// every sub-step; each power is a large part of its cost). units: m → (Pa, 1)
+    pub fn pressure_exner(&self, z_m: f64) -> (f64, f64) {
         match self.model {
             PressureModel::Hydrostatic => {
                 let x = (z_m / TABLE_DZ_M).max(0.0);
@@ -286,10 +294,11 @@ impl Environment {
                     let tv_top = self.theta_v_k(z_top) * pi_top;
                     pi_top * (-thermo::GRAVITY / (thermo::CP_DRY * tv_top) * (z_m - z_top)).exp()
                 };
-                thermo::P0_PA * pi.powf(1.0 / thermo::KAPPA)
+                (thermo::P0_PA * pi.powf(1.0 / thermo::KAPPA), pi)
             }
             PressureModel::PaperExponential => {
-                self.surface_pressure_pa * (-0.143 * z_m / 1000.0).exp()
+                let p = self.surface_pressure_pa * (-0.143 * z_m / 1000.0).exp();
+                (p, thermo::exner(p))
             }
             PressureModel::Observed => {
                 let (i, w) = self.segment(z_m);
@@ -301,14 +310,16 @@ impl Environment {
                     .pressure_pa
                     .unwrap_or(self.surface_pressure_pa)
                     .ln();
-                (pa + (pb - pa) * w).exp()
+                let p = (pa + (pb - pa) * w).exp();
+                (p, thermo::exner(p))
             }
         }
     }
 
     /// Environment temperature T(z) = θ(z) Π(P(z)). units: m → K
     pub fn temperature_k(&self, z_m: f64) -> f64 {
-        thermo::temperature_from_theta_k(self.theta_k(z_m), self.pressure_pa(z_m))
+        let (_, pi) = self.pressure_exner(z_m);
+        self.theta_k(z_m) * pi
     }
 
     /// Environment virtual potential temperature θ_v(z). units: m → K
@@ -319,9 +330,8 @@ impl Environment {
     /// Environment air density. units: m → kg m⁻³
     pub fn density_kg_m3(&self, z_m: f64) -> f64 {
         // One pressure lookup for both uses (temperature_k's own is the same value).
-        let p = self.pressure_pa(z_m);
-        let t = thermo::temperature_from_theta_k(self.theta_k(z_m), p);
-        thermo::air_density_kg_m3(p, t, self.qv(z_m))
+        let (p, pi) = self.pressure_exner(z_m);
+        thermo::air_density_kg_m3(p, self.theta_k(z_m) * pi, self.qv(z_m))
     }
 
     /// Environment dewpoint. units: m → K

@@ -358,8 +358,8 @@ pub fn condensation_level_m(env: &Environment, theta_l_k: f64, qt: f64, z_max_m:
 
 /// ω_s − q_t of air with liquid-water potential temperature θ_l lifted to z.
 pub fn saturation_excess(env: &Environment, theta_l_k: f64, qt: f64, z_m: f64) -> f64 {
-    let p = env.pressure_pa(z_m);
-    thermo::saturation_mixing_ratio(theta_l_k * thermo::exner(p), p) - qt
+    let (p, pi) = env.pressure_exner(z_m);
+    thermo::saturation_mixing_ratio(theta_l_k * pi, p) - qt
 }
 
 /// Bisection for the saturation level inside [lo, hi] (unsaturated at lo):

@@ -483,8 +483,8 @@ struct PhysicsRun {
     time_ms: f64,
 }
 
-fn simulate(parcels: usize, dt_s: f64, duration_s: f64) -> Result<PhysicsRun> {
-    let mut cfg: WorldConfig = scenes::world_config();
+fn simulate(cfg: &WorldConfig, parcels: usize, dt_s: f64, duration_s: f64) -> Result<PhysicsRun> {
+    let mut cfg = cfg.clone();
     cfg.physics.max_dt_s = dt_s;
     let mut world = scenes::rising_cluster(parcels, cfg)?;
     let frames = (duration_s / dt_s).round().max(1.0) as u64;
@@ -501,8 +501,29 @@ fn simulate(parcels: usize, dt_s: f64, duration_s: f64) -> Result<PhysicsRun> {
 }
 
 /// Runs the physics sweep: `parcels` in a rising cluster for `duration_s`
-/// at each of `dts` (largest first) against `reference_dt_s`.
+/// at each of `dts` (largest first) against `reference_dt_s`, all terms on
+/// (the bench scenes' configuration).
 pub fn physics_sweep(
+    parcels: usize,
+    duration_s: f64,
+    dts: &[f64],
+    reference_dt_s: f64,
+    tick: impl FnMut(&str),
+) -> Result<PhysicsError> {
+    physics_sweep_with(
+        &scenes::world_config(),
+        parcels,
+        duration_s,
+        dts,
+        reference_dt_s,
+        tick,
+    )
+}
+
+/// [`physics_sweep`] with the world configuration `cfg` (its max_dt_s is
+/// set to each step in turn).
+pub fn physics_sweep_with(
+    cfg: &WorldConfig,
     parcels: usize,
     duration_s: f64,
     dts: &[f64],
@@ -510,14 +531,14 @@ pub fn physics_sweep(
     mut tick: impl FnMut(&str),
 ) -> Result<PhysicsError> {
     tick("physics reference");
-    let reference = simulate(parcels, reference_dt_s, duration_s)?;
+    let reference = simulate(cfg, parcels, reference_dt_s, duration_s)?;
     let rd = reference.world.diagnostics();
     let mut dts = dts.to_vec();
     dts.sort_by(|a, b| b.total_cmp(a));
     let mut rows: Vec<PhysicsErrorRow> = Vec::new();
     for dt in dts {
         tick(&format!("physics dt = {dt} s"));
-        let run = simulate(parcels, dt, duration_s)?;
+        let run = simulate(cfg, parcels, dt, duration_s)?;
         let d = run.world.diagnostics();
         let a = run.world.parcels();
         let b = reference.world.parcels();

@@ -10,7 +10,8 @@ use cumulus::stability::{self, Size};
 /// Arguments of `cumulus stability`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// The same kinds of case, smaller (about 10 s; the full matrix takes about 2 minutes).
+    /// The same kinds of case, smaller (about 10 s; the full matrix, with its
+    /// 100 000-parcel cases, takes a few minutes).
     #[arg(long)]
     pub quick: bool,
     /// Directory for stability.md and stability.csv.

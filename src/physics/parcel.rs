@@ -65,6 +65,13 @@ pub struct Parcel {
     /// refreshed once per sub-step after the drift (they cost several powers
     /// each). units: Pa, kg m⁻³, 1
     pub(crate) env_at_centre: (f64, f64, f64),
+    /// Rates of the mixing processes at the last evaluation (the Heun
+    /// predictor's slope): d/dt of dry mass, q_v, q_l, θ, θ_l.
+    /// units: kg s⁻¹, s⁻¹, s⁻¹, K s⁻¹, K s⁻¹
+    pub(crate) mix_rate: [f64; 5],
+    /// Exner function Π at the last saturation adjustment (the latent heat
+    /// of the next one uses the mean 1/Π of the sub-step). units: 1
+    pub(crate) exner_adjusted: f64,
 }
 
 impl Parcel {

@@ -19,12 +19,8 @@ impl ParcelWorld {
         let c = &self.cfg.physics;
         let h = c.support_radius_m;
         let (parcels, grid, env, cfg) = (&self.parcels, &self.grid, &self.env, &self.cfg);
-        let mut vpred = std::mem::take(&mut self.scratch.vpred);
-        parcels
-            .par_iter()
-            .with_min_len(PAR_MIN)
-            .map(|p| p.velocity_m_s + p.accel_m_s2 * (0.5 * dt))
-            .collect_into_vec(&mut vpred);
+        // The predicted end-of-step velocities (computed after the drift).
+        let vpred = std::mem::take(&mut self.scratch.vpred);
         // Guard: explicit viscosity relaxes v_i towards its neighbours at the
         // rate s_i = Σ_j μ m_j/(ρ_i ρ_j) ∇²W, and a pair's relative velocity
         // at up to s_i + s_j; past 1/dt a step overshoots and the velocities

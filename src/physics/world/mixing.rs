@@ -1,5 +1,18 @@
-//! Stage 5–6: entrainment and detrainment with the environment (eqs
-//! 11–15) and exchange between touching parcels (§5.3).
+//! Stages 5–6: entrainment and detrainment with the environment (eqs
+//! 11–15) and exchange between touching parcels (§5.3), as rates.
+//!
+//! Second order (Heun, the trapezoidal rule with a forward-Euler predictor,
+//! kept in step with the kick–drift–kick): the scalars these processes
+//! change (dry mass, q_v, q_l, θ, θ_l) are advanced like the velocity. At
+//! the start of a sub-step they take the whole step with the rates G_n of
+//! the last evaluation (the predictor, in `integrate`); after the drift the
+//! rates G_{n+1} are evaluated at the new positions, the predicted scalars
+//! and the predicted velocity, and the scalars are corrected by
+//! dt/2 (G_{n+1} − G_n): in all, s_{n+1} = s_n + dt/2 (G_n + G_{n+1}).
+//! Like the leapfrog's force, G_{n+1} is kept for the next sub-step, so one
+//! evaluation per sub-step suffices. Volume (eq 6), condensation and the
+//! exposed area are functions of the state, evaluated after the scalars
+//! they depend on, so they add no splitting error.
 
 use std::f64::consts::PI;
 
@@ -8,94 +21,168 @@ use rayon::prelude::*;
 use super::PAR_MIN;
 
 use super::{ClampCounts, MAX_DETRAIN_FRACTION, MIN_DRY_MASS_KG, ParcelWorld, wind_at};
+use crate::physics::parcel::Parcel;
+
+/// Rates of the mixing processes of one parcel: d/dt of dry mass (kg s⁻¹),
+/// q_v and q_l (s⁻¹), θ and θ_l (K s⁻¹).
+pub(crate) type MixRate = [f64; 5];
+
+/// Advances a parcel's mixed scalars by `rate × dt` (predictor and corrector).
+///
+/// The rates carry water between the parcel and its surroundings; how it
+/// splits into vapour and liquid is the condensation's business (adjusted at
+/// the end of the same sub-step). So where a liquid rate from an earlier
+/// state would take more liquid than the parcel now holds (it evaporated
+/// meanwhile), the rest comes from its vapour: the total water is exactly
+/// what the rates say, and nothing is created by setting q_l to zero.
+pub(super) fn advance_scalars(p: &mut Parcel, rate: &MixRate, dt: f64) {
+    p.dry_mass_kg += rate[0] * dt;
+    p.qv_kg_per_kg += rate[1] * dt;
+    p.ql_kg_per_kg += rate[2] * dt;
+    p.theta_k += rate[3] * dt;
+    p.theta_l_k += rate[4] * dt;
+    if p.ql_kg_per_kg < 0.0 {
+        p.qv_kg_per_kg += p.ql_kg_per_kg;
+        p.ql_kg_per_kg = 0.0;
+    }
+}
 
 impl ParcelWorld {
-    /// Entrainment (eqs 11–14) and detrainment (eq 15) over one sub-step.
-    pub(super) fn mix_with_environment(&mut self, dt: f64, clamps: &mut ClampCounts) {
+    /// Rates of entrainment (eqs 11–14) and detrainment (eq 15), and the
+    /// exchange between touching parcels, at the current state; with
+    /// `dt > 0` the scalars are corrected by dt/2 (G_new − G_old) and G_new
+    /// kept. `dt` also bounds the rates (the counted clamps below are
+    /// per-sub-step limits); a force refresh (`dt = 0`) bounds them for max_dt_s.
+    pub(super) fn mix(&mut self, dt: f64, clamps: &mut ClampCounts) {
+        let c = &self.cfg.physics;
+        let cap_dt = if dt > 0.0 { dt } else { c.max_dt_s };
+        let mut rates = std::mem::take(&mut self.scratch.rates);
+        rates.clear();
+        rates.resize(self.parcels.len(), ([0.0; 5], 0.0));
+        if c.mixing {
+            self.environment_rates(cap_dt, &mut rates, clamps);
+        }
+        if c.exchange {
+            self.exchange_rates(cap_dt, &mut rates, clamps);
+        }
+        let counted = self
+            .parcels
+            .par_iter_mut()
+            .with_min_len(PAR_MIN)
+            .zip(&rates)
+            .map(|(p, (g, e))| {
+                let mut n = 0;
+                if dt > 0.0 {
+                    let diff: MixRate = std::array::from_fn(|k| g[k] - p.mix_rate[k]);
+                    advance_scalars(p, &diff, 0.5 * dt);
+                    if p.dry_mass_kg < MIN_DRY_MASS_KG {
+                        p.dry_mass_kg = MIN_DRY_MASS_KG;
+                        n = 1;
+                    }
+                }
+                p.mix_rate = *g;
+                p.entrain_rate_kg_s = *e;
+                n
+            })
+            .sum::<u64>();
+        clamps.mass += counted;
+        self.scratch.rates = rates;
+    }
+
+    /// Entrainment (eqs 11–14) and detrainment (eq 15) rates, added to `out`
+    /// (with the entrained mass rate for the momentum dilution).
+    fn environment_rates(&self, cap_dt: f64, out: &mut [(MixRate, f64)], clamps: &mut ClampCounts) {
         let (c, env, cfg) = (&self.cfg.physics, &self.env, &self.cfg);
         let env_cl = self.env_condensation_level_m;
-        let counted = self.parcels.par_iter_mut().with_min_len(PAR_MIN).map(|p| {
-            let mut clamps = ClampCounts::default();
-            // The air met during the sub-step, at its midpoint: the drift
-            // went from z − v dt to z at the mid-step velocity v, so the
-            // midpoint rule makes the entrained mass second order in dt.
-            let z = p.position_m.z - 0.5 * dt * p.velocity_m_s.z;
-            let rel = p.velocity_m_s - wind_at(cfg, env, z);
-            // |v + δv_t| with δv_t of random direction: the magnitudes add in quadrature.
-            let speed = (rel.length_squared() + c.turbulence_m_s * c.turbulence_m_s).sqrt();
-            let r = p.radius_m;
-            let area = p.exposed_area_m2;
-            let m = p.total_mass_kg();
-            // eq 11: ε' = ε r; swept environment air through the exposed area.
-            let dma_e = c.entrainment_surface_factor
-                * (c.entrainment_rate_per_m * r)
-                * area
-                * env.density_kg_m3(z)
-                * speed
-                * dt;
-            // eq 11's ρ_atm is moist air; its dry part is what the mixing ratios count.
-            let env_qv = env.qv(z);
-            let dry_in = dma_e / (1.0 + env_qv);
-            // eq 12 prints ω_s; we read it as a typo for the environment's own
-            // mixing ratio: entrained air carries the vapour it has, and
-            // entraining saturated vapour would moisten a parcel from dry air.
-            let vap_in = env_qv * dry_in;
-            let dme = dry_in + vap_in; // eq 13
-            // eq 14: mass-weighted θ of the mixture.
-            let env_theta = env.theta_k(z);
-            p.theta_k = (m * p.theta_k + dme * env_theta) / (m + dme);
-            // Environment air holds no liquid, so θ_l mixes exactly like θ.
-            p.theta_l_k = (m * p.theta_l_k + dme * env_theta) / (m + dme);
-            let mut vap = p.dry_mass_kg * p.qv_kg_per_kg + vap_in;
-            let mut liq = p.dry_mass_kg * p.ql_kg_per_kg;
-            let mut dry = p.dry_mass_kg + dry_in;
-            p.entrain_rate_kg_s = dme / dt;
-
-            // eq 15: detrainment from the condensation level up (paper §7.1:
-            // "detrainment begins at condensation level while entrainment
-            // occurs throughout"), at the parcel's own density, removing air
-            // and water in proportion. The level is the lower of the parcel's
-            // own plane and the scene's (surface environment air), so a
-            // parcel that has dried out above the cloud base keeps leaking.
-            if z >= p.cond_plane_z_m.min(env_cl) && c.detrainment_rate_per_m > 0.0 {
-                let rho_p = m / p.volume_m3;
-                let dm_d = c.detrainment_surface_factor
-                    * (c.detrainment_rate_per_m * r)
+        let vpred = &self.scratch.vpred;
+        let counted = out
+            .par_iter_mut()
+            .with_min_len(PAR_MIN)
+            .enumerate()
+            .map(|(i, (g, e))| {
+                let p = &self.parcels[i];
+                let z = p.position_m.z;
+                // The predicted velocity at the parcel's time level (the
+                // same as drag sees): with the trapezoidal rule the
+                // environment is taken at the end of the sub-step, where
+                // its density is already known (env_at_centre).
+                let rel = vpred[i] - wind_at(cfg, env, z);
+                // |v + δv_t| with δv_t of random direction: the magnitudes add in quadrature.
+                let speed = (rel.length_squared() + c.turbulence_m_s * c.turbulence_m_s).sqrt();
+                let (r, area, m, md) = (
+                    p.radius_m,
+                    p.exposed_area_m2,
+                    p.total_mass_kg(),
+                    p.dry_mass_kg,
+                );
+                // eq 11: ε' = ε r; swept environment air through the exposed area.
+                let ent = c.entrainment_surface_factor
+                    * (c.entrainment_rate_per_m * r)
                     * area
-                    * rho_p
-                    * speed
-                    * dt;
-                let mut frac = dm_d / (m + dme);
-                if frac > MAX_DETRAIN_FRACTION {
-                    frac = MAX_DETRAIN_FRACTION;
-                    clamps.detrainment += 1;
+                    * p.env_at_centre.1
+                    * speed;
+                // eq 11's ρ_atm is moist air; its dry part is what the mixing ratios count.
+                let env_qv = env.qv(z);
+                let dry_in = ent / (1.0 + env_qv);
+                // eq 12 prints ω_s; we read it as a typo for the environment's own
+                // mixing ratio: entrained air carries the vapour it has, and
+                // entraining saturated vapour would moisten a parcel from dry air.
+                // eq 13: the entrained mass is dry_in (1 + q_env) = ent.
+                // eq 14: θ mixes by mass: dθ/dt = ṁ_e (θ_env − θ)/m;
+                // environment air holds no liquid, so θ_l mixes like θ.
+                let env_theta = env.theta_k(z);
+                g[3] += ent / m * (env_theta - p.theta_k);
+                g[4] += ent / m * (env_theta - p.theta_l_k);
+                // Vapour: d(m_d q_v)/dt = q_env ṁ_d,in, so dq_v/dt = ṁ_d,in (q_env − q_v)/m_d.
+                g[1] += dry_in * (env_qv - p.qv_kg_per_kg) / md;
+                g[2] -= dry_in * p.ql_kg_per_kg / md;
+                g[0] += dry_in;
+                *e = ent;
+
+                // eq 15: detrainment from the condensation level up (paper §7.1:
+                // "detrainment begins at condensation level while entrainment
+                // occurs throughout"), at the parcel's own density, removing air
+                // and water in proportion (so the mixing ratios stay). The level
+                // is the lower of the parcel's own plane and the scene's
+                // (surface environment air), so a parcel that has dried out
+                // above the cloud base keeps leaking.
+                let mut capped = 0;
+                if z >= p.cond_plane_z_m.min(env_cl) && c.detrainment_rate_per_m > 0.0 {
+                    let rho_p = m / p.volume_m3;
+                    let det = c.detrainment_surface_factor
+                        * (c.detrainment_rate_per_m * r)
+                        * area
+                        * rho_p
+                        * speed;
+                    let mut frac = det / m;
+                    if frac * cap_dt > MAX_DETRAIN_FRACTION {
+                        frac = MAX_DETRAIN_FRACTION / cap_dt;
+                        capped = 1;
+                    }
+                    g[0] -= frac * md;
                 }
-                dry *= 1.0 - frac;
-                vap *= 1.0 - frac;
-                liq *= 1.0 - frac;
-            }
-            if dry < MIN_DRY_MASS_KG {
-                dry = MIN_DRY_MASS_KG;
-                clamps.mass += 1;
-            }
-            p.dry_mass_kg = dry;
-            p.qv_kg_per_kg = vap / dry;
-            p.ql_kg_per_kg = liq / dry;
-            clamps
-        });
-        clamps.add(&counted.reduce(ClampCounts::default, ClampCounts::sum));
+                capped
+            })
+            .sum::<u64>();
+        clamps.detrainment += counted;
     }
+
     /// Exchange between touching parcels (§5.3, eq 16 is a mass exchange):
-    /// through the contact disk of area A, an air mass F = k_ex A ρ̄ dt
+    /// through the contact disk of area A, an air mass flux F = k_ex A ρ̄
     /// crosses each way, carrying its vapour, liquid water and heat, so
-    /// each of q_v, q_l, θ and θ_l relaxes by F (x_j − x_i)/m_i. Each pair's
-    /// F is symmetric and computed from the state before the exchange, so
-    /// Σ m x is conserved pair by pair for every quantity and the result
-    /// does not depend on the pair order. F is bounded by half of
-    /// min(m_i/n_i, m_j/n_j), n the parcel's number of contacts, so each
-    /// parcel's new values are a convex mixture with at least half its own
-    /// weight: nothing overshoots or goes negative (the bound is counted).
-    pub(super) fn exchange(&mut self, dt: f64, clamps: &mut ClampCounts) {
+    /// each of q_v, q_l, θ and θ_l relaxes at the rate F (x_j − x_i)/m_i.
+    /// Each pair's F is symmetric and computed from the state before the
+    /// exchange, so Σ m x is conserved pair by pair for every quantity and
+    /// the result does not depend on the pair order. F dt is bounded by
+    /// half of min(m_i/n_i, m_j/n_j), n the parcel's number of contacts, so
+    /// each rate × dt is a convex mixture with at least half the parcel's
+    /// own weight: nothing overshoots or goes negative (the bound is counted).
+    fn exchange_rates(
+        &mut self,
+        cap_dt: f64,
+        out: &mut [(MixRate, f64)],
+        clamps: &mut ClampCounts,
+    ) {
         let k = self.cfg.physics.exchange_velocity_m_s;
         let (parcels, grid) = (&self.parcels, &self.grid);
         let touching = |i: usize, n: &super::neighbours::Neighbour| {
@@ -107,50 +194,39 @@ impl ParcelWorld {
             .with_min_len(PAR_MIN)
             .map(|i| grid.of(i).iter().filter(|n| touching(i, n)).count() as u32)
             .collect_into_vec(&mut contacts);
-        // Air mass exchanged by the pair (a, b), a < b, and whether it was bounded.
+        // Air mass flux exchanged by the pair (a, b), a < b, and whether it was bounded.
         let pair = |a: usize, b: usize, d: f64| -> (f64, bool) {
             let (pa, pb) = (&parcels[a], &parcels[b]);
             let area = contact_area_m2(pa.radius_m, pb.radius_m, d);
             let rho = 0.5 * (pa.total_mass_kg() / pa.volume_m3 + pb.total_mass_kg() / pb.volume_m3);
-            let f = k * area * rho * dt;
+            let f = k * area * rho;
             let cap = 0.5
-                * (pa.dry_mass_kg / contacts[a] as f64).min(pb.dry_mass_kg / contacts[b] as f64);
+                * (pa.dry_mass_kg / contacts[a] as f64).min(pb.dry_mass_kg / contacts[b] as f64)
+                / cap_dt;
             if f > cap { (cap, true) } else { (f, false) }
         };
-        let mut out = std::mem::take(&mut self.scratch.exchange);
-        (0..parcels.len())
-            .into_par_iter()
+        let counted = out
+            .par_iter_mut()
             .with_min_len(PAR_MIN)
-            .map(|i| {
+            .enumerate()
+            .map(|(i, (g, _))| {
                 let pi = &parcels[i];
-                let mut d = [0.0; 4];
                 let mut capped = 0u64;
                 for n in grid.of(i).iter().filter(|n| touching(i, n)) {
                     let (f, hit) = pair(i.min(n.j), i.max(n.j), n.dist);
                     capped += (hit && i < n.j) as u64;
                     let pj = &parcels[n.j];
                     let w = f / pi.dry_mass_kg;
-                    d[0] += w * (pj.qv_kg_per_kg - pi.qv_kg_per_kg);
-                    d[1] += w * (pj.ql_kg_per_kg - pi.ql_kg_per_kg);
-                    d[2] += w * (pj.theta_k - pi.theta_k);
-                    d[3] += w * (pj.theta_l_k - pi.theta_l_k);
+                    g[1] += w * (pj.qv_kg_per_kg - pi.qv_kg_per_kg);
+                    g[2] += w * (pj.ql_kg_per_kg - pi.ql_kg_per_kg);
+                    g[3] += w * (pj.theta_k - pi.theta_k);
+                    g[4] += w * (pj.theta_l_k - pi.theta_l_k);
                 }
-                (d, capped)
+                capped
             })
-            .collect_into_vec(&mut out);
-        clamps.exchange += out.iter().map(|(_, c)| c).sum::<u64>();
-        self.parcels
-            .par_iter_mut()
-            .with_min_len(PAR_MIN)
-            .zip(&out)
-            .for_each(|(p, (d, _))| {
-                p.qv_kg_per_kg += d[0];
-                p.ql_kg_per_kg += d[1];
-                p.theta_k += d[2];
-                p.theta_l_k += d[3];
-            });
+            .sum::<u64>();
+        clamps.exchange += counted;
         self.scratch.contacts = contacts;
-        self.scratch.exchange = out;
     }
 }
 

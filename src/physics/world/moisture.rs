@@ -2,75 +2,79 @@
 //! condensation with latent heat (eqs 1, 3), the filling ratio and the
 //! condensation plane.
 
-use rayon::prelude::*;
-
-use super::PAR_MIN;
-
-use super::{ClampCounts, ParcelWorld};
+use super::ClampCounts;
 use crate::atmosphere::lifting::{
     condensation_level_m, saturation_excess, saturation_level_between,
 };
 use crate::atmosphere::{Environment, thermo};
+use crate::physics::PhysicsConfig;
 use crate::physics::parcel::{Parcel, sphere_radius_m, sphere_volume_m3};
 
-impl ParcelWorld {
-    /// eq 6: V₂ = V₁ (P₁/P₂)^{1/γ} (m₂/m₁), then r from V, and humidity guards.
-    pub(super) fn update_volume(&mut self, clamps: &mut ClampCounts) {
-        let c = &self.cfg.physics;
-        let counted = self.parcels.par_iter_mut().with_min_len(PAR_MIN).map(|p| {
-            let mut clamps = ClampCounts::default();
-            // Guard: no stage makes a mixing ratio negative (mixing scales,
-            // exchange mixes convexly, condensation adjusts within the
-            // parcel's water); rounding could, and is counted.
-            if p.qv_kg_per_kg < 0.0 {
-                p.qv_kg_per_kg = 0.0;
-                clamps.negative_humidity += 1;
-            }
-            if p.ql_kg_per_kg < 0.0 {
-                p.ql_kg_per_kg = 0.0;
-                clamps.negative_humidity += 1;
-            }
-            let p2 = p.env_at_centre.0;
-            let m2 = p.total_mass_kg();
-            let (p1, m1) = p.volume_ref;
-            if p1 != p2 || m1 != m2 {
-                p.volume_m3 *= (p1 / p2).powf(1.0 / c.gamma) * (m2 / m1);
-                p.volume_ref = (p2, m2);
-            }
-            let r = sphere_radius_m(p.volume_m3);
-            let rc = r.clamp(c.min_radius_m, c.max_radius_m);
-            if rc != r || !r.is_finite() {
-                let rc = if r.is_finite() { rc } else { c.min_radius_m };
-                clamps.radius += 1;
-                p.volume_m3 = sphere_volume_m3(rc);
-                p.radius_m = rc;
-            } else {
-                p.radius_m = r;
-            }
-            clamps
-        });
-        clamps.add(&counted.reduce(ClampCounts::default, ClampCounts::sum));
+/// eq 6 for one parcel: V₂ = V₁ (P₁/P₂)^{1/γ} (m₂/m₁), then r from V,
+/// and the humidity guards.
+pub(super) fn update_volume(p: &mut Parcel, c: &PhysicsConfig) -> ClampCounts {
+    let mut clamps = ClampCounts::default();
+    // Guard: no stage makes a mixing ratio negative (mixing scales,
+    // exchange mixes convexly, condensation adjusts within the
+    // parcel's water); rounding could, and is counted.
+    if p.qv_kg_per_kg < 0.0 {
+        p.qv_kg_per_kg = 0.0;
+        clamps.negative_humidity += 1;
     }
+    if p.ql_kg_per_kg < 0.0 {
+        p.ql_kg_per_kg = 0.0;
+        clamps.negative_humidity += 1;
+    }
+    let p2 = p.env_at_centre.0;
+    let m2 = p.total_mass_kg();
+    let (p1, m1) = p.volume_ref;
+    if p1 != p2 {
+        p.volume_m3 *= (p1 / p2).powf(1.0 / c.gamma) * (m2 / m1);
+        p.volume_ref = (p2, m2);
+    } else if m1 != m2 {
+        // Same pressure (the corrector's mass change): no power needed.
+        p.volume_m3 *= m2 / m1;
+        p.volume_ref = (p2, m2);
+    }
+    let r = sphere_radius_m(p.volume_m3);
+    let rc = r.clamp(c.min_radius_m, c.max_radius_m);
+    if rc != r || !r.is_finite() {
+        let rc = if r.is_finite() { rc } else { c.min_radius_m };
+        clamps.radius += 1;
+        p.volume_m3 = sphere_volume_m3(rc);
+        p.radius_m = rc;
+    } else {
+        p.radius_m = r;
+    }
+    clamps
+}
 
-    /// Condensation/evaporation at the parcel's pressure with latent heat
-    /// (α = latent_heat_alpha), by thermo's saturation adjustment.
-    pub(super) fn condense(&mut self, clamps: &mut ClampCounts) {
-        let alpha = self.cfg.physics.latent_heat_alpha;
-        let counted = self.parcels.par_iter_mut().with_min_len(PAR_MIN).map(|p| {
-            let (pr, ex) = (p.env_at_centre.0, p.env_at_centre.2);
-            let t = p.theta_k * ex;
-            let a = thermo::saturation_adjust(t, p.qv_kg_per_kg, p.ql_kg_per_kg, pr, alpha);
-            if a.condensed != 0.0 || a.ql != p.ql_kg_per_kg {
-                p.theta_k = a.t_k / ex;
-                p.qv_kg_per_kg = a.qv;
-                p.ql_kg_per_kg = a.ql;
-            }
-            ClampCounts {
-                saturation_cap: a.clamped as u64,
-                ..ClampCounts::default()
-            }
-        });
-        clamps.add(&counted.reduce(ClampCounts::default, ClampCounts::sum));
+/// Condensation/evaporation of one parcel at its pressure with latent heat
+/// (α = latent_heat_alpha), by thermo's saturation adjustment.
+///
+/// The heat of the water condensed over the sub-step is that of
+/// dθ = α L dq_l/(c_p Π) (first law for the moist parcel); Π changed over
+/// the sub-step from Π₁ (last adjustment) to Π₂ (now). The adjustment at
+/// the new pressure finds how much condenses; its heat is then given with
+/// the mean 1/Π of the two ends (the trapezoidal rule) rather than with
+/// 1/Π₂ alone, which is a first-order rule and made the whole physics first
+/// order. The parcel's T then differs from the adjusted T by
+/// α L c/c_p (Π₂/Π̄ − 1), O(dt²); the next adjustment takes it up.
+pub(super) fn condense(p: &mut Parcel, alpha: f64) -> ClampCounts {
+    let (pr, ex) = (p.env_at_centre.0, p.env_at_centre.2);
+    let t = p.theta_k * ex;
+    let a = thermo::saturation_adjust(t, p.qv_kg_per_kg, p.ql_kg_per_kg, pr, alpha);
+    if a.condensed != 0.0 || a.ql != p.ql_kg_per_kg {
+        // a.t_k − t = α L c/c_p: the latent heat, as a temperature.
+        let mean_inv_exner = 0.5 * (1.0 / ex + 1.0 / p.exner_adjusted);
+        p.theta_k += (a.t_k - t) * mean_inv_exner;
+        p.qv_kg_per_kg = a.qv;
+        p.ql_kg_per_kg = a.ql;
+    }
+    p.exner_adjusted = ex;
+    ClampCounts {
+        saturation_cap: a.clamped as u64,
+        ..ClampCounts::default()
     }
 }
 
