@@ -122,14 +122,19 @@ fn sun_scattering(w: vec3<f32>, od: f32) -> vec2<f32> {
     return vec2<f32>(w.x * exp(-od), w.y * powder / (1.0 + w.z * od));
 }
 
-// Outward normal from central differences of ρ.
+// Outward normal: the tetrahedral 4-tap gradient of the macro field v
+// (field_value: one filtered fetch on the baked path, no noise) over half
+// a shell. Central differences of ρ (6 cloud_density calls, each with
+// its noise fetch at a per-sample mip level) made normals cost 2.3–3.3× the
+// cloud pass on llvmpipe; this costs 1.2–1.6× (bench frame, 85 parcels, 160×120),
+// and its picture is mean FLIP 0.006 from theirs (normals on against off:
+// 0.026, 256×192). The noise octaves finer than the step could not shape
+// the normal anyway.
 fn density_normal(p: vec3<f32>) -> vec3<f32> {
     let h = 0.5 * frame.cloud.y;
-    let g = vec3<f32>(
-        cloud_density(p + vec3<f32>(h, 0.0, 0.0)) - cloud_density(p - vec3<f32>(h, 0.0, 0.0)),
-        cloud_density(p + vec3<f32>(0.0, h, 0.0)) - cloud_density(p - vec3<f32>(0.0, h, 0.0)),
-        cloud_density(p + vec3<f32>(0.0, 0.0, h)) - cloud_density(p - vec3<f32>(0.0, 0.0, h)),
-    );
+    let k = vec2<f32>(1.0, -1.0);
+    let g = k.xyy * field_value(p + k.xyy * h) + k.yyx * field_value(p + k.yyx * h)
+        + k.yxy * field_value(p + k.yxy * h) + k.xxx * field_value(p + k.xxx * h);
     let len = length(g);
     if len < 1e-5 {
         return vec3<f32>(0.0, 0.0, 1.0);

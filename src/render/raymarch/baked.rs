@@ -1,6 +1,7 @@
 //! The `baked` method's GPU data and its compute bake (shaders/bake.wgsl):
 //! the condensed parcels go up in uniform-buffer chunks of ≤ [`MAX_PARCELS`]
-//! (bound with dynamic offsets, one splat dispatch per chunk), are splatted
+//! (bound with dynamic offsets, one splat dispatch, in its own compute pass,
+//! per chunk), are splatted
 //! into a 3D texture of the macro field M = max f·(d+1) − 1 over the region
 //! of the condensed parcels, and a coarse occupancy grid (one cell per
 //! [`BAKE_BLOCK`]³ voxels) lets the march skip empty space. A light volume
@@ -20,6 +21,13 @@
 //! with the resolve limited to the bricks a box touches (CPU-listed), 20 /
 //! 168 / 871 (no gain: in the bench's dense field nearly every brick is
 //! touched). The splat's own work, parcels × box voxels, is what grows.
+//! Since the splat runs a compute pass per chunk (see `encode`), the bake
+//! is dominated by `resolve`, and there by `voxel_light` (8 storage reads
+//! per voxel to upsample the light volume): with it left out the bake took
+//! 13 / 64 ms at 85 / 4096 parcels against 64–100 / 130–200 ms with it
+//! (llvmpipe, 32×24, shadows off). Not done yet: the light volume as its
+//! own 3D texture at coarse-cell resolution, written by `light` and
+//! filtered by the sampler in the march, would drop that cost.
 //!
 //! Voxel size. The macro field is piecewise linear: it rises from −1 to f
 //! over two shells across a sphere's surface and over two plane shells
@@ -518,23 +526,28 @@ impl BakedField {
             return;
         };
         enc.clear_buffer(&store.occupancy, 0, None);
-        {
+        // One compute pass per chunk: on llvmpipe a second dispatch in the
+        // same pass, after rebinding the chunk, ran its parcels ~8× slower
+        // (1024 parcels splatted 1× / 2× / 4×: 20 / 160 / 390 ms in one
+        // pass, 20 / 27 / 39 ms in a pass each); this made the bake of
+        // 4096 parcels grow ~10× over 1024.
+        let n = self.parcel_count as usize;
+        for (i, start) in (0..n).step_by(MAX_PARCELS).enumerate() {
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("bake: splat"),
-                timestamp_writes: timestamps.map(|(set, i)| wgpu::ComputePassTimestampWrites {
-                    query_set: set,
-                    beginning_of_pass_write_index: Some(i),
-                    end_of_pass_write_index: None,
+                timestamp_writes: timestamps.filter(|_| i == 0).map(|(set, i)| {
+                    wgpu::ComputePassTimestampWrites {
+                        query_set: set,
+                        beginning_of_pass_write_index: Some(i),
+                        end_of_pass_write_index: None,
+                    }
                 }),
             });
             pass.set_pipeline(&self.splat);
             pass.set_bind_group(0, &self.bind_frame, &[]);
-            let n = self.parcel_count as usize;
-            for (i, start) in (0..n).step_by(MAX_PARCELS).enumerate() {
-                let count = (n - start).min(MAX_PARCELS) as u32;
-                pass.set_bind_group(1, &store.bind, &[(i as u64 * CHUNK_BYTES) as u32]);
-                pass.dispatch_workgroups(count, 1, 1);
-            }
+            let count = (n - start).min(MAX_PARCELS) as u32;
+            pass.set_bind_group(1, &store.bind, &[(i as u64 * CHUNK_BYTES) as u32]);
+            pass.dispatch_workgroups(count, 1, 1);
         }
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("bake: resolve"),
