@@ -25,6 +25,9 @@ const STAGES: wgpu::ShaderStages =
     wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE);
 /// Format of the compute march's output (premultiplied linear radiance).
 pub const CLOUD_TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Format of the temporal path's cloud depth (quarter size) and sample
+/// counts (full size): one unfilterable float each.
+pub const TEMPORAL_SCALAR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 /// Format of the HDR scene target: every scene pass (sky, terrain, clouds,
 /// composite) writes linear radiance into it; the tone-map pass alone
 /// writes the output format. Half floats hold radiance up to 65504 (the
@@ -70,6 +73,20 @@ fn sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
+/// A write-only storage texture of the compute passes.
+fn storage_texture_entry(binding: u32, format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format,
+            view_dimension: wgpu::TextureViewDimension::D2,
+        },
+        count: None,
+    }
+}
+
 fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
@@ -104,6 +121,11 @@ pub struct PassLayouts {
     pub sprites: wgpu::BindGroupLayout,
     /// Group 2 of the slices pass: octave transforms and controls.
     pub slices: wgpu::BindGroupLayout,
+    /// Group 2 of the temporal march (clouds.wgsl `cs_temporal`): quarter
+    /// colour and depth outputs, the temporal uniform.
+    pub temporal_out: wgpu::BindGroupLayout,
+    /// Group 1 of the temporal resolve (shaders/temporal.wgsl).
+    pub temporal_in: wgpu::BindGroupLayout,
 }
 
 impl PassLayouts {
@@ -147,16 +169,34 @@ impl PassLayouts {
         });
         let cloud_out = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("clouds: compute output"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::StorageTexture {
-                    access: wgpu::StorageTextureAccess::WriteOnly,
-                    format: CLOUD_TARGET_FORMAT,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                },
-                count: None,
-            }],
+            entries: &[storage_texture_entry(0, CLOUD_TARGET_FORMAT)],
+        });
+        let float2d = |binding, filterable| {
+            texture_entry(
+                binding,
+                wgpu::TextureSampleType::Float { filterable },
+                wgpu::TextureViewDimension::D2,
+            )
+        };
+        let temporal_out = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("clouds: temporal outputs"),
+            entries: &[
+                storage_texture_entry(0, CLOUD_TARGET_FORMAT),
+                storage_texture_entry(1, TEMPORAL_SCALAR_FORMAT),
+                uniform_entry(2),
+            ],
+        });
+        let temporal_in = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("temporal resolve"),
+            entries: &[
+                float2d(0, false),
+                float2d(1, false),
+                float2d(2, true),
+                float2d(3, false),
+                storage_texture_entry(4, CLOUD_TARGET_FORMAT),
+                storage_texture_entry(5, TEMPORAL_SCALAR_FORMAT),
+                uniform_entry(6),
+            ],
         });
         let texture_in = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("composite/tonemap: input texture"),
@@ -186,6 +226,8 @@ impl PassLayouts {
             texture_in,
             sprites,
             slices: crate::render::slices::bind_group_layout(device),
+            temporal_out,
+            temporal_in,
         }
     }
 }
@@ -200,6 +242,8 @@ pub struct PipelineKey {
     pub format: wgpu::TextureFormat,
     /// The compute entry point (the cloud pass's compute path).
     pub compute: bool,
+    /// The cloud pass's temporal march (`cs_temporal`, quarter rate).
+    pub temporal: bool,
 }
 
 impl PipelineKey {
@@ -216,6 +260,15 @@ impl PipelineKey {
             constants: constants.iter().map(|(n, v)| (*n, v.to_bits())).collect(),
             format,
             compute,
+            temporal: false,
+        }
+    }
+
+    /// The temporal variant of a compute cloud key.
+    pub fn temporal(self) -> Self {
+        Self {
+            temporal: true,
+            ..self
         }
     }
 }
@@ -277,6 +330,7 @@ impl PipelineCache {
         });
         let group1 = match pass {
             Pass::Terrain => Some(&layouts.shadow_tex),
+            Pass::Temporal => Some(&layouts.temporal_in),
             Pass::Clouds | Pass::Sprites | Pass::Slices => Some(&layouts.depth),
             Pass::Composite | Pass::Tonemap => Some(&layouts.texture_in),
             _ => None,
@@ -285,7 +339,9 @@ impl PipelineCache {
             Some(l) => vec![Some(&layouts.common), Some(l)],
             None => vec![Some(&layouts.common)],
         };
-        if key.compute {
+        if key.temporal {
+            layouts_list.push(Some(&layouts.temporal_out));
+        } else if key.compute && pass == Pass::Clouds {
             layouts_list.push(Some(&layouts.cloud_out));
         }
         if pass == Pass::Sprites {
@@ -309,12 +365,17 @@ impl PipelineCache {
             ..Default::default()
         };
         if key.compute {
+            let (label, entry) = match (pass, key.temporal) {
+                (Pass::Temporal, _) => ("temporal resolve", "cs_resolve"),
+                (_, true) => ("clouds (temporal)", "cs_temporal"),
+                _ => ("clouds (compute)", "cs_main"),
+            };
             return Pipeline::Compute(device.create_compute_pipeline(
                 &wgpu::ComputePipelineDescriptor {
-                    label: Some("clouds (compute)"),
+                    label: Some(label),
                     layout: Some(&layout),
                     module,
-                    entry_point: Some("cs_main"),
+                    entry_point: Some(entry),
                     compilation_options: options,
                     cache: None,
                 },

@@ -42,6 +42,7 @@ use crate::render::{Features, FrameInput, RenderConfig, TerrainConfig};
 mod draw;
 mod resources;
 mod ring;
+pub mod temporal;
 
 pub(crate) use resources::texture_2d;
 use resources::{SceneTarget, check_size, make_bind_common};
@@ -116,6 +117,8 @@ pub struct Renderer {
     ),
     /// The impostor ring (`[render.sprites] impostor_radius_m`).
     ring: Option<RingGpu>,
+    /// The temporal path's targets and history (`[render] temporal`).
+    temporal: Option<temporal::TemporalGpu>,
 }
 
 impl Renderer {
@@ -263,6 +266,7 @@ impl Renderer {
             slices,
             authored: Default::default(),
             ring: None,
+            temporal: None,
         };
         r.ensure(ctx)?;
         Ok(r)
@@ -366,6 +370,7 @@ impl Renderer {
             self.bind_clouds = None;
             self.cloud_target = None;
             self.scene = None;
+            self.temporal = None;
             self.ensure(ctx)?;
         }
         Ok(())
@@ -383,6 +388,11 @@ impl Renderer {
         }
         self.cfg = cfg.clone();
         self.features = self.features_for(self.any_clouds, self.features.sprites);
+        // Another march (step, noise, light…) gives other images: the
+        // temporal history starts again.
+        if let Some(t) = self.temporal.as_mut() {
+            t.history_valid = false;
+        }
         self.ensure(ctx)
     }
 
@@ -427,8 +437,11 @@ impl Renderer {
         // are the same pipelines for every target.
         let mut c = match pass {
             Pass::Tonemap => vec![("ENCODE_SRGB", srgb)],
-            Pass::Bake | Pass::Sky | Pass::Composite | Pass::Shadow => vec![],
-            Pass::Terrain => vec![("HAS_SHADOWS", b(f.shadows))],
+            Pass::Bake | Pass::Sky | Pass::Composite | Pass::Shadow | Pass::Temporal => vec![],
+            Pass::Terrain => vec![
+                ("HAS_SHADOWS", b(f.shadows)),
+                ("HAS_WATER", b(self.cfg.terrain.water_level_m.is_some())),
+            ],
             Pass::Sprites => vec![("HAS_TERRAIN", b(f.terrain))],
             Pass::Clouds => vec![("USE_NORMALS", b(f.normals)), ("HAS_TERRAIN", b(f.terrain))],
             Pass::Slices => vec![("HAS_TERRAIN", b(f.terrain))],
@@ -447,6 +460,7 @@ impl Renderer {
             Pass::Terrain => self.features.terrain,
             Pass::Sprites => self.features.sprites,
             Pass::Clouds => self.features.clouds,
+            Pass::Temporal => self.features.temporal,
             Pass::Slices => self.features.slices,
             Pass::Composite => {
                 (self.features.clouds && self.compute_path()) || self.features.slices
@@ -455,14 +469,27 @@ impl Renderer {
         }
     }
 
-    /// Whether the next frame marches in a compute shader.
+    /// Whether the next frame marches in a compute shader (always on the
+    /// temporal path).
     fn compute_path(&self) -> bool {
-        self.auto_march.path(self.cfg.march) == MarchPath::Compute
+        self.features.temporal || self.auto_march.path(self.cfg.march) == MarchPath::Compute
+    }
+
+    /// Frames drawn on the temporal path since its history began (0 when
+    /// it is off or has just restarted).
+    pub fn temporal_frames(&self) -> u32 {
+        self.temporal
+            .as_ref()
+            .filter(|t| t.history_valid)
+            .map_or(0, |t| t.frame_index)
     }
 
     /// The march path in use: the configured one, or what `auto` chose
     /// (None while it is still measuring).
     pub fn march_path(&self) -> Option<MarchPath> {
+        if self.features.temporal {
+            return Some(MarchPath::Compute);
+        }
         match self.cfg.march {
             MarchPath::Auto => self.auto_march.chosen(),
             p => Some(p),
@@ -470,26 +497,34 @@ impl Renderer {
     }
 
     fn key(&self, pass: Pass) -> PipelineKey {
-        let compute = pass == Pass::Clouds && self.compute_path();
+        let compute = (pass == Pass::Clouds && self.compute_path()) || pass == Pass::Temporal;
         let format = if pass == Pass::Tonemap {
             self.format
         } else {
             SCENE_FORMAT
         };
-        PipelineKey::new(
+        let key = PipelineKey::new(
             pass,
             self.cfg.method,
             &self.constants(pass),
             format,
             compute,
-        )
+        );
+        if pass == Pass::Clouds && self.features.temporal {
+            key.temporal()
+        } else {
+            key
+        }
     }
 
     /// Both cloud-pass pipelines when `auto` is still measuring (it
     /// alternates), else the one in use.
     fn cloud_keys(&self) -> Vec<PipelineKey> {
         let mut keys = vec![self.key(Pass::Clouds)];
-        if self.cfg.march == MarchPath::Auto && self.auto_march.chosen().is_none() {
+        if self.cfg.march == MarchPath::Auto
+            && self.auto_march.chosen().is_none()
+            && !self.features.temporal
+        {
             let mut other = keys[0].clone();
             other.compute = !other.compute;
             keys.push(other);
@@ -621,12 +656,23 @@ impl Renderer {
             }
         }
         let target_needed =
-            (current.clouds && self.cfg.march != MarchPath::Fragment) || current.slices;
+            (current.clouds && !current.temporal && self.cfg.march != MarchPath::Fragment)
+                || current.slices;
         if target_needed && self.cloud_target.is_none() {
             self.cloud_target = Some(self.make_cloud_target(device));
         }
         if self.scene.is_none() {
             self.scene = Some(self.make_scene_target(device));
+        }
+        if !current.temporal {
+            self.temporal = None;
+        } else if self.temporal.is_none() {
+            self.temporal = Some(temporal::TemporalGpu::new(
+                device,
+                &self.layouts,
+                self.width,
+                self.height,
+            ));
         }
         if current.sprites && self.sprites.is_none() {
             self.sprites = Some(SpritesGpu::new(ctx, &self.layouts.sprites));
@@ -721,6 +767,12 @@ impl Renderer {
         let frame = self.frame_uniform(input);
         ctx.queue
             .write_buffer(&self.frame_buf, 0, bytemuck::bytes_of(&frame));
+        if let Some(t) = self.temporal.as_mut() {
+            t.prepare(
+                &ctx.queue,
+                glam::Mat4::from_cols_array_2d(&frame.clip_from_world),
+            );
+        }
         self.upload_ring_face(ctx, input, &frame)?;
         self.upload_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(())
