@@ -31,7 +31,8 @@ const MAX_SAMPLES: f32 = 16.0;
 const FAR_M: f32 = 100000.0;
 // A clamp that moves the history by more than this (in premultiplied
 // alpha, or radiance relative to the box's largest channel) treats it as
-// a different surface: its sample count restarts at 1.
+// a different surface: its average restarts (the pixel's next marched
+// sample replaces it; until then it shows the clamped value).
 const REJECT: f32 = 0.1;
 
 // Keep in sync with the struct of the same name in clouds.wgsl and
@@ -97,7 +98,7 @@ fn cs_resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
     // Samples in the history: none without one (then the block's fresh
     // sample stands in, and the pixel's first own sample replaces it).
     var n = select(0.0, textureLoad(history_aux, vec2<i32>(prev_pix), 0).x, have_history);
-    n = select(n, min(n, 1.0), rejected);
+    n = select(n, 0.0, rejected);
     let past = select(fresh, clamped, have_history);
     let n_kept = min(n, MAX_SAMPLES - 1.0);
     let color = select(past, mix(past, fresh, 1.0 / (n_kept + 1.0)), marched);

@@ -50,11 +50,13 @@ fn stand_in_camera() -> Camera {
 }
 
 /// Still camera and clouds: after 16 frames (every pixel marched 4 times,
-/// over 4 ray-start jitters) the accumulated image is within FLIP 0.03 of
-/// the full-resolution march; a single quarter-rate frame is not. 0.03:
-/// the references of tests/render.rs allow 0.03 between drivers; what
-/// remains here is the full march's own banding from its one fixed jitter
-/// per pixel, which the accumulated image averages away.
+/// over 4 ray-start jitters) the accumulated image is within mean FLIP
+/// 0.01 of the full-resolution march, and clearly closer than a single
+/// quarter-rate frame. Measured on lavapipe: 0.0026 after 16 frames,
+/// 0.0156 after one. 0.01: what remains is the full march's own banding
+/// from its one fixed jitter per pixel, which the accumulated image
+/// averages away, and the neighbourhood clamp's softening of one-pixel
+/// detail; ~4× the measured value leaves room for other drivers.
 #[test]
 fn still_camera_converges_to_the_full_resolution_march() {
     let Some(ctx) = common::context("temporal convergence") else {
@@ -72,7 +74,7 @@ fn still_camera_converges_to_the_full_resolution_march() {
     assert_eq!(hl.renderer.temporal_frames(), 16);
     let flip_16 = mean_flip(&reference, &rgb(&sixteen), W, H);
     eprintln!("mean FLIP vs full march: 1 frame {flip_one:.4}, 16 frames {flip_16:.4}");
-    assert!(flip_16 < 0.03, "16 frames: mean FLIP {flip_16:.4} ≥ 0.03");
+    assert!(flip_16 < 0.01, "16 frames: mean FLIP {flip_16:.4} ≥ 0.01");
     // The accumulation must do something: one frame has 3/4 of its pixels
     // copied from a neighbour.
     assert!(
@@ -83,10 +85,13 @@ fn still_camera_converges_to_the_full_resolution_march() {
 
 /// The camera orbits and climbs for 12 frames (1.5° and 40 m a frame: a
 /// quick pan that moves the clouds ~5 px a frame at 160×120); the frame
-/// after the move is compared with the full march at that camera. Bound
-/// 0.05: the still camera's 0.03, plus the pixels uncovered by the move
-/// (at the image edges and behind clouds' sides) that have only one or
-/// two marched samples yet.
+/// after the move is compared with the full march at that camera.
+/// Measured on lavapipe: 0.034, against 0.18 for the view before the move
+/// (what a frame made of stale history would cost). Bound 0.05: the
+/// pixels uncovered by the move (at the image edge and beside the clouds)
+/// have one or two marched samples, and the clamp softens the rest while
+/// the view moves; a ghost of the clouds' old place costs several times
+/// more (half the view-before-the-move figure would be 0.09).
 #[test]
 fn moving_camera_does_not_ghost() {
     let Some(ctx) = common::context("temporal moving camera") else {
@@ -121,9 +126,13 @@ fn moving_camera_does_not_ghost() {
 }
 
 /// Clouds jump 1.5 km east between two frames (a scene edit, or clouds
-/// far faster than any wind): within 4 frames the image matches the full
-/// march of the new field as closely as a still scene after 4 frames
-/// (+0.01), though the history held the clouds where they were for 8.
+/// far faster than any wind), after 8 frames of history of the old place:
+/// 4 frames later (every pixel marched once since) the image is closer to
+/// the full march of the new field than a fifth of the distance between
+/// the old field's and the new field's full marches: the old clouds do
+/// not linger. A fifth: the pixels around the new clouds' edges keep a
+/// clamped history until enough frames average it out, which the still
+/// scene's 4-frame image (also printed) has less of.
 #[test]
 fn clouds_that_jump_away_leave_no_trail() {
     let Some(ctx) = common::context("temporal cloud jump") else {
@@ -148,12 +157,14 @@ fn clouds_that_jump_away_leave_no_trail() {
     hl.render_after(&ctx, &input(camera, &before), 7).unwrap();
     let (j, _) = hl.render_after(&ctx, &input(camera, &after), 3).unwrap();
     let flip_jump = mean_flip(&reference, &rgb(&j), W, H);
+    let ghost = mean_flip(&reference, &full(&ctx, camera, &before, W, H), W, H);
     eprintln!(
-        "4 frames after the jump: {flip_jump:.4}; 4 frames of the still field: {flip_still:.4}"
+        "4 frames after the jump: {flip_jump:.4}; 4 frames of the still field: {flip_still:.4}; \
+         old field against new: {ghost:.4}"
     );
     assert!(
-        flip_jump < flip_still + 0.01,
-        "the old clouds linger: mean FLIP {flip_jump:.4} against {flip_still:.4} without them"
+        flip_jump < 0.2 * ghost,
+        "the old clouds linger: mean FLIP {flip_jump:.4} against {ghost:.4} for the old field"
     );
 }
 
@@ -166,16 +177,20 @@ fn mean_luma(rgba: &[u8]) -> f64 {
         / n as f64
 }
 
-/// The camera flies straight through the middle of a tower (3 km at 75 m
-/// a frame, looking ahead), full-resolution march, 64×48. The mean luma
-/// of successive frames never changes by more than 0.06 (on 0..1), while
-/// over the whole path it changes by more than that (the camera does
-/// enter the cloud: the test is not of a blank path). 0.06: measured
-/// steps are below ~0.03 away from the cloud's surface; crossing the
-/// surface changes how much cloud fills the view by a few percent per
-/// 75 m, and a pop (clouds vanishing as rays start behind the eye's
-/// near point, or a skipped first sample) changes the whole frame at once,
-/// a step of ~0.2 or more.
+/// The camera flies straight through the middle of a tower (3 km at 25 m
+/// a frame, looking ahead), full-resolution march, 64×48, and the mean
+/// luma of each frame is taken. Over the path it changes by more than
+/// 0.06 (on 0..1: the camera does enter and leave the cloud). Where two
+/// frames differ most, the same 25 m are flown again at 2.5 m a frame: a
+/// continuous change (the view clearing as the cloud left ahead thins,
+/// steep because its mean free path is ~35 m) shrinks with the step, so
+/// the largest fine step must be under 0.35× the coarse one (a change
+/// spread evenly would give 0.1×); a pop (rays starting behind the near
+/// plane, a skipped first sample, a cloud culled once the eye is inside
+/// its box) happens between two positions whatever the step, and keeps
+/// its whole size. Measured on lavapipe: the largest 25 m step is 0.11
+/// (leaving the tower: ~1.0, all cloud, to 0.77, sky and ground), whose
+/// largest 2.5 m step is 0.013 (0.11×).
 #[test]
 fn flying_through_a_cloud_does_not_pop() {
     let Some(ctx) = common::context("fly-through") else {
@@ -193,28 +208,45 @@ fn flying_through_a_cloud_does_not_pop() {
     let dir = Vec3::new(0.3, 1.0, 0.0).normalize();
     let (w, h) = (64, 48);
     let mut hl = Headless::new(&ctx, &cfg(false), w, h).unwrap();
-    let mut lumas = Vec::new();
-    for k in 0..=40 {
-        let position = centre - dir * 1500.0 + dir * 75.0 * k as f32;
+    let mut luma_at = |along_m: f32| {
+        let position = centre + dir * along_m;
         let camera = Camera {
             position,
             target: position + dir * 1000.0,
             ..stand_in_camera()
         };
-        let (img, _) = hl.render(&ctx, &input(camera, &parcels)).unwrap();
-        lumas.push(mean_luma(&img));
-    }
-    let steps: Vec<f64> = lumas.windows(2).map(|p| (p[1] - p[0]).abs()).collect();
-    let worst = steps.iter().cloned().fold(0.0, f64::max);
-    let range = lumas.iter().cloned().fold(f64::MIN, f64::max)
-        - lumas.iter().cloned().fold(f64::MAX, f64::min);
-    eprintln!("mean luma along the path: {lumas:.3?}; largest step {worst:.4}, range {range:.3}");
+        mean_luma(&hl.render(&ctx, &input(camera, &parcels)).unwrap().0)
+    };
+    let largest_step = |lumas: &[f64]| {
+        lumas
+            .windows(2)
+            .map(|p| (p[1] - p[0]).abs())
+            .enumerate()
+            .fold(
+                (0, 0.0),
+                |best, (i, d)| if d > best.1 { (i, d) } else { best },
+            )
+    };
+    let coarse: Vec<f64> = (0..=120)
+        .map(|k| luma_at(-1500.0 + 25.0 * k as f32))
+        .collect();
+    let (k, coarse_step) = largest_step(&coarse);
+    let range = coarse.iter().cloned().fold(f64::MIN, f64::max)
+        - coarse.iter().cloned().fold(f64::MAX, f64::min);
+    let fine: Vec<f64> = (0..=10)
+        .map(|j| luma_at(-1500.0 + 25.0 * k as f32 + 2.5 * j as f32))
+        .collect();
+    let (_, fine_step) = largest_step(&fine);
+    eprintln!(
+        "mean luma along the path: {coarse:.3?}; range {range:.3}; largest 25 m step {coarse_step:.4} \
+         after {k} steps, refined to 2.5 m: {fine:.3?}, largest {fine_step:.4}"
+    );
     assert!(
         range > 0.06,
         "the path never entered a cloud (luma range {range:.3})"
     );
     assert!(
-        worst < 0.06,
-        "mean luma jumped by {worst:.4} between frames"
+        fine_step < 0.35 * coarse_step,
+        "a pop: the luma step {coarse_step:.4} over 25 m keeps {fine_step:.4} over 2.5 m"
     );
 }
