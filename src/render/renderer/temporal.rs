@@ -15,6 +15,7 @@ use glam::Mat4;
 
 use crate::render::pipelines::{CLOUD_TARGET_FORMAT, PassLayouts, TEMPORAL_SCALAR_FORMAT};
 
+use super::resources::bind_in_order;
 use super::texture_2d;
 
 /// The marched pixel's offset in its 2×2 block, frame by frame: a 2×2
@@ -84,21 +85,7 @@ impl TemporalGpu {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let bind = |label, layout, resources: Vec<wgpu::BindingResource>| {
-            let entries: Vec<wgpu::BindGroupEntry> = resources
-                .into_iter()
-                .enumerate()
-                .map(|(i, resource)| wgpu::BindGroupEntry {
-                    binding: i as u32,
-                    resource,
-                })
-                .collect();
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some(label),
-                layout,
-                entries: &entries,
-            })
-        };
+        let bind = |label, layout, resources| bind_in_order(device, label, layout, resources);
         use wgpu::BindingResource::TextureView as Tex;
         let march_bind = bind(
             "temporal: march outputs",
