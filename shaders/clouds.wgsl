@@ -12,31 +12,47 @@
 // (ONE, ONE_MINUS_SRC_ALPHA) in the HDR scene target. `march` is the one march routine; the
 // entry points only supply the pixel: `fs_main` (fragment path) returns it,
 // `cs_main` (compute path) stores it into `cloud_out`, which composite.wgsl
-// then blends over the target the same way. The march also leaves the
-// pixel's cloud depth (the opacity-weighted mean distance of its samples,
-// `march_depth`); the compute path stores it in `cloud_depth_out`, and the
-// sprites of a frame that has both sort against it (shaders/sprites.wgsl).
+// then blends over the target the same way; `cs_temporal` (temporal
+// amortisation, `[render] temporal`) marches one pixel of each 2×2 block
+// per frame into quarter-size textures, with its cloud depth, for
+// temporal.wgsl to reproject and accumulate. The full-size compute path
+// stores its cloud depth too (`cloud_depth_out`): the sprites of a frame
+// that has both sort against it (shaders/sprites.wgsl).
+// Rays start at the near plane (not at the eye), so a camera inside a
+// cloud sees the cloud from its first visible point on, as the terrain
+// does: flying into a cloud and out of it is continuous.
 
 // Read the terrain depth (false: no terrain pass, rays run to the box end).
 override HAS_TERRAIN: bool = true;
 
 @group(1) @binding(0) var depth_tex: texture_depth_2d;
 
-// Opacity-weighted mean distance of the last march's samples (1e30: no
-// cloud on the ray). units: m
-var<private> march_depth: f32;
-
 @vertex
 fn vs_main(@builtin(vertex_index) i: u32) -> FullscreenOut {
     return fullscreen_vertex(i);
 }
 
-// Premultiplied linear cloud radiance of the pixel at `pix` (pixel
-// centre coordinates), whose centre is at `ndc`.
-fn march(pix: vec2<f32>, ndc: vec2<f32>) -> vec4<f32> {
-    march_depth = 1e30;
+// What a view ray gathered: premultiplied linear radiance (rgb = L,
+// a = 1 − T) and the cloud's depth along the ray, weighted by where the
+// light came from (Σ wᵢ·tᵢ / Σ wᵢ with wᵢ = Tᵢ·(1 − exp(−σᵢΔt)), the
+// sample's share of the opacity; 0 where the ray met no cloud). The depth
+// is what temporal reprojection moves a pixel by. units: depth m
+struct MarchOut {
+    color: vec4<f32>,
+    depth: f32,
+}
+
+// The march of the pixel at `pix` (pixel centre coordinates), whose
+// centre is at `ndc`; `jitter` in [0, 1) offsets the first sample by that
+// fraction of a step (against banding).
+fn march(pix: vec2<f32>, ndc: vec2<f32>, jitter: f32) -> MarchOut {
+    var out: MarchOut;
+    out.color = vec4<f32>(0.0);
+    out.depth = 0.0;
     let ro = frame.camera_pos.xyz;
     let rd = view_dir(ndc);
+    // The near plane along this ray (depth 0 in wgpu's clip space).
+    let t_near = distance(world_from_ndc(ndc, 0.0), ro);
     var t_end = 1e30;
     if HAS_TERRAIN {
         let depth = textureLoad(depth_tex, vec2<i32>(pix), 0);
@@ -46,10 +62,10 @@ fn march(pix: vec2<f32>, ndc: vec2<f32>) -> vec4<f32> {
     }
     let grid_max = frame.grid_min.xyz + frame.grid_cell.xyz * vec3<f32>(frame.grid_dims.xyz);
     let span = ray_box(ro, rd, frame.grid_min.xyz, grid_max);
-    let t0 = max(span.x, 0.0);
+    let t0 = max(span.x, t_near);
     let t1 = min(span.y, t_end);
     if t1 <= t0 {
-        return vec4<f32>(0.0);
+        return out;
     }
     let max_steps = u32(frame.march.y);
     let dt = max(frame.march.x, (t1 - t0) / f32(max_steps));
@@ -58,13 +74,12 @@ fn march(pix: vec2<f32>, ndc: vec2<f32>) -> vec4<f32> {
     let light = ray_lighting(rd);
 
     // Samples sit at t_first + k·dt, k = 0, 1, …
-    let t_first = t0 + dt * hash2(pix);
+    let t_first = t0 + dt * jitter;
     var k = 0.0;
     var trans = 1.0;
     var radiance = vec3<f32>(0.0);
     var first_hit = -1.0;
-    // Σ opacity × distance and Σ opacity, for march_depth.
-    var depth_sum = vec2<f32>(0.0);
+    var depth_sum = 0.0;
     for (var i = 0u; i < max_steps; i++) {
         let t = t_first + k * dt;
         if t >= t1 {
@@ -85,8 +100,9 @@ fn march(pix: vec2<f32>, ndc: vec2<f32>) -> vec4<f32> {
             }
             let source = sample_source(light, p, vp.y);
             let step_t = exp(-rho * sigma_max * dt);
-            radiance += trans * source * (1.0 - step_t);
-            depth_sum += trans * (1.0 - step_t) * vec2<f32>(t, 1.0);
+            let w = trans * (1.0 - step_t);
+            radiance += w * source;
+            depth_sum += w * t;
             trans *= step_t;
             if trans < frame.cloud.w {
                 break;
@@ -95,23 +111,32 @@ fn march(pix: vec2<f32>, ndc: vec2<f32>) -> vec4<f32> {
         k += 1.0;
     }
     if first_hit < 0.0 {
-        return vec4<f32>(0.0);
+        return out;
     }
-    march_depth = depth_sum.x / max(depth_sum.y, 1e-30);
     // Aerial perspective, as on the terrain.
     let haze = 1.0 - exp(-first_hit / 60000.0);
     radiance = mix(radiance, haze_color(rd) * (1.0 - trans), haze);
     // Premultiplied linear radiance, blended in linear light over the
     // sky/terrain in the HDR scene target (tone-mapped once, at the end).
-    return vec4<f32>(output_color(radiance), 1.0 - trans);
+    out.color = vec4<f32>(output_color(radiance), 1.0 - trans);
+    // Σ w = 1 − T exactly (the weights telescope).
+    out.depth = depth_sum / max(1.0 - trans, 1e-6);
+    return out;
 }
 
 @fragment
 fn fs_main(in: FullscreenOut) -> @location(0) vec4<f32> {
-    return march(in.pos.xy, in.ndc);
+    return march(in.pos.xy, in.ndc, hash2(in.pos.xy)).color;
 }
 
-// Compute path: the march's premultiplied colour per pixel.
+// NDC of the pixel centre `pix` in a `size` frame, as the rasteriser
+// gives fs_main.
+fn ndc_of(pix: vec2<f32>, size: vec2<u32>) -> vec2<f32> {
+    return vec2<f32>(2.0 * pix.x / f32(size.x) - 1.0, 1.0 - 2.0 * pix.y / f32(size.y));
+}
+
+// Compute path: the march's premultiplied colour and cloud depth per pixel
+// (the depth binding is shared with the temporal path's quarter-size one).
 @group(2) @binding(0) var cloud_out: texture_storage_2d<rgba16float, write>;
 @group(2) @binding(1) var cloud_depth_out: texture_storage_2d<r32float, write>;
 
@@ -121,9 +146,46 @@ fn cs_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if any(gid.xy >= size) {
         return;
     }
-    // The pixel centre and its NDC, as the rasteriser gives fs_main.
     let pix = vec2<f32>(gid.xy) + 0.5;
-    let ndc = vec2<f32>(2.0 * pix.x / f32(size.x) - 1.0, 1.0 - 2.0 * pix.y / f32(size.y));
-    textureStore(cloud_out, gid.xy, march(pix, ndc));
-    textureStore(cloud_depth_out, gid.xy, vec4<f32>(march_depth));
+    let m = march(pix, ndc_of(pix, size), hash2(pix));
+    textureStore(cloud_out, gid.xy, m.color);
+    // No cloud on this ray: infinitely far (every sprite is in front).
+    let depth = select(m.depth, 1e30, m.color.a <= 0.0);
+    textureStore(cloud_depth_out, gid.xy, vec4<f32>(depth, 0.0, 0.0, 0.0));
+}
+
+// Temporal path: quarter-size outputs (one texel per 2×2 block of the
+// frame) and the frame's block offset; keep in sync with TemporalUniform
+// in src/render/renderer/temporal.rs.
+struct Temporal {
+    prev_clip_from_world: mat4x4<f32>,
+    params: vec4<u32>, // x, y: offset of the marched pixel in its 2×2 block; z: frame index; w: history valid
+    size: vec4<u32>,   // frame width, height; quarter width, height
+}
+
+@group(2) @binding(2) var<uniform> temporal: Temporal;
+
+// Interleaved gradient noise (Jimenez 2014), a cheap blue-noise-like
+// pattern (neighbouring pixels get well spread values), shifted each frame
+// by the golden ratio so one pixel's jitters over frames fill [0, 1)
+// evenly: the accumulated pixel averages the ray-start offsets that the
+// full-resolution march samples once each (hash2).
+fn temporal_jitter(pix: vec2<f32>, frame_index: u32) -> f32 {
+    let ign = fract(52.9829189 * fract(dot(pix, vec2<f32>(0.06711056, 0.00583715))));
+    return fract(ign + 0.61803399 * f32(frame_index % 4096u));
+}
+
+@compute @workgroup_size(8, 8)
+fn cs_temporal(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let quarter = temporal.size.zw;
+    if any(gid.xy >= quarter) {
+        return;
+    }
+    let full = temporal.size.xy;
+    // The block's marched pixel this frame (inside the frame on odd sizes).
+    let p = min(2u * gid.xy + temporal.params.xy, full - 1u);
+    let pix = vec2<f32>(p) + 0.5;
+    let m = march(pix, ndc_of(pix, full), temporal_jitter(pix, temporal.params.z));
+    textureStore(cloud_out, gid.xy, m.color);
+    textureStore(cloud_depth_out, gid.xy, vec4<f32>(m.depth, 0.0, 0.0, 0.0));
 }

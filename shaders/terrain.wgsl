@@ -12,6 +12,9 @@ override HAS_SHADOWS: bool = true;
 // (shadow.wgsl's `exact` march and the sprites splatted into it).
 override SHADOW_FROM_VOLUME: bool = false;
 override SHADOW_FROM_MAP: bool = true;
+// The mesh has a water plane (`[render.terrain] water_level_m`), whose
+// vertices have the normal (0, 0, −1) (src/render/terrain.rs WATER_NORMAL).
+override HAS_WATER: bool = false;
 
 @group(1) @binding(0) var shadow_tex: texture_2d<f32>;
 
@@ -80,8 +83,25 @@ fn map_shadow(p: vec3<f32>, sun: vec3<f32>) -> f32 {
     return textureSampleLevel(shadow_tex, clamp_sampler, uv, 0.0).r;
 }
 
-@fragment
-fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
+// A lake's surface: dark water (little light comes back up out of it)
+// that mirrors the sky by Fresnel's law (Schlick, water's reflectance 0.02
+// at normal incidence, all of it at grazing angles), and the sun's glint,
+// both in the clouds' shadow. The mirror shows the sky, not the clouds.
+fn water(p: vec3<f32>) -> vec3<f32> {
+    let v = normalize(frame.camera_pos.xyz - p);
+    let sun = frame.sun_dir.xyz;
+    let fresnel = 0.02 + 0.98 * pow(1.0 - max(v.z, 0.0), 5.0);
+    let shadow = cloud_shadow(p);
+    let body = vec3<f32>(0.01, 0.025, 0.03) * (sky_ambient() + frame.sun_color.rgb * max(sun.z, 0.0) * shadow);
+    // Glint: a Blinn–Phong lobe of a slightly rippled surface.
+    let h = normalize(v + sun);
+    let glint = frame.sun_color.rgb * shadow * 2.0 * pow(max(h.z, 0.0), 600.0);
+    let sky = sky_color(reflect(-v, vec3<f32>(0.0, 0.0, 1.0)));
+    return mix(body, sky, fresnel) + fresnel * glint;
+}
+
+// Sunlit and sky-lit ground.
+fn ground(in: VertexOut) -> vec3<f32> {
     let n = normalize(in.normal);
     let sun = frame.sun_dir.xyz;
     // Albedo: meadows and fields on gentle slopes, rock on steep ones,
@@ -97,7 +117,17 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let albedo = mix(meadow, rock, steep);
     let direct = frame.sun_color.rgb * max(dot(n, sun), 0.0) * cloud_shadow(in.world);
     let ambient = sky_ambient() * (0.6 + 0.4 * n.z);
-    var c = albedo * (direct + ambient);
+    return albedo * (direct + ambient);
+}
+
+@fragment
+fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
+    // The ground's textureSample needs uniform control flow: shade it
+    // everywhere, then let the water replace it.
+    var c = ground(in);
+    if HAS_WATER && in.normal.z < 0.0 {
+        c = water(in.world);
+    }
     // Aerial perspective: fade into haze over ~60 km.
     let to_eye = in.world - frame.camera_pos.xyz;
     let dist = length(to_eye);

@@ -198,8 +198,20 @@ fn check_outputs(dir: &Path) {
             .contains("overdraw")
     );
 
+    // landscape.csv: temporal off then on, the FLIP of the amortised
+    // frame against the full march in 0..1 (0 for the full march).
+    let (h, rows) = read_csv(&dir.join("landscape.csv"));
+    assert_eq!(rows.len(), 2, "{rows:?}");
+    assert_eq!((rows[0][0].as_str(), rows[1][0].as_str()), ("off", "on"));
+    check_positive("landscape.csv", &h, &rows, "frame_ms");
+    let flip = col(&h, "mean_flip_vs_full");
+    assert_eq!(rows[0][flip], "0.0000");
+    let f: f64 = rows[1][flip].parse().unwrap();
+    assert!((0.0..=1.0).contains(&f), "{rows:?}");
+
     let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
     for section in [
+        "## Landscape",
         "## Performance",
         "## Error against run time",
         "### Render settings",

@@ -155,6 +155,11 @@ fn rust_uniforms_match_wgsl_layout() {
         wgsl_struct_size(&module, "Grid") as usize,
         std::mem::size_of::<GridUniform>()
     );
+    // The temporal uniform, declared by the march and the resolve alike.
+    let temporal = std::mem::size_of::<cumulus::render::renderer::temporal::TemporalUniform>();
+    assert_eq!(wgsl_struct_size(&module, "Temporal") as usize, temporal);
+    let (resolve, _) = parse(&Pass::Temporal.source(RenderMethod::Baked)).unwrap();
+    assert_eq!(wgsl_struct_size(&resolve, "Temporal") as usize, temporal);
     // 16-byte fields only: no vec3 padding surprises.
     assert_eq!(std::mem::size_of::<FrameUniform>() % 16, 0);
     assert_eq!(std::mem::size_of::<GpuParcel>() % 16, 0);

@@ -282,3 +282,81 @@ fn a_lost_device_is_reported_and_replaced() {
         "{cloud} cloud pixels of {area} after the recovery"
     );
 }
+
+/// The window's 3D view and `cumulus render` of the same scene, camera,
+/// sun and simulated time give the same image: both draw through the one
+/// `Renderer::render` path (HDR scene target, one tone map). The window
+/// runs one counted frame after a 600 s warm-up (the clock then reads
+/// 600 + 1/3 s, which it prints) with temporal amortisation off, so both
+/// march every pixel; the 3D view is cut out of the capture where the
+/// window says it is, and `render` draws that size at that time.
+/// Bound: mean FLIP 0.02. The same frame drawn twice is identical; what
+/// remains is the physics' last step (the window steps 1/3 s from 600 s,
+/// `render` the same 1/3 s up to the printed time, rounded to 1 µs) and
+/// the window's orbit camera rebuilding the eye from yaw, pitch and
+/// distance (float round-off of the ray directions); a different tone map
+/// or a display-space composite (what the two paths once had) gives 0.1
+/// and more.
+#[test]
+fn window_and_headless_draw_the_same_image() {
+    let Some((display, _xvfb)) = display() else {
+        no_display("DISPLAY is unset and Xvfb is not installed");
+        return;
+    };
+    let Some((img, log)) = capture_with_log(
+        &display,
+        &[
+            "--frames",
+            "1",
+            "--warmup",
+            "600",
+            "--width",
+            "900",
+            "--height",
+            "560",
+            "--set",
+            "render.temporal=false",
+        ],
+        "window-vs-headless.png",
+    ) else {
+        return;
+    };
+    // "…; 3D view at x = X, W×H; t = T s)"
+    let tail = log
+        .split("3D view at x = ")
+        .nth(1)
+        .unwrap_or_else(|| panic!("no 3D view rectangle in the log:\n{log}"));
+    let (x0, rest) = tail.split_once(", ").unwrap();
+    let (size, rest) = rest.split_once("; t = ").unwrap();
+    let (w, h) = size.split_once('×').unwrap();
+    let t = rest.split_once(' ').unwrap().0;
+    let (x0, w, h): (u32, u32, u32) = (x0.parse().unwrap(), w.parse().unwrap(), h.parse().unwrap());
+    assert!(x0 + w <= img.width() && h <= img.height(), "{log}");
+    let view = image::imageops::crop_imm(&img, x0, 0, w, h).to_image();
+
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("headless.png");
+    let status = Command::new(env!("CARGO_BIN_EXE_cumulus"))
+        .args(["render", "--no-labels", "--time", t, "--width"])
+        .arg(w.to_string())
+        .arg("--height")
+        .arg(h.to_string())
+        .arg("--out")
+        .arg(&out)
+        .status()
+        .expect("run cumulus render");
+    assert!(status.success());
+    let headless = image::open(&out).unwrap().to_rgba8();
+    let rgb =
+        |i: &image::RgbaImage| -> Vec<u8> { i.pixels().flat_map(|p| [p[0], p[1], p[2]]).collect() };
+    let flip = cumulus::bench::stats::mean_flip(&rgb(&headless), &rgb(&view), w, h);
+    if let Some(k) = std::env::var_os("CUMULUS_KEEP_SCREENSHOTS") {
+        view.save(Path::new(&k).join("window-view.png")).unwrap();
+        std::fs::copy(&out, Path::new(&k).join("headless-view.png")).unwrap();
+    }
+    eprintln!("window 3D view ({w}×{h} at x = {x0}) vs headless at t = {t} s: mean FLIP {flip:.4}");
+    assert!(
+        flip < 0.02,
+        "window and headless differ: mean FLIP {flip:.4}"
+    );
+}

@@ -466,6 +466,15 @@ fn render_section(ui: &mut egui::Ui, m: &mut Model) -> bool {
         ui.checkbox(&mut r.normals, "normals");
         ui.checkbox(&mut r.shadows, "shadows");
         ui.checkbox(&mut r.terrain.enabled, "terrain");
+        // Unset in the scene means on in the window.
+        let mut temporal = r.temporal.unwrap_or(true);
+        if ui
+            .checkbox(&mut temporal, "temporal")
+            .on_hover_text("march ¼ of the pixels per frame, reproject the rest")
+            .changed()
+        {
+            r.temporal = Some(temporal);
+        }
     });
     if ui.button("Reset view").clicked() {
         m.camera = m.default_camera;

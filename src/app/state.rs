@@ -369,9 +369,12 @@ impl Model {
 
     /// The render settings with file paths resolved against the scene's
     /// directory: what the renderer gets.
+    /// Temporal amortisation is on in the window unless the scene (or
+    /// the panel) turned it off.
     pub fn resolved_render_config(&self) -> RenderConfig {
         let mut c = self.render_cfg.clone();
         c.resolve_paths(&self.source.base_dir());
+        c.temporal.get_or_insert(true);
         c
     }
 

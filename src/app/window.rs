@@ -398,11 +398,15 @@ impl App {
             record(&mut self.model, timings);
             let rgba = read_back(g, encoder, user_cmds, &tex)?;
             crate::output::write_png_atomic(&path, g.config.width, g.config.height, &rgba)?;
+            // Where the 3D view is in the capture: tests compare it with
+            // a headless frame of the same camera.
+            let (x0, w3d, h3d) = view3d_rect(g.split, &g.window, g.config.width, g.config.height);
             eprintln!(
-                "wrote {} ({}×{})",
+                "wrote {} ({}×{}; 3D view at x = {x0}, {w3d}×{h3d}; t = {:.6} s)",
                 path.display(),
                 g.config.width,
-                g.config.height
+                g.config.height,
+                self.model.world.time_s()
             );
             Ok(true)
         } else {

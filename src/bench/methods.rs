@@ -78,20 +78,26 @@ pub struct MethodRow {
 
 /// A scene loaded and simulated to its start time: its parcels, camera,
 /// sun and sprite clouds.
-struct Loaded {
-    profile: SceneProfile,
-    parcels: Vec<CloudParcel>,
-    camera: Camera,
-    sun: Sun,
+pub(super) struct Loaded {
+    pub profile: SceneProfile,
+    pub parcels: Vec<CloudParcel>,
+    pub camera: Camera,
+    pub sun: Sun,
 }
 
 fn load(name: &str) -> Result<Loaded> {
+    load_at(name, None)
+}
+
+/// `profiles/NAME` simulated (seed 1, 2 s frames) to `time_s`, or to its
+/// `[simulation] start_s`.
+pub(super) fn load_at(name: &str, time_s: Option<f64>) -> Result<Loaded> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles");
     let path = dir.join(name);
     let profile = SceneProfile::load(&path)?;
     let env = profile.atmosphere.build(&dir)?;
     let mut world = ParcelWorld::new(env, profile.world_config(&dir)?, 1)?;
-    let t = profile.simulation.start_s;
+    let t = time_s.unwrap_or(profile.simulation.start_s);
     while world.time_s() < t - 1e-9 {
         world.step(2.0f64.min(t - world.time_s()));
     }

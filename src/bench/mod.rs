@@ -13,6 +13,7 @@
 
 pub mod accuracy;
 mod charts;
+pub mod landscape;
 pub mod measure;
 pub mod methods;
 pub mod pathtraced;
@@ -212,7 +213,7 @@ impl Plan {
             + self.scaling_counts.len()
             + brute
             + methods::cases().len()
-            + 4) as u64
+            + 5) as u64
     }
 }
 
@@ -248,6 +249,9 @@ pub struct BenchResults {
     pub pathtraced: Option<Vec<pathtraced::PathTracedRow>>,
     /// The render methods side by side (methods.csv).
     pub methods: Vec<methods::MethodRow>,
+    /// The landscape scene with temporal amortisation off and on
+    /// (landscape.csv).
+    pub landscape: Vec<landscape::LandscapeRow>,
 }
 
 /// The commit being measured, if git can say.
@@ -363,6 +367,8 @@ pub fn run_with(ctx: &GpuContext, opts: &Options) -> Result<BenchResults> {
         tick,
     )?;
     let methods = methods::methods(ctx, size, plan.reps, tick)?;
+    let landscape = landscape::landscape(ctx, opts.mode, plan.reps)?;
+    tick("landscape");
     bar.finish_and_clear();
 
     let results = BenchResults {
@@ -375,8 +381,10 @@ pub fn run_with(ctx: &GpuContext, opts: &Options) -> Result<BenchResults> {
         pruning,
         pathtraced: pathtraced::read(&opts.out)?,
         methods,
+        landscape,
     };
     report::write_all(&opts.out, &results)?;
     methods::write(&opts.out, &results.methods, width, height)?;
+    landscape::write(&opts.out, &results.landscape)?;
     Ok(results)
 }

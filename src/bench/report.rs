@@ -602,6 +602,8 @@ pub fn report_md(r: &BenchResults) -> String {
         );
     }
 
+    s.push_str(&super::landscape::landscape_md(&r.landscape));
+
     let _ = writeln!(
         s,
         "\n## Targets\n\nRatios measured within this run, so they hold for this adapter \

@@ -57,6 +57,13 @@ pub struct Args {
     /// Finite-difference normals (overrides the scene's [render] normals).
     #[arg(long, value_enum)]
     pub normals: Option<Switch>,
+    /// Temporal amortisation ([render] temporal): draw N frames of each
+    /// output frame on the temporal path (a quarter of the pixels marched
+    /// per frame, the others reprojected and accumulated) and write the
+    /// last. 4 frames march every pixel once; more average more ray-start
+    /// jitters. Without it every pixel is marched once (no temporal path).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub accumulate: Option<u32>,
     /// Number of frames.
     #[arg(long, default_value_t = 1)]
     pub frames: u32,
@@ -223,6 +230,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if let Some(n) = args.normals {
         cfg.normals = n == Switch::On;
     }
+    // Headless, the temporal path runs only when asked to accumulate.
+    cfg.temporal = Some(args.accumulate.is_some());
     // Validation errors name the field; say which file it is in.
     let scene_name = source.name();
     cfg.validate()
@@ -289,7 +298,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             sun: crate::cli::sun_args::frame_sun(clock.as_ref(), &cfg, t),
             time_s: t as f32,
         };
-        let (mut rgba, timings) = headless.render(&ctx, &input)?;
+        let warmup = args.accumulate.map_or(0, |n| n - 1);
+        let (mut rgba, timings) = headless.render_after(&ctx, &input, warmup)?;
         let labels = if args.no_labels || !cfg.clouds {
             Vec::new()
         } else {

@@ -85,6 +85,23 @@ impl Headless {
 }
 
 impl Headless {
+    /// Like [`Headless::render`], after drawing `warmup` frames of the same
+    /// input first: the temporal path's accumulation (`render
+    /// --accumulate N`), whose history then holds those frames. The
+    /// timings are the last frame's.
+    pub fn render_after(
+        &mut self,
+        ctx: &GpuContext,
+        input: &FrameInput<'_>,
+        warmup: u32,
+    ) -> Result<(Vec<u8>, FrameTimings)> {
+        for _ in 0..warmup {
+            self.renderer.prepare(ctx, input)?;
+            self.renderer.render(ctx, &self.view);
+        }
+        self.render(ctx, input)
+    }
+
     /// The last rendered frame's linear HDR scene (before the tone map) as
     /// RGB floats, top row first: radiance in the renderer's units (sun
     /// irradiance ~2 is daylight). What `render --out x.exr` writes.

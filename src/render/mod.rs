@@ -71,6 +71,12 @@ pub struct TerrainConfig {
     pub resolution: u32,
     /// Seed of the procedural terrain.
     pub seed: u32,
+    /// Height of the water surface of lakes: the terrain below it lies
+    /// under a flat, dark, sky-reflecting water plane (shaders/terrain.wgsl
+    /// `water`). Unset: no water. Drawn only (the physics' ground is
+    /// the terrain itself). units: m
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub water_level_m: Option<f32>,
 }
 
 impl Default for TerrainConfig {
@@ -82,6 +88,7 @@ impl Default for TerrainConfig {
             extent_m: 40_000.0,
             resolution: 160,
             seed: 7,
+            water_level_m: None,
         }
     }
 }
@@ -106,6 +113,14 @@ pub struct RenderConfig {
     /// Finite-difference normals of the density for extra shading (paper
     /// "with FDM normals"; slower).
     pub normals: bool,
+    /// Temporal amortisation of the ray-march: a quarter of the pixels
+    /// marched per frame, the rest reprojected from earlier frames with
+    /// the camera's motion at the clouds' depth, clamped to the fresh
+    /// samples around them (see src/render/renderer/temporal.rs). Unset:
+    /// on in the window, off headless, where `render --accumulate N`
+    /// turns it on (N frames drawn before the one written).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub temporal: Option<bool>,
     /// Evaluate only the parcels listed in a sample's grid cell (paper §6.2);
     /// off = every parcel at every sample (brute force, for the bench).
     pub grid_culling: bool,
@@ -161,6 +176,7 @@ impl Default for RenderConfig {
             clouds: true,
             shadows: true,
             normals: false,
+            temporal: None,
             grid_culling: true,
             step_m: 40.0,
             max_steps: 160,
@@ -306,6 +322,14 @@ impl RenderConfig {
             t.extent_m >= 100.0 && t.extent_m <= 1.0e6,
             "100 m to 1000 km",
         )?;
+        if let Some(level) = t.water_level_m {
+            check(
+                "render.terrain.water_level_m",
+                level,
+                (0.0..=t.height_scale_m).contains(&level),
+                "0 m to render.terrain.height_scale_m (the highest terrain point)",
+            )?;
+        }
         if !(2..=1024).contains(&t.resolution) {
             return Err(Error::invalid(
                 "render.terrain.resolution",
@@ -573,6 +597,9 @@ pub struct Features {
     pub shadow_map: bool,
     /// Finite-difference normals compiled into the cloud shader.
     pub normals: bool,
+    /// Temporal amortisation: the quarter-rate march and the resolve pass
+    /// (`[render] temporal` set to true, and clouds to march).
+    pub temporal: bool,
 }
 
 impl Features {
@@ -589,6 +616,7 @@ impl Features {
             shadows: cfg.shadows && clouds && terrain,
             shadow_map: cfg.shadows && clouds && terrain && cfg.method != RenderMethod::Baked,
             normals: cfg.normals && clouds,
+            temporal: cfg.temporal == Some(true) && clouds,
         }
     }
 }
@@ -616,6 +644,16 @@ mod tests {
             ..CameraConfig::default()
         };
         assert!(cam.validate().unwrap_err().to_string().contains("vfov"));
+    }
+
+    #[test]
+    fn water_above_the_highest_terrain_is_refused() {
+        let mut cfg = RenderConfig::default();
+        cfg.terrain.water_level_m = Some(cfg.terrain.height_scale_m + 1.0);
+        let msg = cfg.validate().unwrap_err().to_string();
+        assert!(msg.contains("render.terrain.water_level_m"), "{msg}");
+        cfg.terrain.water_level_m = Some(100.0);
+        cfg.validate().unwrap();
     }
 
     #[test]

@@ -28,6 +28,9 @@ pub const CLOUD_TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16
 /// Format of the compute march's cloud depth (the opacity-weighted mean
 /// distance of the clouds along each pixel's ray; sprites sort against it).
 pub const CLOUD_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+/// Format of the temporal path's cloud depth (quarter size) and sample
+/// counts (full size): one unfilterable float each.
+pub const TEMPORAL_SCALAR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 /// Format of the HDR scene target: every scene pass (sky, terrain, clouds,
 /// composite) writes linear radiance into it; the tone-map pass alone
 /// writes the output format. Half floats hold radiance up to 65504 (the
@@ -73,6 +76,20 @@ fn sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
+/// A write-only storage texture of the compute passes.
+fn storage_texture_entry(binding: u32, format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format,
+            view_dimension: wgpu::TextureViewDimension::D2,
+        },
+        count: None,
+    }
+}
+
 fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
@@ -110,6 +127,11 @@ pub struct PassLayouts {
     pub sprites: wgpu::BindGroupLayout,
     /// Group 2 of the slices pass: octave transforms and controls.
     pub slices: wgpu::BindGroupLayout,
+    /// Group 2 of the temporal march (clouds.wgsl `cs_temporal`): quarter
+    /// colour and depth outputs, the temporal uniform.
+    pub temporal_out: wgpu::BindGroupLayout,
+    /// Group 1 of the temporal resolve (shaders/temporal.wgsl).
+    pub temporal_in: wgpu::BindGroupLayout,
 }
 
 impl PassLayouts {
@@ -153,18 +175,10 @@ impl PassLayouts {
         });
         let cloud_out = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("clouds: compute output"),
-            entries: &[(0, CLOUD_TARGET_FORMAT), (1, CLOUD_DEPTH_FORMAT)].map(
-                |(binding, format)| wgpu::BindGroupLayoutEntry {
-                    binding,
-                    visibility: wgpu::ShaderStages::COMPUTE,
-                    ty: wgpu::BindingType::StorageTexture {
-                        access: wgpu::StorageTextureAccess::WriteOnly,
-                        format,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                    },
-                    count: None,
-                },
-            ),
+            entries: &[
+                storage_texture_entry(0, CLOUD_TARGET_FORMAT),
+                storage_texture_entry(1, CLOUD_DEPTH_FORMAT),
+            ],
         });
         let sprite_depth = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sprites: terrain and cloud depth"),
@@ -179,6 +193,33 @@ impl PassLayouts {
                     wgpu::TextureSampleType::Float { filterable: false },
                     wgpu::TextureViewDimension::D2,
                 ),
+            ],
+        });
+        let float2d = |binding, filterable| {
+            texture_entry(
+                binding,
+                wgpu::TextureSampleType::Float { filterable },
+                wgpu::TextureViewDimension::D2,
+            )
+        };
+        let temporal_out = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("clouds: temporal outputs"),
+            entries: &[
+                storage_texture_entry(0, CLOUD_TARGET_FORMAT),
+                storage_texture_entry(1, TEMPORAL_SCALAR_FORMAT),
+                uniform_entry(2),
+            ],
+        });
+        let temporal_in = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("temporal resolve"),
+            entries: &[
+                float2d(0, false),
+                float2d(1, false),
+                float2d(2, true),
+                float2d(3, false),
+                storage_texture_entry(4, CLOUD_TARGET_FORMAT),
+                storage_texture_entry(5, TEMPORAL_SCALAR_FORMAT),
+                uniform_entry(6),
             ],
         });
         let texture_in = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -210,6 +251,8 @@ impl PassLayouts {
             texture_in,
             sprites,
             slices: crate::render::slices::bind_group_layout(device),
+            temporal_out,
+            temporal_in,
         }
     }
 }
@@ -224,6 +267,8 @@ pub struct PipelineKey {
     pub format: wgpu::TextureFormat,
     /// The compute entry point (the cloud pass's compute path).
     pub compute: bool,
+    /// The cloud pass's temporal march (`cs_temporal`, quarter rate).
+    pub temporal: bool,
 }
 
 impl PipelineKey {
@@ -240,6 +285,15 @@ impl PipelineKey {
             constants: constants.iter().map(|(n, v)| (*n, v.to_bits())).collect(),
             format,
             compute,
+            temporal: false,
+        }
+    }
+
+    /// The temporal variant of a compute cloud key.
+    pub fn temporal(self) -> Self {
+        Self {
+            temporal: true,
+            ..self
         }
     }
 }
@@ -301,6 +355,7 @@ impl PipelineCache {
         });
         let group1 = match pass {
             Pass::Terrain => Some(&layouts.shadow_tex),
+            Pass::Temporal => Some(&layouts.temporal_in),
             Pass::Clouds | Pass::Slices => Some(&layouts.depth),
             Pass::Sprites => Some(&layouts.sprite_depth),
             Pass::Composite | Pass::Tonemap => Some(&layouts.texture_in),
@@ -310,7 +365,9 @@ impl PipelineCache {
             Some(l) => vec![Some(&layouts.common), Some(l)],
             None => vec![Some(&layouts.common)],
         };
-        if key.compute {
+        if key.temporal {
+            layouts_list.push(Some(&layouts.temporal_out));
+        } else if key.compute && pass == Pass::Clouds {
             layouts_list.push(Some(&layouts.cloud_out));
         }
         if pass == Pass::Sprites {
@@ -334,12 +391,17 @@ impl PipelineCache {
             ..Default::default()
         };
         if key.compute {
+            let (label, entry) = match (pass, key.temporal) {
+                (Pass::Temporal, _) => ("temporal resolve", "cs_resolve"),
+                (_, true) => ("clouds (temporal)", "cs_temporal"),
+                _ => ("clouds (compute)", "cs_main"),
+            };
             return Pipeline::Compute(device.create_compute_pipeline(
                 &wgpu::ComputePipelineDescriptor {
-                    label: Some("clouds (compute)"),
+                    label: Some(label),
                     layout: Some(&layout),
                     module,
-                    entry_point: Some("cs_main"),
+                    entry_point: Some(entry),
                     compilation_options: options,
                     cache: None,
                 },

@@ -38,6 +38,8 @@ pub const SHADOW_WGSL: &str = include_str!("../../shaders/shadow.wgsl");
 pub const TONEMAP_WGSL: &str = include_str!("../../shaders/tonemap.wgsl");
 /// Cloud ray-march.
 pub const CLOUDS_WGSL: &str = include_str!("../../shaders/clouds.wgsl");
+/// Temporal resolve: reprojection and accumulation of the quarter-rate march.
+pub const TEMPORAL_WGSL: &str = include_str!("../../shaders/temporal.wgsl");
 /// Wang 2003 sprite clouds (textured, artist-shaded quads).
 pub const SPRITES_WGSL: &str = include_str!("../../shaders/sprites.wgsl");
 /// Slicing planes of the `slices` method (Schpok 2003).
@@ -57,6 +59,7 @@ pub const FILES: &[(&str, &str)] = &[
     ("terrain.wgsl", TERRAIN_WGSL),
     ("shadow.wgsl", SHADOW_WGSL),
     ("clouds.wgsl", CLOUDS_WGSL),
+    ("temporal.wgsl", TEMPORAL_WGSL),
     ("tonemap.wgsl", TONEMAP_WGSL),
     ("sprites.wgsl", SPRITES_WGSL),
     ("slices.wgsl", SLICES_WGSL),
@@ -77,6 +80,9 @@ pub enum Pass {
     /// draws the sprite fragments behind its cloud depth; the composite
     /// then blends the clouds and draws the fragments in front.
     Sprites,
+    /// Temporal resolve of the quarter-rate march (`[render] temporal`,
+    /// compute): reprojects and accumulates into the full-size cloud image.
+    Temporal,
     /// Slicing planes into the float cloud target (`slices` method only).
     Slices,
     /// Blends the compute march's (or the slices') texture over the target (compute path).
@@ -87,13 +93,14 @@ pub enum Pass {
 
 impl Pass {
     /// All passes in execution order.
-    pub const ALL: [Pass; 9] = [
+    pub const ALL: [Pass; 10] = [
         Pass::Bake,
         Pass::Shadow,
         Pass::Sky,
         Pass::Terrain,
         Pass::Clouds,
         Pass::Sprites,
+        Pass::Temporal,
         Pass::Slices,
         Pass::Composite,
         Pass::Tonemap,
@@ -108,6 +115,7 @@ impl Pass {
             Pass::Terrain => "terrain",
             Pass::Sprites => "sprites",
             Pass::Clouds => "clouds",
+            Pass::Temporal => "temporal",
             Pass::Slices => "slices",
             Pass::Composite => "composite",
             Pass::Tonemap => "tonemap",
@@ -122,6 +130,7 @@ impl Pass {
             Pass::Terrain => TERRAIN_WGSL,
             Pass::Sprites => SPRITES_WGSL,
             Pass::Clouds => CLOUDS_WGSL,
+            Pass::Temporal => TEMPORAL_WGSL,
             Pass::Slices => SLICES_WGSL,
             Pass::Composite => COMPOSITE_WGSL,
             Pass::Tonemap => TONEMAP_WGSL,
@@ -144,7 +153,7 @@ impl Pass {
         match self {
             Pass::Bake => method == RenderMethod::Baked,
             Pass::Shadow => method == RenderMethod::Exact,
-            Pass::Clouds => method.ray_marches(),
+            Pass::Clouds | Pass::Temporal => method.ray_marches(),
             Pass::Slices => slices,
             Pass::Composite => method.ray_marches() || slices,
             Pass::Sky | Pass::Terrain | Pass::Sprites | Pass::Tonemap => true,
@@ -157,11 +166,17 @@ impl Pass {
     pub fn overrides(self, method: RenderMethod) -> &'static [&'static str] {
         let exact = method == RenderMethod::Exact;
         match self {
-            Pass::Bake | Pass::Composite | Pass::Tonemap => &["ENCODE_SRGB"],
+            Pass::Bake | Pass::Composite | Pass::Tonemap | Pass::Temporal => &["ENCODE_SRGB"],
             Pass::Shadow if exact => &["ENCODE_SRGB", "GRID_CULLING"],
             Pass::Shadow => &["ENCODE_SRGB"],
             Pass::Sky => &["ENCODE_SRGB"],
-            Pass::Terrain => &["ENCODE_SRGB", "HAS_SHADOWS", "SHADOW_FROM_VOLUME", "SHADOW_FROM_MAP"],
+            Pass::Terrain => &[
+                "ENCODE_SRGB",
+                "HAS_SHADOWS",
+                "SHADOW_FROM_VOLUME",
+                "SHADOW_FROM_MAP",
+                "HAS_WATER",
+            ],
             Pass::Sprites => &[
                 "ENCODE_SRGB",
                 "HAS_TERRAIN",

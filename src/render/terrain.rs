@@ -11,6 +11,9 @@ use crate::landscape::{self, Heightfield};
 use crate::render::TerrainConfig;
 
 /// One mesh vertex. Matches `VertexIn` in shaders/terrain.wgsl.
+/// The water plane's vertices have the normal [`WATER_NORMAL`], which no
+/// ground vertex has (ground normals point up): the terrain shader tells
+/// water from ground by it.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable, PartialEq)]
 pub struct TerrainVertex {
@@ -18,6 +21,9 @@ pub struct TerrainVertex {
     pub position: [f32; 3],
     pub normal: [f32; 3],
 }
+
+/// Normal of the water plane's vertices (see [`TerrainVertex`]).
+pub const WATER_NORMAL: [f32; 3] = [0.0, 0.0, -1.0];
 
 /// A heightfield mesh.
 pub struct TerrainMesh {
@@ -83,12 +89,46 @@ pub fn build_mesh(cfg: &TerrainConfig) -> Result<TerrainMesh> {
             indices.extend_from_slice(&[a, b, d, a, d, c]);
         }
     }
+    if let Some(level) = cfg.water_level_m {
+        // One quad over the whole terrain at the water level: the depth
+        // test shows it where the ground lies lower (the lakes) and hides
+        // it under the hills.
+        let a = vertices.len() as u32;
+        for (x, y) in [(-half, -half), (half, -half), (-half, half), (half, half)] {
+            vertices.push(TerrainVertex {
+                position: [x, y, level],
+                normal: WATER_NORMAL,
+            });
+        }
+        indices.extend_from_slice(&[a, a + 1, a + 3, a, a + 3, a + 2]);
+    }
     Ok(TerrainMesh { vertices, indices })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn water_is_one_quad_at_its_level_told_apart_by_its_normal() {
+        let dry = TerrainConfig {
+            resolution: 9,
+            ..TerrainConfig::default()
+        };
+        let wet = TerrainConfig {
+            water_level_m: Some(50.0),
+            ..dry.clone()
+        };
+        let (d, w) = (build_mesh(&dry).unwrap(), build_mesh(&wet).unwrap());
+        assert_eq!(w.vertices.len(), d.vertices.len() + 4);
+        assert_eq!(w.indices.len(), d.indices.len() + 6);
+        assert_eq!(w.vertices[..d.vertices.len()], d.vertices[..]);
+        for v in &w.vertices[d.vertices.len()..] {
+            assert_eq!((v.position[2], v.normal), (50.0, WATER_NORMAL));
+        }
+        // No ground normal can be mistaken for the water's.
+        assert!(d.vertices.iter().all(|v| v.normal[2] > 0.0));
+    }
 
     #[test]
     fn mesh_shape_and_heights() {

@@ -139,9 +139,13 @@ impl Renderer {
             }
         }
         self.timestamps = ts;
-        // With sprites the march is compute whatever `auto` measures:
-        // such frames do not count as its measurements.
-        if self.split() {
+        if let Some(t) = self.temporal.as_mut() {
+            t.finish_frame();
+        }
+        // The temporal path, and frames with sprites (which sort against
+        // the compute march's cloud depth), always march in compute: such
+        // frames say nothing about fragment against compute.
+        if self.features.temporal || self.split() {
             return timings;
         }
         if self.features.clouds {
@@ -172,9 +176,8 @@ impl Renderer {
         let pipeline = match self.pipelines.get(&self.key(pass)) {
             Some(Pipeline::Render(p)) => Some(p),
             Some(Pipeline::Compute(p)) => {
-                let (_, out, _, _) = self.cloud_target.as_ref().expect("compute target exists");
                 let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("clouds (compute)"),
+                    label: Some(pass.name()),
                     timestamp_writes: timestamps.map(|(set, i)| wgpu::ComputePassTimestampWrites {
                         query_set: set,
                         beginning_of_pass_write_index: Some(i),
@@ -183,9 +186,26 @@ impl Renderer {
                 });
                 cp.set_pipeline(p);
                 cp.set_bind_group(0, &self.bind_common, &[]);
-                cp.set_bind_group(1, self.bind_clouds.as_ref(), &[]);
-                cp.set_bind_group(2, out, &[]);
-                cp.dispatch_workgroups(self.width.div_ceil(8), self.height.div_ceil(8), 1);
+                let full = (self.width.div_ceil(8), self.height.div_ceil(8));
+                let (x, y) = match (pass, self.temporal.as_ref()) {
+                    (Pass::Temporal, Some(t)) => {
+                        cp.set_bind_group(1, t.resolve_bind(), &[]);
+                        full
+                    }
+                    (_, Some(t)) => {
+                        cp.set_bind_group(1, self.bind_clouds.as_ref(), &[]);
+                        cp.set_bind_group(2, &t.march_bind, &[]);
+                        t.march_workgroups()
+                    }
+                    (_, None) => {
+                        let (_, out, _, _) =
+                            self.cloud_target.as_ref().expect("compute target exists");
+                        cp.set_bind_group(1, self.bind_clouds.as_ref(), &[]);
+                        cp.set_bind_group(2, out, &[]);
+                        full
+                    }
+                };
+                cp.dispatch_workgroups(x, y, 1);
                 return;
             }
             // The shadow map of sprites alone (no ray-marched clouds): the
@@ -280,7 +300,10 @@ impl Renderer {
                 self.slices.draw(&mut rp);
             }
             Pass::Composite => {
-                let (_, _, input, _) = self.cloud_target.as_ref().expect("compute target exists");
+                let input = match self.temporal.as_ref() {
+                    Some(t) => t.composite_bind(),
+                    None => &self.cloud_target.as_ref().expect("compute target exists").2,
+                };
                 rp.set_bind_group(1, input, &[]);
                 rp.draw(0..3, 0..1);
                 if self.split() {

@@ -42,6 +42,7 @@ use crate::render::{Features, FrameInput, RenderConfig, TerrainConfig};
 mod draw;
 mod resources;
 mod ring;
+pub mod temporal;
 
 pub(crate) use resources::texture_2d;
 use resources::{CloudTarget, SceneTarget, check_size, make_bind_common};
@@ -123,6 +124,8 @@ pub struct Renderer {
     ),
     /// The impostor ring (`[render.sprites] impostor_radius_m`).
     ring: Option<RingGpu>,
+    /// The temporal path's targets and history (`[render] temporal`).
+    temporal: Option<temporal::TemporalGpu>,
 }
 
 impl Renderer {
@@ -282,6 +285,7 @@ impl Renderer {
             slices,
             authored: Default::default(),
             ring: None,
+            temporal: None,
         };
         r.ensure(ctx)?;
         Ok(r)
@@ -385,6 +389,7 @@ impl Renderer {
             self.bind_clouds = None;
             self.cloud_target = None;
             self.scene = None;
+            self.temporal = None;
             self.ensure(ctx)?;
         }
         Ok(())
@@ -402,6 +407,11 @@ impl Renderer {
         }
         self.cfg = cfg.clone();
         self.features = self.features_for(self.any_clouds, self.features.sprites);
+        // Another march (step, noise, light…) gives other images: the
+        // temporal history starts again.
+        if let Some(t) = self.temporal.as_mut() {
+            t.history_valid = false;
+        }
         self.ensure(ctx)
     }
 
@@ -437,6 +447,10 @@ impl Renderer {
         f.sprites = self.cfg.clouds && (f.sprites || any_sprites);
         f.shadows = self.cfg.shadows && f.terrain && (f.clouds || f.sprites);
         f.shadow_map = f.shadows && (self.map_marches_clouds(f) || f.sprites);
+        // Sprites sort against a full-size cloud depth, which the
+        // quarter-rate temporal march does not leave: with both, every
+        // pixel is marched each frame.
+        f.temporal = f.temporal && !f.sprites;
         f
     }
 
@@ -496,11 +510,12 @@ impl Renderer {
         // are the same pipelines for every target.
         let mut c = match pass {
             Pass::Tonemap => vec![("ENCODE_SRGB", srgb)],
-            Pass::Bake | Pass::Sky | Pass::Composite | Pass::Shadow => vec![],
+            Pass::Bake | Pass::Sky | Pass::Composite | Pass::Shadow | Pass::Temporal => vec![],
             Pass::Terrain => vec![
                 ("HAS_SHADOWS", b(f.shadows)),
                 ("SHADOW_FROM_VOLUME", b(f.shadows && self.volume_shadows())),
                 ("SHADOW_FROM_MAP", b(f.shadow_map)),
+                ("HAS_WATER", b(self.cfg.terrain.water_level_m.is_some())),
             ],
             Pass::Sprites => vec![
                 ("HAS_TERRAIN", b(f.terrain)),
@@ -523,6 +538,7 @@ impl Renderer {
             Pass::Terrain => self.features.terrain,
             Pass::Sprites => self.features.sprites,
             Pass::Clouds => self.features.clouds,
+            Pass::Temporal => self.features.temporal,
             Pass::Slices => self.features.slices,
             Pass::Composite => {
                 (self.features.clouds && self.compute_path()) || self.features.slices
@@ -531,16 +547,30 @@ impl Renderer {
         }
     }
 
-    /// Whether the next frame marches in a compute shader.
-    /// (Always when sprites draw too: it leaves the cloud depth they sort
-    /// against.)
+    /// Whether the next frame marches in a compute shader: always on the
+    /// temporal path, and when sprites draw too (it leaves the cloud depth
+    /// they sort against).
     fn compute_path(&self) -> bool {
-        self.auto_march.path(self.cfg.march) == MarchPath::Compute || self.split()
+        self.features.temporal
+            || self.auto_march.path(self.cfg.march) == MarchPath::Compute
+            || self.split()
+    }
+
+    /// Frames drawn on the temporal path since its history began (0 when
+    /// it is off or has just restarted).
+    pub fn temporal_frames(&self) -> u32 {
+        self.temporal
+            .as_ref()
+            .filter(|t| t.history_valid)
+            .map_or(0, |t| t.frame_index)
     }
 
     /// The march path in use: the configured one, or what `auto` chose
     /// (None while it is still measuring).
     pub fn march_path(&self) -> Option<MarchPath> {
+        if self.features.temporal {
+            return Some(MarchPath::Compute);
+        }
         match self.cfg.march {
             MarchPath::Auto => self.auto_march.chosen(),
             p => Some(p),
@@ -548,26 +578,34 @@ impl Renderer {
     }
 
     fn key(&self, pass: Pass) -> PipelineKey {
-        let compute = pass == Pass::Clouds && self.compute_path();
+        let compute = (pass == Pass::Clouds && self.compute_path()) || pass == Pass::Temporal;
         let format = if pass == Pass::Tonemap {
             self.format
         } else {
             SCENE_FORMAT
         };
-        PipelineKey::new(
+        let key = PipelineKey::new(
             pass,
             self.cfg.method,
             &self.constants(pass),
             format,
             compute,
-        )
+        );
+        if pass == Pass::Clouds && self.features.temporal {
+            key.temporal()
+        } else {
+            key
+        }
     }
 
     /// Both cloud-pass pipelines when `auto` is still measuring (it
     /// alternates), else the one in use.
     fn cloud_keys(&self) -> Vec<PipelineKey> {
         let mut keys = vec![self.key(Pass::Clouds)];
-        if self.cfg.march == MarchPath::Auto && self.auto_march.chosen().is_none() {
+        if self.cfg.march == MarchPath::Auto
+            && self.auto_march.chosen().is_none()
+            && !self.features.temporal
+        {
             let mut other = keys[0].clone();
             other.compute = !other.compute;
             keys.push(other);
@@ -707,9 +745,10 @@ impl Renderer {
                 self.pipelines.ensure(ctx, &self.layouts, &key)?;
             }
         }
-        let target_needed = (current.clouds && self.cfg.march != MarchPath::Fragment)
-            || current.slices
-            || self.split();
+        let target_needed =
+            (current.clouds && !current.temporal && self.cfg.march != MarchPath::Fragment)
+                || current.slices
+                || self.split();
         if target_needed && self.cloud_target.is_none() {
             self.cloud_target = Some(self.make_cloud_target(device));
         }
@@ -718,6 +757,16 @@ impl Renderer {
         }
         if self.scene.is_none() {
             self.scene = Some(self.make_scene_target(device));
+        }
+        if !current.temporal {
+            self.temporal = None;
+        } else if self.temporal.is_none() {
+            self.temporal = Some(temporal::TemporalGpu::new(
+                device,
+                &self.layouts,
+                self.width,
+                self.height,
+            ));
         }
         if current.sprites && self.sprites.is_none() {
             self.sprites = Some(SpritesGpu::new(ctx, &self.layouts.sprites));
@@ -813,6 +862,12 @@ impl Renderer {
         let frame = self.frame_uniform(input);
         ctx.queue
             .write_buffer(&self.frame_buf, 0, bytemuck::bytes_of(&frame));
+        if let Some(t) = self.temporal.as_mut() {
+            t.prepare(
+                &ctx.queue,
+                glam::Mat4::from_cols_array_2d(&frame.clip_from_world),
+            );
+        }
         self.upload_ring_face(ctx, input, &frame)?;
         self.upload_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(())

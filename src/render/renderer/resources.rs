@@ -47,17 +47,31 @@ pub(super) fn make_bind_common(
     clamp: &wgpu::Sampler,
 ) -> wgpu::BindGroup {
     let (field, occupancy) = baked.field();
-    let entries = [
-        frame.as_entire_binding(),
-        exact.parcels_buf.as_entire_binding(),
-        exact.grid_buf.as_entire_binding(),
-        wgpu::BindingResource::TextureView(noise),
-        wgpu::BindingResource::Sampler(repeat),
-        wgpu::BindingResource::Sampler(clamp),
-        wgpu::BindingResource::TextureView(field),
-        occupancy.as_entire_binding(),
-    ];
-    let entries: Vec<wgpu::BindGroupEntry> = entries
+    bind_in_order(
+        device,
+        "common",
+        &layouts.common,
+        vec![
+            frame.as_entire_binding(),
+            exact.parcels_buf.as_entire_binding(),
+            exact.grid_buf.as_entire_binding(),
+            wgpu::BindingResource::TextureView(noise),
+            wgpu::BindingResource::Sampler(repeat),
+            wgpu::BindingResource::Sampler(clamp),
+            wgpu::BindingResource::TextureView(field),
+            occupancy.as_entire_binding(),
+        ],
+    )
+}
+
+/// A bind group whose `resources` take bindings 0, 1, 2, … in order.
+pub(super) fn bind_in_order(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    resources: Vec<wgpu::BindingResource>,
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = resources
         .into_iter()
         .enumerate()
         .map(|(i, resource)| wgpu::BindGroupEntry {
@@ -66,8 +80,8 @@ pub(super) fn make_bind_common(
         })
         .collect();
     device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("common"),
-        layout: &layouts.common,
+        label: Some(label),
+        layout,
         entries: &entries,
     })
 }

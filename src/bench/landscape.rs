@@ -1,0 +1,179 @@
+//! The landscape case (`landscape.csv`, a section of `report.md`):
+//! `profiles/landscape.toml` (40 km × 40 km of cumulus over hills) at
+//! 1920×1080 (smaller in quick and tiny runs), its ray-march with temporal
+//! amortisation on and off (`[render] temporal`): the median frame, the
+//! cloud passes' share, and the mean FLIP of the amortised frame against
+//! the full-resolution march after the same number of frames of the still
+//! scene ([`ACCUMULATED_FRAMES`]).
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use crate::error::{Error, Result};
+use crate::render::headless::Headless;
+use crate::render::{FrameInput, GpuContext, MarchPath, RenderConfig};
+
+use super::Mode;
+use super::measure::{Repeats, Source, measure};
+use super::stats::{mean_flip, rgb};
+
+/// Frames drawn before the amortised and the full frame are compared: four
+/// rounds of the 2×2 pattern, every pixel marched four times.
+pub const ACCUMULATED_FRAMES: u32 = 16;
+
+/// Frame size and simulated time of the landscape case in `mode`: full
+/// 1080p at the scene's start time (940 condensed parcels); quick a
+/// quarter of that; tiny a thumbnail at 300 s (the first few clouds), so
+/// the tiny run's test stays seconds long.
+pub fn plan(mode: Mode) -> ((u32, u32), Option<f64>) {
+    match mode {
+        Mode::Full => ((1920, 1080), None),
+        Mode::Quick => ((480, 270), None),
+        Mode::Tiny => ((64, 36), Some(300.0)),
+    }
+}
+
+/// One row of `landscape.csv`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LandscapeRow {
+    pub temporal: bool,
+    pub width: u32,
+    pub height: u32,
+    /// Condensed parcels drawn.
+    pub parcels: usize,
+    /// Median frame (upload + GPU). units: ms
+    pub frame_ms: f64,
+    /// Median of the cloud passes (march, temporal resolve, composite). units: ms
+    pub cloud_ms: f64,
+    /// Mean FLIP of this path's frame after [`ACCUMULATED_FRAMES`] frames
+    /// against the full-resolution march's (0 for the full march itself).
+    pub mean_flip_vs_full: f64,
+}
+
+/// Measures the landscape with temporal amortisation off, then on.
+pub fn landscape(ctx: &GpuContext, mode: Mode, reps: Repeats) -> Result<Vec<LandscapeRow>> {
+    let ((w, h), time_s) = plan(mode);
+    let l = super::methods::load_at("landscape.toml", time_s)?;
+    let input = FrameInput {
+        camera: l.camera,
+        parcels: &l.parcels,
+        sun: l.sun,
+        time_s: 0.0,
+    };
+    let mut full_frame = Vec::new();
+    let mut rows = Vec::new();
+    for temporal in [false, true] {
+        let cfg = RenderConfig {
+            temporal: Some(temporal),
+            // The temporal path always marches in compute; so does the
+            // full march here, so the two differ by the amortisation alone.
+            march: MarchPath::Compute,
+            ..l.profile.render.clone()
+        };
+        let mut hl = Headless::new(ctx, &cfg, w, h)?;
+        let m = measure(
+            ctx,
+            &mut hl,
+            l.camera,
+            l.sun,
+            Source::Parcels(&l.parcels),
+            reps,
+        )?;
+        let cloud_ms = ["clouds", "temporal", "composite"]
+            .iter()
+            .filter_map(|p| m.pass_ms(p))
+            .sum();
+        let flip = if temporal {
+            // A fresh history: exactly ACCUMULATED_FRAMES frames of the scene.
+            let mut fresh = Headless::new(ctx, &cfg, w, h)?;
+            let (img, _) = fresh.render_after(ctx, &input, ACCUMULATED_FRAMES - 1)?;
+            mean_flip(&full_frame, &rgb(&img), w, h)
+        } else {
+            // The full march of a still scene is the same every frame.
+            full_frame = rgb(&m.rgba);
+            0.0
+        };
+        rows.push(LandscapeRow {
+            temporal,
+            width: w,
+            height: h,
+            parcels: l.parcels.len(),
+            frame_ms: m.render_ms,
+            cloud_ms,
+            mean_flip_vs_full: flip,
+        });
+    }
+    Ok(rows)
+}
+
+/// `landscape.csv`: temporal, width, height, parcels, frame_ms, cloud_ms,
+/// mean_flip_vs_full.
+pub fn landscape_csv(rows: &[LandscapeRow]) -> Result<Vec<u8>> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let err = |e: csv::Error| Error::invalid("landscape.csv", "a row", e.to_string());
+    w.write_record([
+        "temporal",
+        "width",
+        "height",
+        "parcels",
+        "frame_ms",
+        "cloud_ms",
+        "mean_flip_vs_full",
+    ])
+    .map_err(err)?;
+    for r in rows {
+        w.write_record([
+            super::perf::on_off(r.temporal).to_string(),
+            r.width.to_string(),
+            r.height.to_string(),
+            r.parcels.to_string(),
+            format!("{:.3}", r.frame_ms),
+            format!("{:.3}", r.cloud_ms),
+            format!("{:.4}", r.mean_flip_vs_full),
+        ])
+        .map_err(err)?;
+    }
+    w.into_inner()
+        .map_err(|e| Error::invalid("landscape.csv", "the buffer", e.to_string()))
+}
+
+/// The landscape section of `report.md`.
+pub fn landscape_md(rows: &[LandscapeRow]) -> String {
+    let mut s = String::from("\n## Landscape\n\n");
+    let Some(first) = rows.first() else {
+        return s + "Not measured in this run.\n";
+    };
+    let _ = writeln!(
+        s,
+        "`profiles/landscape.toml` at {}×{}, {} condensed parcels, compute march. Temporal: \
+         a quarter of the pixels marched per frame, the rest reprojected and accumulated \
+         (`[render] temporal`). FLIP: mean, the frame after {ACCUMULATED_FRAMES} frames of the \
+         still scene against the full-resolution march's.\n\n\
+         | temporal | frame (ms) | clouds (ms) | mean FLIP vs full |\n|---|---:|---:|---:|",
+        first.width, first.height, first.parcels
+    );
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "| {} | {:.2} | {:.2} | {:.4} |",
+            super::perf::on_off(r.temporal),
+            r.frame_ms,
+            r.cloud_ms,
+            r.mean_flip_vs_full
+        );
+    }
+    if let [off, on] = rows {
+        let _ = writeln!(
+            s,
+            "\nTemporal amortisation: clouds {:.2}× faster, frame {:.2}× faster.",
+            off.cloud_ms / on.cloud_ms.max(1e-9),
+            off.frame_ms / on.frame_ms.max(1e-9)
+        );
+    }
+    s
+}
+
+/// Writes `landscape.csv` into `dir`.
+pub fn write(dir: &Path, rows: &[LandscapeRow]) -> Result<()> {
+    crate::output::write_atomic(&dir.join("landscape.csv"), &landscape_csv(rows)?)
+}
