@@ -21,12 +21,15 @@ pub mod octaves;
 pub mod slicing;
 
 pub use animation::{Keyframe, Motion, ParticleConfig, cumulonimbus, state_at, states_at};
-pub use controls::SlicesConfig;
+pub use controls::{SlicesConfig, VertexField};
 pub use ellipsoid::{Ellipsoid, EllipsoidState, field_at, wyvill};
 pub use frame::{AuthoredFrame, authored_frame};
 pub use media::MediaFilter;
 pub use octaves::{NoiseMotion, NoiseTier, OctaveUniform, octave_uniform};
-pub use slicing::{SliceGeometry, SliceOrientation, SliceVertex, build_slices, slice_normal};
+pub use slicing::{
+    ShadowRays, SliceGeometry, SliceOrientation, SliceVertex, build_slices, slice_grid,
+    slice_normal,
+};
 
 use crate::error::{Error, Result};
 

@@ -78,17 +78,50 @@ pub struct MethodRow {
 
 /// A scene loaded and simulated to its start time: its parcels, camera,
 /// sun and sprite clouds.
-struct Loaded {
-    profile: SceneProfile,
-    parcels: Vec<CloudParcel>,
-    camera: Camera,
-    sun: Sun,
+pub(super) struct Loaded {
+    pub profile: SceneProfile,
+    pub parcels: Vec<CloudParcel>,
+    pub camera: Camera,
+    pub sun: Sun,
 }
 
-fn load(name: &str) -> Result<Loaded> {
+/// The profile `name` of `profiles/` with the bench's `--set` overrides
+/// applied and validated as [`crate::scene::load_scene_with`] does; an
+/// error also names the scene (an override must suit every bench scene).
+pub fn load_profile(name: &str, overrides: &[String]) -> Result<SceneProfile> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("profiles")
+        .join(name);
+    crate::scene::load_scene_with(Some(&path), overrides)
+        .map(|(p, _)| p)
+        .map_err(|e| match e {
+            Error::InvalidParameter {
+                name: key,
+                value,
+                allowed,
+            } if !overrides.is_empty() => Error::InvalidParameter {
+                name: key,
+                value,
+                allowed: format!("{allowed} (in bench scene {name})"),
+            },
+            other => other,
+        })
+}
+
+/// Loads every scene of [`cases`] with `overrides`, so a bad one fails
+/// before anything is measured.
+pub fn check_overrides(overrides: &[String]) -> Result<()> {
+    let mut names: Vec<&str> = cases().iter().map(|c| c.scene).collect();
+    names.dedup();
+    for name in names {
+        load_profile(name, overrides)?;
+    }
+    Ok(())
+}
+
+pub(super) fn load(name: &str, overrides: &[String]) -> Result<Loaded> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles");
-    let path = dir.join(name);
-    let profile = SceneProfile::load(&path)?;
+    let profile = load_profile(name, overrides)?;
     let env = profile.atmosphere.build(&dir)?;
     let mut world = ParcelWorld::new(env, profile.world_config(&dir)?, 1)?;
     let t = profile.simulation.start_s;
@@ -108,18 +141,20 @@ fn load(name: &str) -> Result<Loaded> {
     })
 }
 
-/// Measures every case of [`cases`] at `size`; `tick` after each.
+/// Measures every case of [`cases`] at `size`, each scene loaded with the
+/// `--set` `overrides`; `tick` after each.
 pub fn methods(
     ctx: &GpuContext,
     size: (u32, u32),
     reps: Repeats,
+    overrides: &[String],
     mut tick: impl FnMut(&str),
 ) -> Result<Vec<MethodRow>> {
     let mut rows = Vec::new();
     let mut scenes: Vec<(&str, Loaded, Option<Vec<u8>>)> = Vec::new();
     for case in cases() {
         if !scenes.iter().any(|(n, ..)| *n == case.scene) {
-            let l = load(case.scene)?;
+            let l = load(case.scene, overrides)?;
             let reference = if l.parcels.is_empty() {
                 None
             } else {

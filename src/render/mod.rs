@@ -524,8 +524,8 @@ pub struct Features {
     pub slices: bool,
     /// Terrain mesh pass.
     pub terrain: bool,
-    /// Cloud-shadow pass (needs clouds and terrain; not drawn by the
-    /// `slices` method, whose field is not in the shadow pass's inputs).
+    /// Cloud-shadow pass (needs terrain and ray-marched clouds or slicing
+    /// planes; the `slices` method's map comes from its implicit field).
     pub shadows: bool,
     /// Finite-difference normals compiled into the cloud shader.
     pub normals: bool,
@@ -537,12 +537,13 @@ impl Features {
         let drawn = cfg.clouds && any_clouds;
         let clouds = drawn && cfg.method.ray_marches();
         let terrain = cfg.terrain.enabled;
+        let slices = drawn && cfg.method == RenderMethod::Slices;
         Self {
             clouds,
             sprites: drawn && cfg.method == RenderMethod::Sprites,
-            slices: drawn && cfg.method == RenderMethod::Slices,
+            slices,
             terrain,
-            shadows: cfg.shadows && clouds && terrain,
+            shadows: cfg.shadows && (clouds || slices) && terrain,
             normals: cfg.normals && clouds,
         }
     }

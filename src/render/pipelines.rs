@@ -31,7 +31,7 @@ pub const CLOUD_TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16
 /// sun disc is ~12) with 11 bits of mantissa, finer than 8-bit output.
 pub const SCENE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
-fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+pub(crate) fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: STAGES,
@@ -70,7 +70,7 @@ fn sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
-fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+pub(crate) fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: STAGES,
@@ -293,6 +293,10 @@ impl PipelineCache {
         }
         if pass == Pass::Slices {
             layouts_list.push(Some(&layouts.slices));
+        }
+        if pass == Pass::Shadow && key.method == RenderMethod::Slices {
+            // The implicit field's group 2 (field_slices.wgsl); no group 1.
+            layouts_list.extend([None, Some(&layouts.slices)]);
         }
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some(pass.name()),

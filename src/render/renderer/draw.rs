@@ -144,6 +144,10 @@ impl Renderer {
             self.baked.encode(enc, timestamps);
             return;
         }
+        if pass == Pass::SliceField {
+            self.slices.encode_field(enc, &self.bind_common, timestamps);
+            return;
+        }
         let pipeline = match self.pipelines.get(&self.key(pass)) {
             Some(Pipeline::Render(p)) => p,
             Some(Pipeline::Compute(p)) => {
@@ -185,6 +189,12 @@ impl Renderer {
             })]
         };
         let clear = wgpu::LoadOp::Clear(wgpu::Color::WHITE);
+        let slices = self.cfg.method == crate::render::RenderMethod::Slices;
+        // The paper's Background control: a flat colour instead of the sky.
+        let background = (slices && !self.cfg.slices.sky).then(|| {
+            let [r, g, b] = self.cfg.slices.background_colour.map(f64::from);
+            wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a: 1.0 })
+        });
         let scene = self.scene.as_ref().expect("ensure made the scene target");
         let cloud_target = || &self.cloud_target.as_ref().expect("cloud target exists").0;
         let attachments = match pass {
@@ -196,7 +206,7 @@ impl Renderer {
                 &self.shadow_view.as_ref().expect("shadow map exists").1,
                 clear,
             ),
-            Pass::Sky => color(&scene.view, clear),
+            Pass::Sky => color(&scene.view, background.unwrap_or(clear)),
             Pass::Tonemap => color(target, clear),
             _ => color(&scene.view, wgpu::LoadOp::Load),
         };
@@ -250,6 +260,15 @@ impl Renderer {
             Pass::Tonemap => {
                 rp.set_bind_group(1, &scene.bind, &[]);
                 rp.draw(0..3, 0..1);
+            }
+            // The background colour is the clear; nothing to draw.
+            Pass::Sky if background.is_some() => {}
+            // The implicit field of the planes (group 2), see field_slices.wgsl.
+            Pass::Shadow if slices => {
+                if let Some(bind) = &self.slices.bind {
+                    rp.set_bind_group(2, bind, &[]);
+                    rp.draw(0..3, 0..1);
+                }
             }
             _ => rp.draw(0..3, 0..1),
         }

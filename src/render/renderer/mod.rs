@@ -109,6 +109,9 @@ pub struct Renderer {
     sprites: Option<SpritesGpu>,
     /// The `slices` method's buffers.
     slices: SlicesGpu,
+    /// The noise volume on the CPU (its side), for the first octave of the
+    /// vertex shadows when the CPU evaluates them (`slices` method).
+    slices_noise: Option<(u32, noise::NoiseVolume)>,
     /// Authored clouds the `slices` method draws besides the parcels.
     authored: (
         Vec<crate::authored::Ellipsoid>,
@@ -174,7 +177,7 @@ impl Renderer {
         let noise_view = noise::NoiseVolume::new(cfg.noise_texels).texture(&ctx.device, &ctx.queue);
 
         let layouts = PassLayouts::new(device);
-        let slices = SlicesGpu::new(device, &layouts.slices);
+        let slices = SlicesGpu::new(device);
 
         let dummy_depth_view = texture_2d(
             device,
@@ -261,6 +264,7 @@ impl Renderer {
             sprite_scene: SpriteScene::default(),
             sprites: None,
             slices,
+            slices_noise: None,
             authored: Default::default(),
             ring: None,
         };
@@ -283,7 +287,17 @@ impl Renderer {
     /// Primitives (ellipsoids and parcel spheres) the `slices` method drew
     /// in the last prepared frame.
     pub fn slice_primitives(&self) -> u32 {
-        self.slices.primitives
+        self.slices.primitives_drawn
+    }
+
+    /// The slices' vertex buffer after the last frame (tests compare the
+    /// compute pass with the CPU): the first `count` vertices.
+    pub fn slice_vertices(
+        &self,
+        ctx: &GpuContext,
+        count: usize,
+    ) -> Result<Vec<crate::authored::SliceVertex>> {
+        self.slices.read_vertices(ctx, count)
     }
 
     /// The current configuration.
@@ -427,7 +441,7 @@ impl Renderer {
         // are the same pipelines for every target.
         let mut c = match pass {
             Pass::Tonemap => vec![("ENCODE_SRGB", srgb)],
-            Pass::Bake | Pass::Sky | Pass::Composite | Pass::Shadow => vec![],
+            Pass::Bake | Pass::SliceField | Pass::Sky | Pass::Composite | Pass::Shadow => vec![],
             Pass::Terrain => vec![("HAS_SHADOWS", b(f.shadows))],
             Pass::Sprites => vec![("HAS_TERRAIN", b(f.terrain))],
             Pass::Clouds => vec![("USE_NORMALS", b(f.normals)), ("HAS_TERRAIN", b(f.terrain))],
@@ -442,6 +456,7 @@ impl Renderer {
     fn needed(&self, pass: Pass) -> bool {
         match pass {
             Pass::Bake => self.features.clouds && self.cfg.method == RenderMethod::Baked,
+            Pass::SliceField => self.features.slices && self.slices.field_pending(),
             Pass::Shadow => self.features.shadows,
             Pass::Sky => true,
             Pass::Terrain => self.features.terrain,
@@ -609,7 +624,7 @@ impl Renderer {
             self.features = features;
             let mut keys: Vec<PipelineKey> = Pass::ALL
                 .into_iter()
-                .filter(|p| *p != Pass::Bake && self.needed(*p))
+                .filter(|p| !matches!(p, Pass::Bake | Pass::SliceField) && self.needed(*p))
                 .map(|p| self.key(p))
                 .collect();
             if self.features.clouds {
@@ -649,6 +664,12 @@ impl Renderer {
             }
             RenderMethod::Sprites => GridInfo::EMPTY,
             RenderMethod::Slices => {
+                let mode = self.cfg.slices.vertex_field;
+                let texels = self.cfg.noise_texels;
+                let cpu = mode == crate::authored::VertexField::Cpu;
+                if cpu && self.slices_noise.as_ref().map(|(n, _)| *n) != Some(texels) {
+                    self.slices_noise = Some((texels, noise::NoiseVolume::new(texels)));
+                }
                 let frame = slices_frame(
                     &self.authored.0,
                     &self.authored.1,
@@ -657,13 +678,20 @@ impl Renderer {
                     input.time_s,
                     input.sun.direction,
                     input.camera.target - input.camera.position,
+                    self.slices_noise.as_ref().filter(|_| cpu).map(|(_, v)| v),
                 )?;
-                self.slices.upload(ctx, &frame);
+                self.slices.upload(ctx, &self.layouts, &frame, mode)?;
                 // No ray-march grid: "parcel_count" counts the primitives
-                // when there are planes to draw, so features see clouds.
+                // when there are planes to draw, so features see clouds,
+                // and the grid box is the primitives' bounds, which the
+                // cloud-shadow map covers (shadow_rect, shadow.wgsl).
                 let mut info = GridInfo::EMPTY;
                 if self.slices.index_count > 0 {
-                    info.parcel_count = self.slices.primitives;
+                    info.parcel_count = self.slices.primitives_drawn;
+                    if let Some((lo, hi)) = crate::authored::ellipsoid::bounds_m(&frame.states) {
+                        info.min = lo;
+                        info.cell = (hi - lo).max(glam::Vec3::ONE);
+                    }
                 }
                 info
             }
