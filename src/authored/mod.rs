@@ -9,6 +9,7 @@
 //! - [`octaves`]: per-octave noise transforms (eq. 3), tiers, the Base tier;
 //! - [`media`]: the cloud media filters of Table 2;
 //! - [`controls`]: `[render.slices]`, the qualitative controls of Table 2;
+//! - [`pick`]: picking, moving and resizing ellipsoids with the mouse;
 //! - [`slicing`]: light-aligned slicing planes, vertex field and shadows;
 //! - [`frame`]: all of it for one frame, as the slice renderer takes it.
 
@@ -18,6 +19,7 @@ pub mod ellipsoid;
 pub mod frame;
 pub mod media;
 pub mod octaves;
+pub mod pick;
 pub mod slicing;
 
 pub use animation::{Keyframe, Motion, ParticleConfig, cumulonimbus, state_at, states_at};
