@@ -152,3 +152,49 @@ fn the_cursor_ray_passes_through_what_the_pixel_shows() {
     // Over the panel: no ray.
     assert!(cursor_ray(&camera, rect, (100.0, 100.0)).is_none());
 }
+
+#[test]
+fn the_window_selects_drags_resizes_and_outlines_through_the_model() {
+    use cumulus::app::ellipsoid_mouse::{drag, paint_outlines, press, resize};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles/authored.toml");
+    let (profile, source) = cumulus::scene::load_scene(Some(&path)).unwrap();
+    let mut m = cumulus::app::state::Model::new(profile, source).unwrap();
+    let camera = m.render_camera();
+    let now = cumulus::authored::states_at(
+        &m.profile.ellipsoids,
+        &m.profile.particles,
+        m.world.time_s() as f32,
+    );
+    // Aim at the last ellipsoid as it is drawn now.
+    let target = now.len() - 1;
+    let aim = |p: Vec3| (camera.position, (p - camera.position).normalize());
+    let mut selected = 0;
+    let mut d = press(&m, aim(now[target].centre_m), &mut selected).expect("a hit");
+    assert_eq!(selected, target);
+    let before = m.profile.ellipsoids[target].centre_m;
+    let right = (camera.target - camera.position).cross(Vec3::Z).normalize();
+    drag(
+        &mut m,
+        &mut d,
+        &camera,
+        aim(now[target].centre_m + right * 500.0),
+    );
+    let moved = Vec3::from(m.profile.ellipsoids[target].centre_m) - Vec3::from(before);
+    // About 500 m sideways (the grab point is on the near surface, a
+    // little closer than the centre, so a little less).
+    assert!((moved.dot(right) - 500.0).abs() < 100.0, "{moved}");
+    let r = m.profile.ellipsoids[target].radii_m[0];
+    assert!(resize(&mut m, selected, 1.0));
+    assert!((m.profile.ellipsoids[target].radii_m[0] / r - RESIZE_PER_STEP).abs() < 1e-4);
+    // Outlines only when asked for: painted shapes in the egui output.
+    let ctx = egui::Context::default();
+    let shapes = |m: &cumulus::app::state::Model| {
+        let out = ctx.run_ui(egui::RawInput::default(), |ui| {
+            paint_outlines(ui.ctx(), m, (0, 800, 450), selected);
+        });
+        out.shapes.len()
+    };
+    assert_eq!(shapes(&m), 0);
+    m.render_cfg.slices.outlines = true;
+    assert!(shapes(&m) >= 3, "three ellipses per ellipsoid in view");
+}
