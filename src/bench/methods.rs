@@ -119,6 +119,25 @@ pub fn check_overrides(overrides: &[String]) -> Result<()> {
     Ok(())
 }
 
+impl Loaded {
+    /// Frames of this scene's parcels, camera and sun measured on `hl`.
+    pub fn measure(
+        &self,
+        ctx: &GpuContext,
+        hl: &mut Headless,
+        reps: Repeats,
+    ) -> Result<super::measure::Measured> {
+        measure(
+            ctx,
+            hl,
+            self.camera,
+            self.sun,
+            Source::Parcels(&self.parcels),
+            reps,
+        )
+    }
+}
+
 pub(super) fn load(name: &str, overrides: &[String]) -> Result<Loaded> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles");
     let profile = load_profile(name, overrides)?;
@@ -236,14 +255,7 @@ fn run_case(
             hl.render(ctx, &input)?;
         }
     }
-    let m = measure(
-        ctx,
-        &mut hl,
-        l.camera,
-        l.sun,
-        Source::Parcels(&l.parcels),
-        reps,
-    )?;
+    let m = l.measure(ctx, &mut hl, reps)?;
     Ok((m, hl.renderer.sprite_stats().sprites))
 }
 

@@ -12,7 +12,7 @@ use crate::error::{Error, Result};
 use crate::render::GpuContext;
 use crate::render::headless::Headless;
 
-use super::measure::{Repeats, Source, measure};
+use super::measure::Repeats;
 
 /// The Quality (slicing planes) of the rows.
 pub const QUALITIES: [u32; 2] = [32, 128];
@@ -55,14 +55,7 @@ pub fn slices_rows(
             let mut hl = Headless::new(ctx, &cfg, size.0, size.1)?;
             hl.renderer
                 .set_authored(&l.profile.ellipsoids, &l.profile.particles);
-            let m = measure(
-                ctx,
-                &mut hl,
-                l.camera,
-                l.sun,
-                Source::Parcels(&l.parcels),
-                reps,
-            )?;
+            let m = l.measure(ctx, &mut hl, reps)?;
             let side = cfg.slices.tessellation as u64 + 1;
             rows.push(SlicesRow {
                 quality,

@@ -87,14 +87,7 @@ pub struct SlicesGpu {
 
 impl SlicesGpu {
     pub fn new(device: &wgpu::Device) -> Self {
-        let uniform = |label, size: usize| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: size as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })
-        };
+        let uniform = |label, size| crate::render::pipelines::uniform_buffer(device, label, size);
         Self {
             octaves: uniform("slices: octaves", std::mem::size_of::<OctaveUniform>()),
             params: uniform(

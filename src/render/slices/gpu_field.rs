@@ -13,7 +13,8 @@ use crate::authored::slicing::ShadowRays;
 use crate::error::{Error, Result};
 use crate::render::RenderMethod;
 use crate::render::gpu::GpuContext;
-use crate::render::pipelines::{PassLayouts, uniform_entry};
+use crate::render::pipelines::{PassLayouts, uniform_buffer, uniform_entry};
+use crate::render::raymarch::baked::compute_storage_entry;
 use crate::render::shaders::Pass;
 
 /// Threads per workgroup of both entry points (`@workgroup_size(64)`).
@@ -67,19 +68,7 @@ impl FieldPass {
         let device = &ctx.device;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("slice field: job and vertices"),
-            entries: &[
-                uniform_entry(0),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::COMPUTE,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: false },
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
-            ],
+            entries: &[uniform_entry(0), compute_storage_entry(1)],
         });
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -105,12 +94,7 @@ impl FieldPass {
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(Error::Gpu(format!("creating the slice_field pass: {e}")));
         }
-        let job = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("slice field: job"),
-            size: std::mem::size_of::<FieldJob>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let job = uniform_buffer(device, "slice field: job", std::mem::size_of::<FieldJob>());
         Ok(Self {
             layout,
             field,
