@@ -53,6 +53,7 @@ fn state(centre: [f32; 3], radii: [f32; 3], yaw_deg: f32, strength: f32) -> Elli
         radii_m: radii.into(),
         rotation: EllipsoidState::rotation_from_deg([0.0, 0.0, yaw_deg]),
         strength,
+        base_z_m: f32::NEG_INFINITY,
     }
 }
 

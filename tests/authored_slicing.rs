@@ -13,6 +13,7 @@ fn sphere(radius_m: f32) -> EllipsoidState {
         radii_m: Vec3::splat(radius_m),
         rotation: Mat3::IDENTITY,
         strength: 1.0,
+        base_z_m: f32::NEG_INFINITY,
     }
 }
 

@@ -152,6 +152,18 @@ fn check_outputs(dir: &Path) {
     );
     check_numbers("scaling.csv", &h, &rows, &["_ms", "_list"]);
 
+    // slices.csv: every Quality with the vertex field on the CPU and in
+    // the compute pass; only the GPU rows time a slice_field pass.
+    let (h, rows) = read_csv(&dir.join("slices.csv"));
+    assert_eq!(rows.len(), cumulus::bench::slices_field::ROWS);
+    check_positive("slices.csv", &h, &rows, "frame_ms");
+    check_numbers("slices.csv", &h, &rows, &["_ms"]);
+    let (mode, pass) = (col(&h, "vertex_field"), col(&h, "field_pass_ms"));
+    for r in &rows {
+        let ms: f64 = r[pass].parse().unwrap();
+        assert_eq!(ms > 0.0, r[mode] == "gpu", "{r:?}");
+    }
+
     let (h, rows) = read_csv(&dir.join("pruning.csv"));
     assert_eq!(rows.len(), 4);
     check_positive("pruning.csv", &h, &rows, "frame_ms");
@@ -261,6 +273,7 @@ fn tiny_bench_writes_well_formed_tables() {
         adapter: None,
         progress: false,
         method: Default::default(),
+        overrides: Vec::new(),
     };
     let results = cumulus::bench::run_with(&ctx, &opts).unwrap();
     assert!(["debug", "release"].contains(&results.info.profile));

@@ -54,6 +54,7 @@ fn an_authored_animation_exports_as_a_numbered_series() {
         0.0,
         cfg.sun_direction(),
         camera.target - camera.position,
+        None, // the primitives only: no vertex values
     )
     .unwrap();
     let field = AuthoredField::new(&frame, cfg.noise_texels);

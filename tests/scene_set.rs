@@ -186,3 +186,42 @@ fn simulate_takes_set_overrides() {
         "{csv}"
     );
 }
+
+#[test]
+fn bench_takes_set_overrides() {
+    // The methods table's scenes load with the overrides, validated as a
+    // file is, and an override that does not suit one names that scene.
+    let o = |s: &str| vec![s.to_string()];
+    let p = cumulus::bench::methods::load_profile("authored.toml", &o("render.slices.quality=16"))
+        .unwrap();
+    assert_eq!(p.render.slices.quality, 16);
+    let e =
+        cumulus::bench::methods::load_profile("fair_weather.toml", &o("ellipsoids[0].strength=1"))
+            .unwrap_err()
+            .to_string();
+    assert!(
+        e.contains("--set ellipsoids[0].strength") && e.contains("bench scene fair_weather.toml"),
+        "{e}"
+    );
+    // The binary checks them before opening a device or measuring.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("report");
+    let bad = Command::new(env!("CARGO_BIN_EXE_cumulus"))
+        .args([
+            "bench",
+            "--tiny",
+            "--set",
+            "render.slices.quality=4",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(!bad.status.success());
+    let stderr = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        stderr.contains("invalid --set render.slices.quality = 4: 8 to 1024 slicing planes"),
+        "{stderr}"
+    );
+    assert!(!out.exists(), "nothing written on bad input");
+}

@@ -14,6 +14,7 @@
 //! - [`window`]: winit event loop, surface, frame loop and screenshot.
 
 pub mod camera;
+pub mod ellipsoid_mouse;
 pub mod panel;
 pub mod profile_edit;
 pub mod progress;

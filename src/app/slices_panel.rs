@@ -9,7 +9,7 @@
 use egui::{DragValue, RichText};
 
 use super::state::Model;
-use crate::authored::{Ellipsoid, MediaFilter, Motion, NoiseMotion};
+use crate::authored::{Ellipsoid, MediaFilter, Motion, NoiseMotion, VertexField};
 
 /// Three drag fields for a vector, with a label.
 fn vec3(ui: &mut egui::Ui, label: &str, v: &mut [f32; 3], speed: f64) {
@@ -55,6 +55,19 @@ pub fn slices_section(ui: &mut egui::Ui, m: &mut Model, selected: &mut usize) ->
                 ui.label("shadow");
                 ui.color_edit_button_rgb(&mut s.shadow_colour);
             });
+            ui.horizontal(|ui| {
+                ui.checkbox(&mut s.sky, "sky");
+                ui.label("else background");
+                ui.color_edit_button_rgb(&mut s.background_colour);
+            });
+            ui.checkbox(&mut s.shadow_octave, "first octave in the shadows");
+            ui.horizontal(|ui| {
+                ui.label("vertex field on");
+                for m in [VertexField::Cpu, VertexField::Gpu] {
+                    ui.selectable_value(&mut s.vertex_field, m, m.name());
+                }
+            });
+            ui.checkbox(&mut s.outlines, "outline the ellipsoids");
         });
 
     ui.label(RichText::new("Media shaping").strong());

@@ -14,6 +14,7 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
 
+use super::ellipsoid_mouse;
 use super::panel::{self, PanelState};
 use super::state::{FIXED_FRAME_DT_S, Model};
 use crate::error::{Error, Result};
@@ -111,6 +112,8 @@ struct Input {
     dragging: Option<MouseButton>,
     cursor: Option<PhysicalPosition<f64>>,
     keys: HashSet<KeyCode>,
+    /// An ellipsoid being dragged (slices method; see `ellipsoid_mouse`).
+    ellipsoid: Option<ellipsoid_mouse::Drag>,
 }
 
 struct Gfx {
@@ -324,8 +327,10 @@ impl App {
         let model = &mut self.model;
         let panel_state = &mut self.panel;
         let mut actions = panel::PanelActions::default();
+        let rect = view3d_rect(g.split, &g.window, g.config.width, g.config.height);
         let out = self.egui_ctx.run_ui(raw, |ui| {
             actions = panel::show(ui, model, panel_state);
+            ellipsoid_mouse::paint_outlines(ui.ctx(), model, rect, panel_state.selected_ellipsoid);
         });
         if actions.render_changed {
             // Only what the changed settings need is rebuilt (Renderer::set_config).
@@ -654,13 +659,41 @@ impl ApplicationHandler for App {
             },
             WindowEvent::MouseInput { state, button, .. } => match state {
                 ElementState::Pressed if !consumed && !over_panel => {
-                    self.input.dragging = Some(button)
+                    let rect = view3d_rect(g.split, &g.window, g.config.width, g.config.height);
+                    let ray = self.input.cursor.and_then(|c| {
+                        ellipsoid_mouse::cursor_ray(&self.model.render_camera(), rect, (c.x, c.y))
+                    });
+                    self.input.ellipsoid =
+                        ray.filter(|_| button == MouseButton::Left).and_then(|ray| {
+                            let selected = &mut self.panel.selected_ellipsoid;
+                            ellipsoid_mouse::press(&self.model, ray, selected)
+                        });
+                    if self.input.ellipsoid.is_none() {
+                        self.input.dragging = Some(button)
+                    }
+                }
+                ElementState::Released if button == MouseButton::Left => {
+                    self.input.ellipsoid = None;
+                    if self.input.dragging == Some(button) {
+                        self.input.dragging = None
+                    }
                 }
                 ElementState::Released if self.input.dragging == Some(button) => {
                     self.input.dragging = None
                 }
                 _ => {}
             },
+            WindowEvent::CursorMoved { position, .. } if self.input.ellipsoid.is_some() => {
+                let rect = view3d_rect(g.split, &g.window, g.config.width, g.config.height);
+                let camera = self.model.render_camera();
+                if let (Some(d), Some(ray)) = (
+                    self.input.ellipsoid.as_mut(),
+                    ellipsoid_mouse::cursor_ray(&camera, rect, (position.x, position.y)),
+                ) {
+                    ellipsoid_mouse::drag(&mut self.model, d, &camera, ray);
+                }
+                self.input.cursor = Some(position);
+            }
             WindowEvent::CursorMoved { position, .. } => {
                 if let (Some(b), Some(last)) = (self.input.dragging, self.input.cursor) {
                     let (dx, dy) = ((position.x - last.x) as f32, (position.y - last.y) as f32);
@@ -677,7 +710,13 @@ impl ApplicationHandler for App {
                     MouseScrollDelta::LineDelta(_, y) => y,
                     MouseScrollDelta::PixelDelta(p) => p.y as f32 / 40.0,
                 };
-                self.model.camera.zoom(steps);
+                let shift = [KeyCode::ShiftLeft, KeyCode::ShiftRight]
+                    .iter()
+                    .any(|k| self.input.keys.contains(k));
+                let selected = self.panel.selected_ellipsoid;
+                if !(shift && ellipsoid_mouse::resize(&mut self.model, selected, steps)) {
+                    self.model.camera.zoom(steps);
+                }
             }
             WindowEvent::KeyboardInput { event, .. } => {
                 if let PhysicalKey::Code(code) = event.physical_key {

@@ -14,6 +14,28 @@ use super::finite_in;
 use super::octaves::{MAX_OCTAVES, NoiseMotion, NoiseTier, validate_tiers};
 use crate::error::{Error, Result};
 
+/// Where the slice vertices' field and shadow are evaluated (paper §4.1:
+/// "on the CPU (or a compute pass: measure both)").
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VertexField {
+    /// On the CPU, with a uniform-grid index of the primitives (the reference).
+    #[default]
+    Cpu,
+    /// In a WGSL compute pass over the vertex buffer, with the same index.
+    Gpu,
+}
+
+impl VertexField {
+    /// The name as written in a scene.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Cpu => "cpu",
+            Self::Gpu => "gpu",
+        }
+    }
+}
+
 /// `[render.slices]`: settings of the `slices` render method.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -35,8 +57,23 @@ pub struct SlicesConfig {
     pub cloud_colour: [f32; 3],
     /// Colour of fully shadowed cloud, linear RGB in [0, 1].
     pub shadow_colour: [f32; 3],
-    /// Background behind the clouds, linear RGB in [0, 1].
+    /// The paper's Background control: with `sky = false`, the scene's
+    /// background (everything no terrain covers) is this flat colour
+    /// instead of the sky gradient, as linear radiance in the sky's units
+    /// (the sky's zenith is about [0.16, 0.34, 0.85]). Linear RGB in [0, 1].
     pub background_colour: [f32; 3],
+    /// Draw the sky behind the clouds (true) or `background_colour` (false).
+    pub sky: bool,
+    /// Include the first noise octave in the vertex shadow (paper §4:
+    /// "optionally with the first noise octave"): the shadow sums field ×
+    /// media(first octave) instead of the field alone, so the noise's large
+    /// lumps shade what lies behind them.
+    pub shadow_octave: bool,
+    /// Where the field and shadow at the slice vertices are evaluated:
+    /// "cpu" (the reference) or "gpu" (a compute pass, the same formulas).
+    pub vertex_field: VertexField,
+    /// Outline the ellipsoids in the window (`cumulus watch` only).
+    pub outlines: bool,
     /// Noise octaves composited per fragment (advanced), 1 to 8.
     pub octaves: u32,
     /// Vertices along each side of a slicing plane minus one (advanced):
@@ -62,6 +99,10 @@ impl Default for SlicesConfig {
             cloud_colour: [1.0, 1.0, 1.0],
             shadow_colour: [0.35, 0.38, 0.45],
             background_colour: [0.45, 0.62, 0.85],
+            sky: true,
+            shadow_octave: true,
+            vertex_field: VertexField::Cpu,
+            outlines: false,
             octaves: 4,
             tessellation: 32,
             base: NoiseMotion::default(),
@@ -90,7 +131,7 @@ impl SlicesConfig {
     /// Shadow added per unit of vertex opacity in eq. 2: Dirtiness ÷ plane
     /// opacity (Table 2), so a vertex's shadow step is Dirtiness × field
     /// whatever the Opacity (the slicing also divides it by the vertices
-    /// along the light ray, §5.2: see `slicing::accumulate_shadows`).
+    /// along the light ray, §5.2: see `SliceGeometry::shadow_rays`).
     pub fn shadow_magnitude(&self) -> f32 {
         self.dirtiness / self.plane_opacity()
     }

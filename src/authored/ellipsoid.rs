@@ -58,6 +58,10 @@ pub struct EllipsoidState {
     pub rotation: Mat3,
     /// Field value at the centre.
     pub strength: f32,
+    /// A flat base: the field is 0 below this altitude (a physics parcel's
+    /// condensation plane, as the ray-march's half-space cuts it);
+    /// `f32::NEG_INFINITY` for none (authored ellipsoids). units: m
+    pub base_z_m: f32,
 }
 
 /// Wyvill, McPheeters & Wyvill's soft-object blending ("Data structure for
@@ -82,14 +86,24 @@ impl EllipsoidState {
         Mat3::from_euler(EulerRot::ZYX, yaw, pitch, roll)
     }
 
-    /// Squared ellipsoidal distance s² of `p`: 1 on the surface, 0 at the centre.
-    pub fn s2(&self, p: Vec3) -> f32 {
-        let local = self.rotation.transpose() * (p - self.centre_m);
-        (local / self.radii_m).length_squared()
+    /// The map from world offsets (p − centre) to the unit ball's
+    /// coordinates: diag(1/radii) · rotationᵀ. The GPU's primitives carry
+    /// it (src/render/slices/gpu_field.rs), so both sides compute s² alike.
+    pub fn unit_from_world(&self) -> glam::Mat3 {
+        Mat3::from_diagonal(self.radii_m.recip()) * self.rotation.transpose()
     }
 
-    /// This primitive's contribution to the field at `p`.
+    /// Squared ellipsoidal distance s² of `p`: 1 on the surface, 0 at the centre.
+    pub fn s2(&self, p: Vec3) -> f32 {
+        (self.unit_from_world() * (p - self.centre_m)).length_squared()
+    }
+
+    /// This primitive's contribution to the field at `p`: strength × C(s²),
+    /// 0 below the flat base.
     pub fn field(&self, p: Vec3) -> f32 {
+        if p.z < self.base_z_m {
+            return 0.0;
+        }
         self.strength * wyvill(self.s2(p))
     }
 
@@ -161,6 +175,26 @@ impl<'a> FieldIndex<'a> {
             dims,
             lists,
         }
+    }
+
+    /// The index as flat arrays for the GPU: (grid minimum, cell size,
+    /// cells per axis, list offsets then items). `cells[c]..cells[c + 1]`
+    /// index, past the n³ + 1 offsets, the primitives of cell
+    /// c = x + n·(y + n·z).
+    pub fn flatten(&self) -> (Vec3, Vec3, u32, Vec<u32>) {
+        let cells = self.lists.len();
+        let items: usize = self.lists.iter().map(Vec::len).sum();
+        let mut out = Vec::with_capacity(cells + 1 + items);
+        let mut start = (cells + 1) as u32;
+        for l in &self.lists {
+            out.push(start);
+            start += l.len() as u32;
+        }
+        out.push(start);
+        for l in &self.lists {
+            out.extend_from_slice(l);
+        }
+        (self.min, self.cell, self.dims[0] as u32, out)
     }
 
     /// The field at `p`: `field_at(states, p)` (see the type's docs).

@@ -9,6 +9,7 @@
 //! - [`octaves`]: per-octave noise transforms (eq. 3), tiers, the Base tier;
 //! - [`media`]: the cloud media filters of Table 2;
 //! - [`controls`]: `[render.slices]`, the qualitative controls of Table 2;
+//! - [`pick`]: picking, moving and resizing ellipsoids with the mouse;
 //! - [`slicing`]: light-aligned slicing planes, vertex field and shadows;
 //! - [`frame`]: all of it for one frame, as the slice renderer takes it.
 
@@ -18,15 +19,19 @@ pub mod ellipsoid;
 pub mod frame;
 pub mod media;
 pub mod octaves;
+pub mod pick;
 pub mod slicing;
 
 pub use animation::{Keyframe, Motion, ParticleConfig, cumulonimbus, state_at, states_at};
-pub use controls::SlicesConfig;
+pub use controls::{SlicesConfig, VertexField};
 pub use ellipsoid::{Ellipsoid, EllipsoidState, field_at, wyvill};
 pub use frame::{AuthoredFrame, authored_frame};
 pub use media::MediaFilter;
 pub use octaves::{NoiseMotion, NoiseTier, OctaveUniform, octave_uniform};
-pub use slicing::{SliceGeometry, SliceOrientation, SliceVertex, build_slices, slice_normal};
+pub use slicing::{
+    ShadowRays, SliceGeometry, SliceOrientation, SliceVertex, build_slices, slice_grid,
+    slice_normal,
+};
 
 use crate::error::{Error, Result};
 

@@ -87,8 +87,22 @@ fn unit(name: &str, v: Vec3) -> Result<Vec3> {
 
 /// Builds the slicing planes of `states` for the light toward `to_light`
 /// and a viewer looking along `view_dir`, with the planes, tessellation,
-/// plane opacity and shadow magnitude of `cfg`.
+/// plane opacity and shadow magnitude of `cfg`: [`slice_grid`], then
+/// [`SliceGeometry::evaluate`] without the noise octave in the shadow.
 pub fn build_slices(
+    states: &[EllipsoidState],
+    cfg: &SlicesConfig,
+    to_light: Vec3,
+    view_dir: Vec3,
+) -> Result<SliceGeometry> {
+    let mut g = slice_grid(states, cfg, to_light, view_dir)?;
+    g.evaluate(states, cfg, to_light, None)?;
+    Ok(g)
+}
+
+/// The tessellated planes alone (field and shadow 0 at every vertex): the
+/// static geometry of §4.1, over the bounds of `states`.
+pub fn slice_grid(
     states: &[EllipsoidState],
     cfg: &SlicesConfig,
     to_light: Vec3,
@@ -144,7 +158,6 @@ pub fn build_slices(
         .collect();
     let lattice =
         |i: usize, extent: (f32, f32)| extent.0 + i as f32 * (extent.1 - extent.0) / t as f32;
-    let index = FieldIndex::new(states);
     let mut vertices = Vec::with_capacity(count as usize);
     for &d in &plane_offsets_m {
         for j in 0..side {
@@ -152,20 +165,12 @@ pub fn build_slices(
                 let p = u * lattice(i, (u0, u1)) + w * lattice(j, (w0, w1)) + n * d;
                 vertices.push(SliceVertex {
                     position_m: p.into(),
-                    density: index.field(p),
+                    density: 0.0,
                     shadow: 0.0,
                 });
             }
         }
     }
-    accumulate_shadows(
-        &mut vertices,
-        orientation,
-        n.dot(l) > 0.0,
-        planes,
-        side,
-        cfg,
-    );
     let indices = plane_indices(planes, side);
     Ok(SliceGeometry {
         normal: n,
@@ -176,98 +181,136 @@ pub fn build_slices(
     })
 }
 
+/// The light rays through the vertices, as eq. 2 walks them: ray r starts
+/// at vertex `r · start_stride + start_offset` (the one nearest the light)
+/// and visits `count` vertices `step` apart; each adds `shadow_step` ×
+/// density (× the octave weight) to the running shadow. The CPU walk below
+/// and the compute pass (shaders/slices_field.wgsl) both follow it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShadowRays {
+    pub rays: u32,
+    pub start_stride: u32,
+    pub start_offset: u32,
+    pub step: i32,
+    pub count: u32,
+    /// Shadow magnitude × plane opacity ÷ vertices along a ray (eq. 2, §5.2).
+    pub shadow_step: f32,
+}
+
+impl ShadowRays {
+    /// Vertex `t` of ray `r`.
+    pub fn vertex(&self, r: u32, t: u32) -> usize {
+        (r as i64 * self.start_stride as i64
+            + self.start_offset as i64
+            + t as i64 * self.step as i64) as usize
+    }
+}
+
 impl SliceGeometry {
-    /// Re-evaluates density and shadow at the existing vertices for new
-    /// ellipsoid states, keeping the positions: the paper's split (§4.1)
-    /// where the tessellated planes stay on the GPU as static geometry and
-    /// only the per-vertex values are refreshed. Valid while the light and
-    /// view keep the same slicing (orientation and normal) and the new
-    /// states fit in the old bounds; otherwise rebuild with [`build_slices`].
+    /// Vertices per side of a plane (tessellation + 1); 0 when empty.
+    pub fn side(&self) -> usize {
+        let planes = self.plane_offsets_m.len();
+        if planes == 0 {
+            return 0;
+        }
+        ((self.vertices.len() / planes) as f64).sqrt().round() as usize
+    }
+
+    /// The light rays of eq. 2 for this geometry (None when empty):
+    ///   shadow_i = shadow_{i−1} + shadow magnitude × opacity_i ÷ N,
+    /// with opacity_i = plane opacity × density_i (eq. 1) and shadow
+    /// magnitude = Dirtiness ÷ plane opacity (Table 2), so each step is
+    /// Dirtiness × density_i ÷ N. N is the number of vertices along the
+    /// light ray: §5.2 says that "as slicing planes increase, the
+    /// accumulated shadow grows, so this term is divided by the number of
+    /// slicing planes", which is N when the planes cross the light; when
+    /// they contain it, N is the row length (tessellation + 1). Either way
+    /// the shadow is a Riemann sum of the density across the cloud's
+    /// bounds, and Quality does not darken it: behind a full-strength block
+    /// as deep as the bounds it is Dirtiness. A vertex's own opacity counts
+    /// toward its shadow, as eq. 2 has it.
+    pub fn shadow_rays(&self, cfg: &SlicesConfig, to_light: Vec3) -> Option<ShadowRays> {
+        let orientation = self.orientation?;
+        let planes = self.plane_offsets_m.len();
+        let side = self.side();
+        if planes == 0 || side == 0 {
+            return None;
+        }
+        let per_plane = side * side;
+        let light_along_normal = self.normal.dot(to_light) > 0.0;
+        let (rays, start_stride, start_offset, step, count) = match orientation {
+            // Planes are in draw order of decreasing offset: plane 0 is
+            // nearest the light when the light is on the +normal side.
+            SliceOrientation::OrthogonalToLight if light_along_normal => {
+                (per_plane, 1, 0, per_plane as i32, planes)
+            }
+            SliceOrientation::OrthogonalToLight => (
+                per_plane,
+                1,
+                (planes - 1) * per_plane,
+                -(per_plane as i32),
+                planes,
+            ),
+            // u = light: the vertex with the largest i in a row is nearest
+            // it; ray r = k·side + j is row j of plane k.
+            SliceOrientation::ParallelToLight => (planes * side, side, side - 1, -1, side),
+        };
+        Some(ShadowRays {
+            rays: rays as u32,
+            start_stride: start_stride as u32,
+            start_offset: start_offset as u32,
+            step,
+            count: count as u32,
+            shadow_step: cfg.shadow_magnitude() * cfg.plane_opacity() / count as f32,
+        })
+    }
+
+    /// Evaluates density and shadow at the existing vertices for `states`,
+    /// keeping the positions: the paper's split (§4.1) where the
+    /// tessellated planes stay as static geometry and only the per-vertex
+    /// values are refreshed. `octave_weight`, when given, multiplies each
+    /// vertex's density in the shadow sum (the first noise octave, see
+    /// `render::slices::field::first_octave_weight`). Valid while the light
+    /// and view keep the same slicing (orientation and normal) and the
+    /// states fit in the old bounds; otherwise rebuild with [`slice_grid`].
+    pub fn evaluate(
+        &mut self,
+        states: &[EllipsoidState],
+        cfg: &SlicesConfig,
+        to_light: Vec3,
+        octave_weight: Option<&dyn Fn(Vec3) -> f32>,
+    ) -> Result<()> {
+        let l = unit("to_light", to_light)?;
+        let Some(rays) = self.shadow_rays(cfg, l) else {
+            return Ok(());
+        };
+        let index = FieldIndex::new(states);
+        for v in &mut self.vertices {
+            v.density = index.field(Vec3::from(v.position_m));
+        }
+        for r in 0..rays.rays {
+            let mut shadow = 0.0;
+            for t in 0..rays.count {
+                let v = &mut self.vertices[rays.vertex(r, t)];
+                let weight = match octave_weight {
+                    Some(f) if v.density > 0.0 => f(Vec3::from(v.position_m)),
+                    _ => 1.0,
+                };
+                shadow += rays.shadow_step * v.density * weight;
+                v.shadow = shadow;
+            }
+        }
+        Ok(())
+    }
+
+    /// [`Self::evaluate`] without the noise octave in the shadow.
     pub fn refresh(
         &mut self,
         states: &[EllipsoidState],
         cfg: &SlicesConfig,
         to_light: Vec3,
     ) -> Result<()> {
-        let Some(orientation) = self.orientation else {
-            return Ok(());
-        };
-        let l = unit("to_light", to_light)?;
-        let planes = self.plane_offsets_m.len();
-        if planes == 0 {
-            return Ok(());
-        }
-        let side = ((self.vertices.len() / planes) as f64).sqrt().round() as usize;
-        let index = FieldIndex::new(states);
-        for v in &mut self.vertices {
-            v.density = index.field(Vec3::from(v.position_m));
-        }
-        accumulate_shadows(
-            &mut self.vertices,
-            orientation,
-            self.normal.dot(l) > 0.0,
-            planes,
-            side,
-            cfg,
-        );
-        Ok(())
-    }
-}
-
-/// Eq. 2 along every light ray, starting at the vertex nearest the light:
-///   shadow_i = shadow_{i−1} + shadow magnitude × opacity_i ÷ N,
-/// with opacity_i = plane opacity × density_i (eq. 1) and shadow magnitude
-/// = Dirtiness ÷ plane opacity (Table 2), so each step is Dirtiness ×
-/// density_i ÷ N. N is the number of vertices along the light ray: §5.2
-/// says that "as slicing planes increase, the accumulated shadow grows, so
-/// this term is divided by the number of slicing planes", which is N when
-/// the planes cross the light; when they contain it, N is the row length
-/// (tessellation + 1). Either way the shadow is a Riemann sum of the
-/// density across the cloud's bounds, and Quality does not darken it:
-/// behind a full-strength block as deep as the bounds it is Dirtiness.
-/// A vertex's own opacity counts toward its shadow, as eq. 2 has it.
-/// `light_along_normal`: whether the light lies on the +normal side.
-fn accumulate_shadows(
-    vertices: &mut [SliceVertex],
-    orientation: SliceOrientation,
-    light_along_normal: bool,
-    planes: usize,
-    side: usize,
-    cfg: &SlicesConfig,
-) {
-    let per_plane = side * side;
-    let along_ray = match orientation {
-        SliceOrientation::OrthogonalToLight => planes,
-        SliceOrientation::ParallelToLight => side,
-    };
-    let step = cfg.shadow_magnitude() * cfg.plane_opacity() / along_ray as f32;
-    let mut walk = |ray: &mut dyn Iterator<Item = usize>| {
-        let mut shadow = 0.0;
-        for i in ray {
-            shadow += step * vertices[i].density;
-            vertices[i].shadow = shadow;
-        }
-    };
-    match orientation {
-        // Planes are in draw order of decreasing offset: plane 0 is nearest
-        // the light when the light is on the +normal side.
-        SliceOrientation::OrthogonalToLight => {
-            for v in 0..per_plane {
-                if light_along_normal {
-                    walk(&mut (0..planes).map(|k| k * per_plane + v));
-                } else {
-                    walk(&mut (0..planes).rev().map(|k| k * per_plane + v));
-                }
-            }
-        }
-        // u = light: the vertex with the largest i in a row is nearest it.
-        SliceOrientation::ParallelToLight => {
-            for k in 0..planes {
-                for j in 0..side {
-                    walk(&mut (0..side).rev().map(|i| k * per_plane + j * side + i));
-                }
-            }
-        }
+        self.evaluate(states, cfg, to_light, None)
     }
 }
 

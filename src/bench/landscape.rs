@@ -51,9 +51,17 @@ pub struct LandscapeRow {
 }
 
 /// Measures the landscape with temporal amortisation off, then on.
-pub fn landscape(ctx: &GpuContext, mode: Mode, reps: Repeats) -> Result<Vec<LandscapeRow>> {
+/// The bench's landscape scene under `profiles/`.
+pub const SCENE: &str = "landscape.toml";
+
+pub fn landscape(
+    ctx: &GpuContext,
+    mode: Mode,
+    reps: Repeats,
+    overrides: &[String],
+) -> Result<Vec<LandscapeRow>> {
     let ((w, h), time_s) = plan(mode);
-    let l = super::methods::load_at("landscape.toml", time_s)?;
+    let l = super::methods::load_at(SCENE, time_s, overrides)?;
     let input = FrameInput {
         camera: l.camera,
         parcels: &l.parcels,

@@ -85,16 +85,69 @@ pub(super) struct Loaded {
     pub sun: Sun,
 }
 
-fn load(name: &str) -> Result<Loaded> {
-    load_at(name, None)
+/// The profile `name` of `profiles/` with the bench's `--set` overrides
+/// applied and validated as [`crate::scene::load_scene_with`] does; an
+/// error also names the scene (an override must suit every bench scene).
+pub fn load_profile(name: &str, overrides: &[String]) -> Result<SceneProfile> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("profiles")
+        .join(name);
+    crate::scene::load_scene_with(Some(&path), overrides)
+        .map(|(p, _)| p)
+        .map_err(|e| match e {
+            Error::InvalidParameter {
+                name: key,
+                value,
+                allowed,
+            } if !overrides.is_empty() => Error::InvalidParameter {
+                name: key,
+                value,
+                allowed: format!("{allowed} (in bench scene {name})"),
+            },
+            other => other,
+        })
 }
 
-/// `profiles/NAME` simulated (seed 1, 2 s frames) to `time_s`, or to its
-/// `[simulation] start_s`.
-pub(super) fn load_at(name: &str, time_s: Option<f64>) -> Result<Loaded> {
+/// Loads every scene of [`cases`] with `overrides`, so a bad one fails
+/// before anything is measured.
+pub fn check_overrides(overrides: &[String]) -> Result<()> {
+    let mut names: Vec<&str> = cases().iter().map(|c| c.scene).collect();
+    names.push(super::landscape::SCENE);
+    names.dedup();
+    for name in names {
+        load_profile(name, overrides)?;
+    }
+    Ok(())
+}
+
+impl Loaded {
+    /// Frames of this scene's parcels, camera and sun measured on `hl`.
+    pub fn measure(
+        &self,
+        ctx: &GpuContext,
+        hl: &mut Headless,
+        reps: Repeats,
+    ) -> Result<super::measure::Measured> {
+        measure(
+            ctx,
+            hl,
+            self.camera,
+            self.sun,
+            Source::Parcels(&self.parcels),
+            reps,
+        )
+    }
+}
+
+pub(super) fn load(name: &str, overrides: &[String]) -> Result<Loaded> {
+    load_at(name, None, overrides)
+}
+
+/// `profiles/NAME` with the `--set` `overrides`, simulated (seed 1, 2 s
+/// frames) to `time_s`, or to its `[simulation] start_s`.
+pub(super) fn load_at(name: &str, time_s: Option<f64>, overrides: &[String]) -> Result<Loaded> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles");
-    let path = dir.join(name);
-    let profile = SceneProfile::load(&path)?;
+    let profile = load_profile(name, overrides)?;
     let env = profile.atmosphere.build(&dir)?;
     let mut world = ParcelWorld::new(env, profile.world_config(&dir)?, 1)?;
     let t = time_s.unwrap_or(profile.simulation.start_s);
@@ -114,18 +167,20 @@ pub(super) fn load_at(name: &str, time_s: Option<f64>) -> Result<Loaded> {
     })
 }
 
-/// Measures every case of [`cases`] at `size`; `tick` after each.
+/// Measures every case of [`cases`] at `size`, each scene loaded with the
+/// `--set` `overrides`; `tick` after each.
 pub fn methods(
     ctx: &GpuContext,
     size: (u32, u32),
     reps: Repeats,
+    overrides: &[String],
     mut tick: impl FnMut(&str),
 ) -> Result<Vec<MethodRow>> {
     let mut rows = Vec::new();
     let mut scenes: Vec<(&str, Loaded, Option<Vec<u8>>)> = Vec::new();
     for case in cases() {
         if !scenes.iter().any(|(n, ..)| *n == case.scene) {
-            let l = load(case.scene)?;
+            let l = load(case.scene, overrides)?;
             let reference = if l.parcels.is_empty() {
                 None
             } else {
@@ -207,14 +262,7 @@ fn run_case(
             hl.render(ctx, &input)?;
         }
     }
-    let m = measure(
-        ctx,
-        &mut hl,
-        l.camera,
-        l.sun,
-        Source::Parcels(&l.parcels),
-        reps,
-    )?;
+    let m = l.measure(ctx, &mut hl, reps)?;
     Ok((m, hl.renderer.sprite_stats().sprites))
 }
 

@@ -22,6 +22,7 @@ pub mod physics_speed;
 pub mod plots;
 pub mod report;
 pub mod scenes;
+pub mod slices_field;
 pub mod stats;
 
 use std::path::PathBuf;
@@ -84,6 +85,10 @@ pub struct Options {
     /// Render method of the performance and pruning tables and the error
     /// sweep's base (the scaling table measures every method).
     pub method: crate::render::RenderMethod,
+    /// `--set TABLE.KEY=VALUE` overrides applied to every scene file the
+    /// bench loads (the profiles of the methods table, see
+    /// [`methods::cases`]), validated exactly like the file.
+    pub overrides: Vec<String>,
 }
 
 /// What each section measures, by mode.
@@ -213,6 +218,7 @@ impl Plan {
             + self.scaling_counts.len()
             + brute
             + methods::cases().len()
+            + slices_field::ROWS
             + 5) as u64
     }
 }
@@ -270,6 +276,8 @@ fn commit() -> String {
 /// Opens the GPU, runs every section and writes the files into
 /// `opts.out`. Returns what was measured.
 pub fn run(opts: &Options) -> Result<BenchResults> {
+    // Bad overrides fail before the device opens and anything is measured.
+    methods::check_overrides(&opts.overrides)?;
     let ctx = GpuContext::new_headless(opts.adapter.as_deref())?;
     run_with(&ctx, opts)
 }
@@ -366,8 +374,9 @@ pub fn run_with(ctx: &GpuContext, opts: &Options) -> Result<BenchResults> {
         plan.reps,
         tick,
     )?;
-    let methods = methods::methods(ctx, size, plan.reps, tick)?;
-    let landscape = landscape::landscape(ctx, opts.mode, plan.reps)?;
+    let methods = methods::methods(ctx, size, plan.reps, &opts.overrides, tick)?;
+    let slices = slices_field::slices_rows(ctx, size, plan.reps, &opts.overrides, tick)?;
+    let landscape = landscape::landscape(ctx, opts.mode, plan.reps, &opts.overrides)?;
     tick("landscape");
     bar.finish_and_clear();
 
@@ -386,5 +395,6 @@ pub fn run_with(ctx: &GpuContext, opts: &Options) -> Result<BenchResults> {
     report::write_all(&opts.out, &results)?;
     methods::write(&opts.out, &results.methods, width, height)?;
     landscape::write(&opts.out, &results.landscape)?;
+    slices_field::write(&opts.out, &slices, width, height)?;
     Ok(results)
 }

@@ -34,6 +34,10 @@ pub struct Args {
     /// table measures every method): baked (default), exact, sprites or slices.
     #[arg(long, value_parser = super::watch::parse_method)]
     pub method: Option<cumulus::render::RenderMethod>,
+    /// Overrides for every scene file the bench loads (the methods table's
+    /// profiles): `--set render.slices.quality=32`.
+    #[command(flatten)]
+    pub overrides: super::SetArgs,
 }
 
 /// Runs `cumulus bench`.
@@ -59,6 +63,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         adapter: args.adapter,
         progress: true,
         method: args.method.unwrap_or_default(),
+        overrides: args.overrides.set,
     };
     let start = std::time::Instant::now();
     let results = cumulus::bench::run(&opts)?;

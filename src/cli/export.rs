@@ -264,6 +264,7 @@ impl Density {
             time as f32,
             cfg.sun_direction(),
             camera.target - camera.position,
+            None, // the primitives only: no vertex values
         )?;
         Ok(Density::Authored(AuthoredField::new(
             &frame,

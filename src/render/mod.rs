@@ -589,11 +589,12 @@ pub struct Features {
     pub slices: bool,
     /// Terrain mesh pass.
     pub terrain: bool,
-    /// Cloud shadows on the terrain (needs clouds and terrain; not drawn by
-    /// the `slices` method, whose field is not in the shadow inputs).
+    /// Cloud shadows on the terrain (needs terrain and ray-marched clouds,
+    /// sprites or slicing planes).
     pub shadows: bool,
-    /// The cloud-shadow map pass: the `exact` method's shadows. The
-    /// `baked` method's terrain reads its light volume instead.
+    /// The cloud-shadow map pass: the `exact` clouds' and the slicing
+    /// planes' shadows (and the sprites', splatted in). The `baked`
+    /// method's terrain reads its light volume instead.
     pub shadow_map: bool,
     /// Finite-difference normals compiled into the cloud shader.
     pub normals: bool,
@@ -608,13 +609,16 @@ impl Features {
         let drawn = cfg.clouds && any_clouds;
         let clouds = drawn && cfg.method.ray_marches();
         let terrain = cfg.terrain.enabled;
+        let slices = drawn && cfg.method == RenderMethod::Slices;
         Self {
             clouds,
             sprites: drawn && cfg.method == RenderMethod::Sprites,
-            slices: drawn && cfg.method == RenderMethod::Slices,
+            slices,
             terrain,
-            shadows: cfg.shadows && clouds && terrain,
-            shadow_map: cfg.shadows && clouds && terrain && cfg.method != RenderMethod::Baked,
+            shadows: cfg.shadows && (clouds || slices) && terrain,
+            shadow_map: cfg.shadows
+                && terrain
+                && ((clouds && cfg.method == RenderMethod::Exact) || slices),
             normals: cfg.normals && clouds,
             temporal: cfg.temporal == Some(true) && clouds,
         }

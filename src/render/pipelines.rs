@@ -37,7 +37,17 @@ pub const TEMPORAL_SCALAR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32
 /// sun disc is ~12) with 11 bits of mantissa, finer than 8-bit output.
 pub const SCENE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
-fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+/// A uniform buffer of `size` bytes the queue writes.
+pub(crate) fn uniform_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+pub(crate) fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: STAGES,
@@ -90,7 +100,7 @@ fn storage_texture_entry(binding: u32, format: wgpu::TextureFormat) -> wgpu::Bin
     }
 }
 
-fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+pub(crate) fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: STAGES,
@@ -375,6 +385,10 @@ impl PipelineCache {
         }
         if pass == Pass::Slices {
             layouts_list.push(Some(&layouts.slices));
+        }
+        if pass == Pass::Shadow && key.method == RenderMethod::Slices {
+            // The implicit field's group 2 (field_slices.wgsl); no group 1.
+            layouts_list.extend([None, Some(&layouts.slices)]);
         }
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some(pass.name()),

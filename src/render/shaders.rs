@@ -44,6 +44,13 @@ pub const TEMPORAL_WGSL: &str = include_str!("../../shaders/temporal.wgsl");
 pub const SPRITES_WGSL: &str = include_str!("../../shaders/sprites.wgsl");
 /// Slicing planes of the `slices` method (Schpok 2003).
 pub const SLICES_WGSL: &str = include_str!("../../shaders/slices.wgsl");
+/// The authored field on the GPU (octaves, media, Wyvill sum), for the
+/// `slices` method's passes.
+pub const IMPLICIT_WGSL: &str = include_str!("../../shaders/implicit.wgsl");
+/// Compute pass of the slice vertices' field and shadow (`vertex_field = "gpu"`).
+pub const SLICES_FIELD_WGSL: &str = include_str!("../../shaders/slices_field.wgsl");
+/// `cloud_density` of the `slices` method, for the cloud-shadow map.
+pub const FIELD_SLICES_WGSL: &str = include_str!("../../shaders/field_slices.wgsl");
 
 /// Every file in `shaders/`, by name (the shader test checks none is missing).
 pub const FILES: &[(&str, &str)] = &[
@@ -63,6 +70,9 @@ pub const FILES: &[(&str, &str)] = &[
     ("tonemap.wgsl", TONEMAP_WGSL),
     ("sprites.wgsl", SPRITES_WGSL),
     ("slices.wgsl", SLICES_WGSL),
+    ("implicit.wgsl", IMPLICIT_WGSL),
+    ("slices_field.wgsl", SLICES_FIELD_WGSL),
+    ("field_slices.wgsl", FIELD_SLICES_WGSL),
 ];
 
 /// The render passes, in the order they run.
@@ -70,6 +80,9 @@ pub const FILES: &[(&str, &str)] = &[
 pub enum Pass {
     /// Compute bake of the macro field (`baked` method only).
     Bake,
+    /// Compute pass of the slice vertices' field and shadow (`slices`
+    /// method with `vertex_field = "gpu"` only).
+    SliceField,
     Shadow,
     Sky,
     Terrain,
@@ -93,8 +106,9 @@ pub enum Pass {
 
 impl Pass {
     /// All passes in execution order.
-    pub const ALL: [Pass; 10] = [
+    pub const ALL: [Pass; 11] = [
         Pass::Bake,
+        Pass::SliceField,
         Pass::Shadow,
         Pass::Sky,
         Pass::Terrain,
@@ -110,6 +124,7 @@ impl Pass {
     pub fn name(self) -> &'static str {
         match self {
             Pass::Bake => "bake",
+            Pass::SliceField => "slice_field",
             Pass::Shadow => "shadow",
             Pass::Sky => "sky",
             Pass::Terrain => "terrain",
@@ -125,6 +140,7 @@ impl Pass {
     fn file(self) -> &'static str {
         match self {
             Pass::Bake => BAKE_WGSL,
+            Pass::SliceField => SLICES_FIELD_WGSL,
             Pass::Shadow => SHADOW_WGSL,
             Pass::Sky => SKY_WGSL,
             Pass::Terrain => TERRAIN_WGSL,
@@ -142,19 +158,20 @@ impl Pass {
     }
 
     /// Whether the pass exists for `method`: the bake only for `baked`;
-    /// the cloud march only for the ray-marching methods, the shadow map
-    /// only for `exact` (the `baked` terrain reads the light volume); the slicing planes only for `slices`, which has no
-    /// cloud-shadow map (its field lives in vertex buffers, not in the
-    /// uniforms or texture the shadow pass reads); the composite for the
+    /// the cloud march only for the ray-marching methods; the shadow map
+    /// for `exact` (the `baked` terrain reads the light volume) and for
+    /// `slices` (from its implicit field, see field_slices.wgsl); the
+    /// slicing planes and their vertex-field compute only for `slices`;
+    /// the composite for the
     /// compute march and the slices' target; sprites (scene layers) for
     /// every method.
     pub fn used_by(self, method: RenderMethod) -> bool {
         let slices = method == RenderMethod::Slices;
         match self {
             Pass::Bake => method == RenderMethod::Baked,
-            Pass::Shadow => method == RenderMethod::Exact,
+            Pass::Shadow => method == RenderMethod::Exact || slices,
             Pass::Clouds | Pass::Temporal => method.ray_marches(),
-            Pass::Slices => slices,
+            Pass::Slices | Pass::SliceField => slices,
             Pass::Composite => method.ray_marches() || slices,
             Pass::Sky | Pass::Terrain | Pass::Sprites | Pass::Tonemap => true,
         }
@@ -166,7 +183,9 @@ impl Pass {
     pub fn overrides(self, method: RenderMethod) -> &'static [&'static str] {
         let exact = method == RenderMethod::Exact;
         match self {
-            Pass::Bake | Pass::Composite | Pass::Tonemap | Pass::Temporal => &["ENCODE_SRGB"],
+            Pass::Bake | Pass::SliceField | Pass::Composite | Pass::Tonemap | Pass::Temporal => {
+                &["ENCODE_SRGB"]
+            }
             Pass::Shadow if exact => &["ENCODE_SRGB", "GRID_CULLING"],
             Pass::Shadow => &["ENCODE_SRGB"],
             Pass::Sky => &["ENCODE_SRGB"],
@@ -194,6 +213,17 @@ impl Pass {
     pub fn source(self, method: RenderMethod) -> String {
         let mut s = prelude();
         s.push_str(COMMON_WGSL);
+        if method == RenderMethod::Slices
+            && matches!(self, Pass::Shadow | Pass::Slices | Pass::SliceField)
+        {
+            // The implicit field instead of the parcels' hypertexture.
+            s.push_str(IMPLICIT_WGSL);
+            if self == Pass::Shadow {
+                s.push_str(FIELD_SLICES_WGSL);
+            }
+            s.push_str(self.file());
+            return s;
+        }
         if self.needs_density() || self == Pass::Bake {
             s.push_str(PARCEL_WGSL);
         }

@@ -184,7 +184,9 @@ pub struct BakedField {
     pub generation: u64,
 }
 
-fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+/// A compute shader's read-write storage buffer (also the slices' vertex
+/// field pass, src/render/slices/gpu_field.rs).
+pub(crate) fn compute_storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,
@@ -246,10 +248,10 @@ impl BakedField {
                     },
                     count: None,
                 },
-                storage_entry(1),
-                storage_entry(2),
-                storage_entry(3),
-                storage_entry(5),
+                compute_storage_entry(1),
+                compute_storage_entry(2),
+                compute_storage_entry(3),
+                compute_storage_entry(5),
                 wgpu::BindGroupLayoutEntry {
                     binding: 4,
                     visibility: wgpu::ShaderStages::COMPUTE,

@@ -16,14 +16,8 @@ pub struct ExactField {
 
 impl ExactField {
     pub fn new(device: &wgpu::Device) -> Self {
-        let buffer = |label: &str, size: usize| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: size as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })
-        };
+        let buffer =
+            |label: &str, size| crate::render::pipelines::uniform_buffer(device, label, size);
         Self {
             parcels_buf: buffer("parcels uniform", std::mem::size_of::<ParcelsUniform>()),
             grid_buf: buffer("grid uniform", std::mem::size_of::<GridUniform>()),

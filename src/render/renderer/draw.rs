@@ -173,6 +173,10 @@ impl Renderer {
             self.baked.encode(enc, timestamps);
             return;
         }
+        if pass == Pass::SliceField {
+            self.slices.encode_field(enc, &self.bind_common, timestamps);
+            return;
+        }
         let pipeline = match self.pipelines.get(&self.key(pass)) {
             Some(Pipeline::Render(p)) => Some(p),
             Some(Pipeline::Compute(p)) => {
@@ -233,6 +237,12 @@ impl Renderer {
             })]
         };
         let clear = wgpu::LoadOp::Clear(wgpu::Color::WHITE);
+        let slices = self.cfg.method == crate::render::RenderMethod::Slices;
+        // The paper's Background control: a flat colour instead of the sky.
+        let background = (slices && !self.cfg.slices.sky).then(|| {
+            let [r, g, b] = self.cfg.slices.background_colour.map(f64::from);
+            wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a: 1.0 })
+        });
         let scene = self.scene.as_ref().expect("ensure made the scene target");
         let cloud_target = || &self.cloud_target.as_ref().expect("cloud target exists").0;
         let attachments = match pass {
@@ -244,7 +254,7 @@ impl Renderer {
                 &self.shadow_view.as_ref().expect("shadow map exists").1,
                 clear,
             ),
-            Pass::Sky => color(&scene.view, clear),
+            Pass::Sky => color(&scene.view, background.unwrap_or(clear)),
             Pass::Tonemap => color(target, clear),
             _ => color(&scene.view, wgpu::LoadOp::Load),
         };
@@ -286,8 +296,17 @@ impl Renderer {
                 self.draw_sprites(&mut rp, pipeline);
             }
             Pass::Shadow => {
-                if pipeline.is_some() {
-                    rp.draw(0..3, 0..1);
+                // The march of the `exact` clouds, or of the slices'
+                // implicit field (group 2, see field_slices.wgsl).
+                match (pipeline.is_some(), slices) {
+                    (true, false) => rp.draw(0..3, 0..1),
+                    (true, true) => {
+                        if let Some(bind) = &self.slices.bind {
+                            rp.set_bind_group(2, bind, &[]);
+                            rp.draw(0..3, 0..1);
+                        }
+                    }
+                    (false, _) => {}
                 }
                 if self.features.sprites {
                     let key = self.sprite_shadow_key();
@@ -317,6 +336,8 @@ impl Renderer {
                 rp.set_bind_group(1, &scene.bind, &[]);
                 rp.draw(0..3, 0..1);
             }
+            // The background colour is the clear; nothing to draw.
+            Pass::Sky if background.is_some() => {}
             _ => rp.draw(0..3, 0..1),
         }
     }

@@ -117,6 +117,9 @@ pub struct Renderer {
     sprites: Option<SpritesGpu>,
     /// The `slices` method's buffers.
     slices: SlicesGpu,
+    /// The noise volume on the CPU (its side), for the first octave of the
+    /// vertex shadows when the CPU evaluates them (`slices` method).
+    slices_noise: Option<(u32, noise::NoiseVolume)>,
     /// Authored clouds the `slices` method draws besides the parcels.
     authored: (
         Vec<crate::authored::Ellipsoid>,
@@ -184,7 +187,7 @@ impl Renderer {
         let noise_view = noise::NoiseVolume::new(cfg.noise_texels).texture(&ctx.device, &ctx.queue);
 
         let layouts = PassLayouts::new(device);
-        let slices = SlicesGpu::new(device, &layouts.slices);
+        let slices = SlicesGpu::new(device);
 
         let dummy_depth_view = texture_2d(
             device,
@@ -283,6 +286,7 @@ impl Renderer {
             sprite_scene: SpriteScene::default(),
             sprites: None,
             slices,
+            slices_noise: None,
             authored: Default::default(),
             ring: None,
             temporal: None,
@@ -306,7 +310,17 @@ impl Renderer {
     /// Primitives (ellipsoids and parcel spheres) the `slices` method drew
     /// in the last prepared frame.
     pub fn slice_primitives(&self) -> u32 {
-        self.slices.primitives
+        self.slices.primitives_drawn
+    }
+
+    /// The slices' vertex buffer after the last frame (tests compare the
+    /// compute pass with the CPU): the first `count` vertices.
+    pub fn slice_vertices(
+        &self,
+        ctx: &GpuContext,
+        count: usize,
+    ) -> Result<Vec<crate::authored::SliceVertex>> {
+        self.slices.read_vertices(ctx, count)
     }
 
     /// The current configuration.
@@ -445,8 +459,8 @@ impl Renderer {
     fn features_for(&self, any_clouds: bool, any_sprites: bool) -> Features {
         let mut f = Features::new(&self.cfg, any_clouds);
         f.sprites = self.cfg.clouds && (f.sprites || any_sprites);
-        f.shadows = self.cfg.shadows && f.terrain && (f.clouds || f.sprites);
-        f.shadow_map = f.shadows && (self.map_marches_clouds(f) || f.sprites);
+        f.shadows = self.cfg.shadows && f.terrain && (f.clouds || f.sprites || f.slices);
+        f.shadow_map = f.shadows && (self.map_marches(f) || f.sprites);
         // Sprites sort against a full-size cloud depth, which the
         // quarter-rate temporal march does not leave: with both, every
         // pixel is marched each frame.
@@ -454,10 +468,11 @@ impl Renderer {
         f
     }
 
-    /// Whether the shadow map holds the ray-marched clouds (`exact`; the
-    /// `baked` terrain reads the light volume for them instead).
-    fn map_marches_clouds(&self, f: Features) -> bool {
-        f.clouds && self.cfg.method == RenderMethod::Exact
+    /// Whether the shadow pass marches a field into the map: the `exact`
+    /// clouds or the slicing planes' implicit field (the `baked` terrain
+    /// reads the light volume for its clouds instead).
+    fn map_marches(&self, f: Features) -> bool {
+        (f.clouds && self.cfg.method == RenderMethod::Exact) || f.slices
     }
 
     /// Whether the terrain reads the ray-marched clouds' shadows from the
@@ -510,7 +525,12 @@ impl Renderer {
         // are the same pipelines for every target.
         let mut c = match pass {
             Pass::Tonemap => vec![("ENCODE_SRGB", srgb)],
-            Pass::Bake | Pass::Sky | Pass::Composite | Pass::Shadow | Pass::Temporal => vec![],
+            Pass::Bake
+            | Pass::SliceField
+            | Pass::Sky
+            | Pass::Composite
+            | Pass::Shadow
+            | Pass::Temporal => vec![],
             Pass::Terrain => vec![
                 ("HAS_SHADOWS", b(f.shadows)),
                 ("SHADOW_FROM_VOLUME", b(f.shadows && self.volume_shadows())),
@@ -533,6 +553,7 @@ impl Renderer {
     fn needed(&self, pass: Pass) -> bool {
         match pass {
             Pass::Bake => self.features.clouds && self.cfg.method == RenderMethod::Baked,
+            Pass::SliceField => self.features.slices && self.slices.field_pending(),
             Pass::Shadow => self.features.shadow_map,
             Pass::Sky => true,
             Pass::Terrain => self.features.terrain,
@@ -723,12 +744,13 @@ impl Renderer {
             current,
         ] {
             self.features = features;
-            // The shadow pass marches only the `exact` clouds; the sprites
-            // splat into it with a pipeline of their own.
+            // The shadow pass marches only the `exact` clouds or the
+            // slices' field; the sprites splat into it with a pipeline of
+            // their own.
             let mut keys: Vec<PipelineKey> = Pass::ALL
                 .into_iter()
-                .filter(|p| *p != Pass::Bake && self.needed(*p))
-                .filter(|p| *p != Pass::Shadow || self.map_marches_clouds(self.features))
+                .filter(|p| !matches!(p, Pass::Bake | Pass::SliceField) && self.needed(*p))
+                .filter(|p| *p != Pass::Shadow || self.map_marches(self.features))
                 .map(|p| self.key(p))
                 .collect();
             if self.features.clouds {
@@ -789,6 +811,12 @@ impl Renderer {
             }
             RenderMethod::Sprites => GridInfo::EMPTY,
             RenderMethod::Slices => {
+                let mode = self.cfg.slices.vertex_field;
+                let texels = self.cfg.noise_texels;
+                let cpu = mode == crate::authored::VertexField::Cpu;
+                if cpu && self.slices_noise.as_ref().map(|(n, _)| *n) != Some(texels) {
+                    self.slices_noise = Some((texels, noise::NoiseVolume::new(texels)));
+                }
                 let frame = slices_frame(
                     &self.authored.0,
                     &self.authored.1,
@@ -797,13 +825,20 @@ impl Renderer {
                     input.time_s,
                     input.sun.direction,
                     input.camera.target - input.camera.position,
+                    self.slices_noise.as_ref().filter(|_| cpu).map(|(_, v)| v),
                 )?;
-                self.slices.upload(ctx, &frame);
+                self.slices.upload(ctx, &self.layouts, &frame, mode)?;
                 // No ray-march grid: "parcel_count" counts the primitives
-                // when there are planes to draw, so features see clouds.
+                // when there are planes to draw, so features see clouds,
+                // and the grid box is the primitives' bounds, which the
+                // cloud-shadow map covers (shadow_rect, shadow.wgsl).
                 let mut info = GridInfo::EMPTY;
                 if self.slices.index_count > 0 {
-                    info.parcel_count = self.slices.primitives;
+                    info.parcel_count = self.slices.primitives_drawn;
+                    if let Some((lo, hi)) = crate::authored::ellipsoid::bounds_m(&frame.states) {
+                        info.min = lo;
+                        info.cell = (hi - lo).max(glam::Vec3::ONE);
+                    }
                 }
                 info
             }

@@ -36,28 +36,13 @@ impl AuthoredField {
         bounds_m(&self.states)
     }
 
-    /// The tier holding altitude `z_m`: the highest whose bottom is at or
-    /// below it (the first covers everything below).
-    fn tier_at(&self, z_m: f32) -> usize {
-        let count = self.octaves.counts[0] as usize;
-        (1..count)
-            .filter(|&i| z_m >= self.octaves.tiers[i].bottom_m[0])
-            .last()
-            .unwrap_or(0)
-    }
-
     /// Octaves of tier `tier` composited at `p` (weights first × ½^o).
     pub fn composite_noise(&self, tier: usize, p: Vec3) -> f32 {
         let t = &self.octaves.tiers[tier];
         let mut w = t.bottom_m[1];
         let mut sum = 0.0;
-        for m in t
-            .texture_from_world
-            .iter()
-            .take(self.octaves.counts[1] as usize)
-        {
-            let q = Mat4::from_cols_array_2d(m).transform_point3(p);
-            sum += w * self.noise.sample(q.to_array(), 0.0)[0];
+        for o in 0..self.octaves.counts[1] as usize {
+            sum += w * octave_noise(&self.octaves, &self.noise, tier, o, p);
             w *= 0.5;
         }
         sum
@@ -69,11 +54,53 @@ impl AuthoredField {
         if field <= 0.0 {
             return 0.0;
         }
-        let tier = self.tier_at(p.z);
-        let media = MediaFilter::ALL
-            .into_iter()
-            .find(|f| f.gpu_id() == self.octaves.tiers[tier].media[0])
-            .unwrap_or_default();
-        field * media.apply(self.composite_noise(tier, p))
+        let tier = tier_at(&self.octaves, p.z);
+        field * media_of(&self.octaves, tier).apply(self.composite_noise(tier, p))
     }
+}
+
+/// The tier holding altitude `z_m`: the highest whose bottom is at or
+/// below it (the first covers everything below).
+pub fn tier_at(octaves: &OctaveUniform, z_m: f32) -> usize {
+    let count = octaves.counts[0] as usize;
+    (1..count)
+        .filter(|&i| z_m >= octaves.tiers[i].bottom_m[0])
+        .last()
+        .unwrap_or(0)
+}
+
+fn media_of(octaves: &OctaveUniform, tier: usize) -> MediaFilter {
+    MediaFilter::ALL
+        .into_iter()
+        .find(|f| f.gpu_id() == octaves.tiers[tier].media[0])
+        .unwrap_or_default()
+}
+
+/// Octave `o` of tier `tier`'s noise at `p` (red channel, mip 0, as the
+/// shaders' `octave_noise`).
+fn octave_noise(
+    octaves: &OctaveUniform,
+    noise: &NoiseVolume,
+    tier: usize,
+    o: usize,
+    p: Vec3,
+) -> f32 {
+    let m = &octaves.tiers[tier].texture_from_world[o];
+    let q = Mat4::from_cols_array_2d(m).transform_point3(p);
+    noise.sample(q.to_array(), 0.0)[0]
+}
+
+/// The weight of a vertex's density in its shadow with the first noise
+/// octave (paper §4, `[render.slices] shadow_octave`): the tier's media
+/// filter of the composite with octaves 2 and up replaced by their mean ½,
+/// w₀·n₀ + (1 − w₀)·½, divided by the filter at ½, so the weight is 1 on
+/// average and Dirtiness keeps its calibration while the first octave's
+/// lumps shade what lies behind them. `first_octave_weight` in
+/// shaders/implicit.wgsl is the GPU twin.
+pub fn first_octave_weight(octaves: &OctaveUniform, noise: &NoiseVolume, p: Vec3) -> f32 {
+    let tier = tier_at(octaves, p.z);
+    let w0 = octaves.tiers[tier].bottom_m[1];
+    let media = media_of(octaves, tier);
+    let n = w0 * octave_noise(octaves, noise, tier, 0, p) + (1.0 - w0) * 0.5;
+    media.apply(n) / media.apply(0.5)
 }

@@ -6,21 +6,29 @@
 //! vertices, the noise-octave transforms ([`OctaveUniform`]) and the
 //! qualitative controls ([`SlicesParams`]), and the renderer draws them
 //! with `shaders/slices.wgsl` into the float cloud target, which the
-//! composite pass blends over sky and terrain.
+//! composite pass blends over sky and terrain. With `vertex_field =
+//! "gpu"` the vertex values come from a compute pass instead
+//! ([`gpu_field`]); the same primitives and grid index feed the
+//! cloud-shadow map on the terrain (shaders/field_slices.wgsl).
 
+pub mod buffers;
 pub mod field;
+pub mod gpu_field;
+
+pub use buffers::SlicesGpu;
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
+use crate::authored::ellipsoid::FieldIndex;
 use crate::authored::ellipsoid::{EllipsoidState, bounds_m};
 use crate::authored::octaves::{OctaveUniform, octave_uniform};
-use crate::authored::slicing::{SliceGeometry, SliceVertex, build_slices};
+use crate::authored::slicing::{SliceGeometry, slice_grid};
 use crate::authored::{Ellipsoid, ParticleConfig, states_at};
 use crate::error::Result;
 use crate::physics::CloudParcel;
 use crate::render::RenderConfig;
-use crate::render::gpu::GpuContext;
+use crate::render::noise::NoiseVolume;
 
 /// Maps the sun's irradiance scale (≈ 2.2 for nominal daylight, see
 /// [`crate::render::Sun`]) to the colour multiplier of the lit cloud, so a
@@ -28,8 +36,8 @@ use crate::render::gpu::GpuContext;
 /// the ray-marched methods' sunlit tops.
 pub const SUN_TO_COLOUR: f32 = 0.8;
 
-/// The qualitative controls as the fragment shader takes them: WGSL
-/// `struct SlicesParams` in shaders/slices.wgsl (48 bytes; keep in sync).
+/// The qualitative controls as the shaders take them: WGSL
+/// `struct SlicesParams` in shaders/implicit.wgsl (80 bytes; keep in sync).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct SlicesParams {
@@ -41,9 +49,17 @@ pub struct SlicesParams {
     pub cloud_colour: [f32; 4],
     /// rgb: fully shadowed cloud colour (linear); w: 0.
     pub shadow_colour: [f32; 4],
+    /// xyz: the primitives' grid index minimum (units: m); w: cells per
+    /// axis (see [`FieldIndex::flatten`]).
+    pub index_min: [f32; 4],
+    /// xyz: the index's cell size (units: m); w: the slices' extinction
+    /// per unit of field × media for the cloud-shadow map, Opacity ÷ the
+    /// mean primitive's depth along the light (units: 1/m): the optical
+    /// depth the planes give one mean primitive, spread along the sun ray.
+    pub index_cell: [f32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<SlicesParams>() == 48);
+const _: () = assert!(std::mem::size_of::<SlicesParams>() == 80);
 
 /// The paper slices one cloud, so its planes span that cloud and "plane
 /// opacity = Opacity ÷ planes" makes Opacity the cloud's opacity whatever
@@ -62,6 +78,8 @@ pub struct CloudscapeScale {
     pub view: f32,
     /// Along the light (multiplies the vertex shadow).
     pub light: f32,
+    /// The mean primitive's depth along the light. units: m
+    pub mean_depth_light_m: f32,
 }
 
 impl CloudscapeScale {
@@ -72,31 +90,38 @@ impl CloudscapeScale {
             return Self {
                 view: 1.0,
                 light: 1.0,
+                mean_depth_light_m: 1.0,
             };
         };
         // Depth along unit `d` of a box of half-extents h: 2·Σ|d_k|·h_k.
         let depth = |d: Vec3, h: Vec3| 2.0 * d.abs().dot(h);
-        let ratio = |d: Vec3| {
+        let live: Vec<Vec3> = states
+            .iter()
+            .filter(|e| e.strength > 0.0)
+            .map(|e| e.half_extent_m())
+            .collect();
+        let mean = |d: Vec3| {
             let d = d.normalize_or_zero();
-            let live: Vec<Vec3> = states
-                .iter()
-                .filter(|e| e.strength > 0.0)
-                .map(|e| e.half_extent_m())
-                .collect();
-            let mean = live.iter().map(|h| depth(d, *h)).sum::<f32>() / live.len() as f32;
-            depth(d, (hi - lo) * 0.5) / mean
+            live.iter().map(|h| depth(d, *h)).sum::<f32>() / live.len() as f32
         };
+        let ratio = |d: Vec3| depth(d.normalize_or_zero(), (hi - lo) * 0.5) / mean(d);
         Self {
             view: ratio(normal),
             light: ratio(to_light),
+            mean_depth_light_m: mean(to_light).max(1.0),
         }
     }
 }
 
 impl SlicesParams {
     /// The derived quantities of `[render.slices]` (Table 2), scaled for
-    /// the cloudscape by `scale`.
-    pub fn new(cfg: &crate::authored::SlicesConfig, scale: CloudscapeScale) -> Self {
+    /// the cloudscape by `scale`, with the primitives' grid `index`
+    /// ([`FlatIndex`]).
+    pub fn new(
+        cfg: &crate::authored::SlicesConfig,
+        scale: CloudscapeScale,
+        index: &FlatIndex,
+    ) -> Self {
         Self {
             opacity: [
                 cfg.plane_opacity() * scale.view,
@@ -116,14 +141,45 @@ impl SlicesParams {
                 cfg.shadow_colour[2],
                 0.0,
             ],
+            index_min: index.min_m.extend(index.cells_per_axis as f32).to_array(),
+            index_cell: index
+                .cell_m
+                .extend(cfg.opacity / scale.mean_depth_light_m)
+                .to_array(),
+        }
+    }
+}
+
+/// The primitives' grid index as the GPU reads it (see
+/// [`FieldIndex::flatten`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FlatIndex {
+    /// units: m
+    pub min_m: Vec3,
+    /// units: m
+    pub cell_m: Vec3,
+    pub cells_per_axis: u32,
+    /// n³ + 1 list offsets into this array, then the lists.
+    pub lists: Vec<u32>,
+}
+
+impl FlatIndex {
+    pub fn new(states: &[EllipsoidState]) -> Self {
+        let (min_m, cell_m, cells_per_axis, lists) = FieldIndex::new(states).flatten();
+        Self {
+            min_m,
+            cell_m,
+            cells_per_axis,
+            lists,
         }
     }
 }
 
 /// The physics' condensed parcels as implicit spheres: the rendered radius
 /// of the ray-marched methods (radius × `radius_scale`, paper §6.1 of the
-/// physics paper) and full strength. Parcels with no fill or radius are
-/// left out, as `pack` leaves them out of the ray-march.
+/// physics paper), full strength and a flat base at the condensation
+/// plane, as the ray-march's half-space cuts them. Parcels with no fill or
+/// radius are left out, as `pack` leaves them out of the ray-march.
 pub fn parcel_spheres(parcels: &[CloudParcel], radius_scale: f32) -> Vec<EllipsoidState> {
     parcels
         .iter()
@@ -133,6 +189,7 @@ pub fn parcel_spheres(parcels: &[CloudParcel], radius_scale: f32) -> Vec<Ellipso
             radii_m: Vec3::splat(p.radius_m * radius_scale),
             rotation: glam::Mat3::IDENTITY,
             strength: 1.0,
+            base_z_m: p.cond_plane_z_m,
         })
         .collect()
 }
@@ -145,6 +202,15 @@ pub struct SlicesFrame {
     pub geometry: SliceGeometry,
     pub octaves: OctaveUniform,
     pub params: SlicesParams,
+    /// The primitives' grid index (the GPU's field reads it).
+    pub index: FlatIndex,
+    /// Whether the vertices hold their field and shadow (evaluated on the
+    /// CPU) or only positions (the compute pass fills them).
+    pub values_on_cpu: bool,
+    /// Unit vector toward the light the planes were sliced for.
+    pub to_light: Vec3,
+    /// The `[render.slices]` settings of the frame.
+    pub cfg: crate::authored::SlicesConfig,
 }
 
 /// Builds the frame at `time_s` (units: s): the authored `ellipsoids`
@@ -152,7 +218,12 @@ pub struct SlicesFrame {
 /// spheres, sliced for the light toward `to_light` and a viewer looking
 /// along `view_dir`, with the noise octaves of `cfg.slices` pivoting on the
 /// authored clouds' centre at time 0 (so the pivot does not drift with
-/// them; the origin when there are none).
+/// them; the origin when there are none). With `cpu_noise` the vertices'
+/// field and shadow are evaluated here on the CPU (the noise volume gives
+/// the shadow's first octave when `shadow_octave` is on); without it the
+/// vertices carry only positions, for the compute pass or for callers that
+/// need the primitives alone (`cumulus export`).
+#[allow(clippy::too_many_arguments)]
 pub fn slices_frame(
     ellipsoids: &[Ellipsoid],
     particles: &ParticleConfig,
@@ -161,13 +232,14 @@ pub fn slices_frame(
     time_s: f32,
     to_light: Vec3,
     view_dir: Vec3,
+    cpu_noise: Option<&NoiseVolume>,
 ) -> Result<SlicesFrame> {
     let s = &cfg.slices;
     let mut states = states_at(ellipsoids, particles, time_s);
     states.extend(parcel_spheres(parcels, cfg.radius_scale));
     let pivot_m = bounds_m(&states_at(ellipsoids, particles, 0.0))
         .map_or(Vec3::ZERO, |(lo, hi)| (lo + hi) * 0.5);
-    let geometry = build_slices(&states, s, to_light, view_dir)?;
+    let mut geometry = slice_grid(&states, s, to_light, view_dir)?;
     let octaves = octave_uniform(
         &s.tiers,
         &s.base,
@@ -176,137 +248,40 @@ pub fn slices_frame(
         pivot_m,
         time_s,
     );
+    if let Some(noise) = cpu_noise {
+        let weight = |p: Vec3| field::first_octave_weight(&octaves, noise, p);
+        let weight: Option<&dyn Fn(Vec3) -> f32> = s.shadow_octave.then_some(&weight);
+        geometry.evaluate(&states, s, to_light, weight)?;
+    }
     let scale = CloudscapeScale::new(&states, geometry.normal, to_light);
+    let index = FlatIndex::new(&states);
     Ok(SlicesFrame {
+        params: SlicesParams::new(s, scale, &index),
         states,
         geometry,
         octaves,
-        params: SlicesParams::new(s, scale),
+        index,
+        values_on_cpu: cpu_noise.is_some(),
+        to_light: to_light.normalize_or_zero(),
+        cfg: s.clone(),
     })
 }
 
-/// The group-2 layout of the slices pass: the octave transforms and the
-/// controls. Keep in sync with shaders/slices.wgsl.
+/// Group 2 of the slices passes: the octave transforms, the controls, the
+/// primitives and their grid index. Keep in sync with shaders/implicit.wgsl.
 pub fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    let entry = |binding| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    };
+    use crate::render::pipelines::{storage_entry, uniform_entry};
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("slices: octaves and controls"),
-        entries: &[entry(0), entry(1)],
+        label: Some("slices: octaves, controls, primitives"),
+        entries: &[
+            uniform_entry(0),
+            uniform_entry(1),
+            storage_entry(2),
+            storage_entry(3),
+        ],
     })
 }
 
-/// Vertex layout of [`SliceVertex`]: position, field, shadow.
+/// Vertex layout of [`crate::authored::SliceVertex`]: position, field, shadow.
 pub const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
     wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32, 2 => Float32];
-
-/// GPU buffers of the slices pass, grown as needed and reused.
-pub struct SlicesGpu {
-    octaves: wgpu::Buffer,
-    params: wgpu::Buffer,
-    /// Group 2 of the slices pass.
-    pub bind: wgpu::BindGroup,
-    vertices: Option<wgpu::Buffer>,
-    indices: Option<wgpu::Buffer>,
-    /// Indices of the last uploaded frame.
-    pub index_count: u32,
-    /// Primitives (ellipsoids and parcel spheres) of the last frame.
-    pub primitives: u32,
-}
-
-impl SlicesGpu {
-    pub fn new(device: &wgpu::Device, layout: &wgpu::BindGroupLayout) -> Self {
-        let uniform = |label, size: usize| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: size as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })
-        };
-        let octaves = uniform("slices: octaves", std::mem::size_of::<OctaveUniform>());
-        let params = uniform("slices: controls", std::mem::size_of::<SlicesParams>());
-        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("slices: octaves and controls"),
-            layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: octaves.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: params.as_entire_binding(),
-                },
-            ],
-        });
-        Self {
-            octaves,
-            params,
-            bind,
-            vertices: None,
-            indices: None,
-            index_count: 0,
-            primitives: 0,
-        }
-    }
-
-    /// Uploads a frame, growing the vertex and index buffers when it needs
-    /// more room (never shrinking them: a frame rarely needs less for long).
-    pub fn upload(&mut self, ctx: &GpuContext, frame: &SlicesFrame) {
-        let q = &ctx.queue;
-        q.write_buffer(&self.octaves, 0, bytemuck::bytes_of(&frame.octaves));
-        q.write_buffer(&self.params, 0, bytemuck::bytes_of(&frame.params));
-        let g = &frame.geometry;
-        self.primitives = frame.states.len() as u32;
-        self.index_count = g.indices.len() as u32;
-        if g.indices.is_empty() {
-            return;
-        }
-        let ensure = |buf: &mut Option<wgpu::Buffer>, bytes: &[u8], usage, label| {
-            if buf.as_ref().is_none_or(|b| b.size() < bytes.len() as u64) {
-                *buf = Some(ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(label),
-                    size: bytes.len() as u64,
-                    usage: usage | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                }));
-            }
-            q.write_buffer(buf.as_ref().expect("just made"), 0, bytes);
-        };
-        ensure(
-            &mut self.vertices,
-            bytemuck::cast_slice::<SliceVertex, u8>(&g.vertices),
-            wgpu::BufferUsages::VERTEX,
-            "slices: vertices",
-        );
-        ensure(
-            &mut self.indices,
-            bytemuck::cast_slice::<u32, u8>(&g.indices),
-            wgpu::BufferUsages::INDEX,
-            "slices: indices",
-        );
-    }
-
-    /// Draws the uploaded planes (pipeline and groups 0–1 already set).
-    pub fn draw(&self, rp: &mut wgpu::RenderPass<'_>) {
-        let (Some(v), Some(i)) = (&self.vertices, &self.indices) else {
-            return;
-        };
-        if self.index_count == 0 {
-            return;
-        }
-        rp.set_bind_group(2, &self.bind, &[]);
-        rp.set_vertex_buffer(0, v.slice(..));
-        rp.set_index_buffer(i.slice(..), wgpu::IndexFormat::Uint32);
-        rp.draw_indexed(0..self.index_count, 0, 0..1);
-    }
-}

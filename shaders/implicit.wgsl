@@ -1,0 +1,136 @@
+// The authored clouds' field on the GPU (Schpok et al. 2003 §3.1, §3.2,
+// Table 2), shared by the slices passes: the slicing planes (their noise
+// and media filter), the compute pass that evaluates the field and shadow
+// at the slice vertices (slices_field.wgsl) and, under the `slices`
+// method, the cloud-shadow map (field_slices.wgsl). The CPU twin of every
+// routine here is the reference: src/authored/ellipsoid.rs (Wyvill blend,
+// s², the grid index) and src/render/slices/field.rs (tiers, octaves,
+// media filters, the first-octave shadow weight). Keep them in sync.
+
+// 544 bytes; keep in sync with TierUniform in src/authored/octaves.rs.
+struct SlicesTier {
+    texture_from_world: array<mat4x4<f32>, 8>, // per octave; unused are zero
+    bottom_m: vec4<f32>,  // x: bottom of the tier (m); y: first octave's weight
+    media: vec4<u32>,     // x: media filter id (MediaFilter::gpu_id)
+}
+
+// 2192 bytes; keep in sync with OctaveUniform in src/authored/octaves.rs.
+struct SlicesOctaves {
+    tiers: array<SlicesTier, 4>,
+    counts: vec4<u32>,    // x: tiers in use; y: octaves in use
+}
+
+// 80 bytes; keep in sync with SlicesParams in src/render/slices/mod.rs.
+struct SlicesParams {
+    opacity: vec4<f32>,       // x: plane opacity; y: alpha cutoff; z: sun to colour scale; w: shadow scale
+    cloud_colour: vec4<f32>,  // rgb: lit cloud (linear)
+    shadow_colour: vec4<f32>, // rgb: fully shadowed cloud (linear)
+    index_min: vec4<f32>,     // xyz: the primitive index's minimum corner (m); w: cells per axis
+    index_cell: vec4<f32>,    // xyz: its cell size (m); w: shadow-map extinction per unit density (1/m)
+}
+
+// 64 bytes; keep in sync with GpuPrimitive in src/render/slices/buffers.rs.
+// s² = |unit_from_world · (p − centre)|² (EllipsoidState::unit_from_world).
+struct Primitive {
+    row0: vec4<f32>,   // xyz: first row of unit_from_world; w: strength
+    row1: vec4<f32>,   // xyz: second row; w: flat base altitude (m)
+    row2: vec4<f32>,   // xyz: third row
+    centre: vec4<f32>, // xyz: centre (m)
+}
+
+@group(2) @binding(0) var<uniform> octaves: SlicesOctaves;
+@group(2) @binding(1) var<uniform> params: SlicesParams;
+@group(2) @binding(2) var<storage, read> primitives: array<Primitive>;
+// FieldIndex::flatten: n³ + 1 list offsets into this array, then the lists.
+@group(2) @binding(3) var<storage, read> cell_lists: array<u32>;
+
+// The tier holding altitude z: the highest whose bottom is at or below z
+// (the first tier also covers everything below it).
+fn tier_at(z: f32) -> u32 {
+    var t = 0u;
+    for (var i = 1u; i < octaves.counts.x; i++) {
+        if z >= octaves.tiers[i].bottom_m.x {
+            t = i;
+        }
+    }
+    return t;
+}
+
+// One octave of the periodic noise volume at `p` through its transform.
+fn octave_noise(tier: u32, o: u32, p: vec3<f32>) -> f32 {
+    let q = (octaves.tiers[tier].texture_from_world[o] * vec4<f32>(p, 1.0)).xyz;
+    return textureSampleLevel(noise_tex, repeat_sampler, q, 0.0).r;
+}
+
+// Octaves of the noise at `p`, octave o weighted by the first weight × ½^o
+// (persistence ½, normalised on the CPU so the weights sum to 1): the
+// composite stays in [0, 1] like each fetch.
+fn composite_noise(tier: u32, p: vec3<f32>) -> f32 {
+    var w = octaves.tiers[tier].bottom_m.y;
+    var sum = 0.0;
+    for (var o = 0u; o < octaves.counts.y; o++) {
+        sum += w * octave_noise(tier, o, p);
+        w *= 0.5;
+    }
+    return sum;
+}
+
+// The media filters of Table 2; ids and formulas as MediaFilter::apply in
+// src/authored/media.rs (keep in sync). n in [0, 1] → [0, 1].
+fn media_filter(id: u32, n: f32) -> f32 {
+    switch id {
+        case 2u: { return 1.0 - 2.0 * abs(n - 0.5); }  // wispy
+        case 3u: { return 1.0 / (1.0 + 10.0 * n); }    // cirrus
+        default: { return n; }                          // cumulus, stratus
+    }
+}
+
+// The tier's media filter of the composited octaves at `p`.
+fn media_at(p: vec3<f32>) -> f32 {
+    let tier = tier_at(p.z);
+    return media_filter(octaves.tiers[tier].media.x, composite_noise(tier, p));
+}
+
+// The vertex shadow's weight with the first octave (§4): the media filter
+// of the composite with octaves 2 and up at their mean ½, over the filter
+// at ½, so the shadow keeps its Dirtiness calibration on average.
+// first_octave_weight in src/render/slices/field.rs is its CPU twin.
+fn first_octave_weight(p: vec3<f32>) -> f32 {
+    let tier = tier_at(p.z);
+    let w0 = octaves.tiers[tier].bottom_m.y;
+    let id = octaves.tiers[tier].media.x;
+    let n = w0 * octave_noise(tier, 0u, p) + (1.0 - w0) * 0.5;
+    return media_filter(id, n) / media_filter(id, 0.5);
+}
+
+// Wyvill's soft-object blend C(s) of s² (wyvill in src/authored/ellipsoid.rs).
+fn wyvill(s2: f32) -> f32 {
+    if s2 >= 1.0 {
+        return 0.0;
+    }
+    let s4 = s2 * s2;
+    return 1.0 - (4.0 / 9.0) * s4 * s2 + (17.0 / 9.0) * s4 - (22.0 / 9.0) * s2;
+}
+
+// Σ strength · C(s²) over the primitives listed in p's cell of the index
+// (FieldIndex::field), 0 below a primitive's flat base.
+fn implicit_field(p: vec3<f32>) -> f32 {
+    let n = u32(params.index_min.w);
+    let q = (p - params.index_min.xyz) / params.index_cell.xyz;
+    if any(q < vec3<f32>(0.0)) || any(q >= vec3<f32>(f32(n))) {
+        return 0.0;
+    }
+    let c = vec3<u32>(q);
+    let cell = c.x + n * (c.y + n * c.z);
+    var sum = 0.0;
+    for (var k = cell_lists[cell]; k < cell_lists[cell + 1u]; k++) {
+        let e = primitives[cell_lists[k]];
+        if p.z < e.row1.w {
+            continue;
+        }
+        let d = p - e.centre.xyz;
+        let u = vec3<f32>(dot(e.row0.xyz, d), dot(e.row1.xyz, d), dot(e.row2.xyz, d));
+        sum += e.row0.w * wyvill(dot(u, u));
+    }
+    return sum;
+}
