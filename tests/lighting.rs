@@ -144,6 +144,7 @@ fn terrain_in_a_cloud_shadow_is_darkened_by_the_volume_transmittance() {
         radius_m: 1200.0,
         fill: 0.53,
         cond_plane_z_m: 1000.0,
+        id: 0,
     };
     for method in [RenderMethod::Baked, RenderMethod::Exact] {
         let base = RenderConfig {

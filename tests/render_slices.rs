@@ -209,11 +209,12 @@ fn only_the_slices_method_builds_the_slices_pass() {
     for m in RenderMethod::ALL {
         assert_eq!(Pass::Slices.used_by(m), m == RenderMethod::Slices, "{m}");
         // No ray-march under slices (nor under sprites); the shadow map of
-        // the slices comes from their own implicit field.
+        // the slices comes from their own implicit field (`baked` terrain
+        // reads its light volume, so only `exact` marches the map too).
         assert_eq!(Pass::Clouds.used_by(m), m.ray_marches(), "{m}");
         assert_eq!(
             Pass::Shadow.used_by(m),
-            m.ray_marches() || m == RenderMethod::Slices,
+            m == RenderMethod::Exact || m == RenderMethod::Slices,
             "{m}"
         );
     }
@@ -456,6 +457,7 @@ fn parcels_sliced_get_flat_bases_at_their_condensation_planes() {
         radius_m: 300.0,
         fill: 1.0,
         cond_plane_z_m: plane,
+        id: 0,
     };
     let cfg = RenderConfig {
         method: RenderMethod::Slices,
