@@ -1,0 +1,162 @@
+//! Creating what the current features need and dropping what they do not:
+//! terrain mesh, depth, shadow map, cloud targets, bind groups and the
+//! pipelines (built ahead for the frame with and without clouds).
+
+use super::*;
+
+impl Renderer {
+    /// Creates what the current features need and drops what they do not.
+    pub(super) fn ensure(&mut self, ctx: &GpuContext) -> Result<()> {
+        let device = &ctx.device;
+        let f = self.features;
+
+        // Resources.
+        if f.terrain {
+            if self.terrain.as_ref().map(|t| &t.cfg) != Some(&self.cfg.terrain) {
+                let mesh = terrain::build_mesh(&self.cfg.terrain)?;
+                use wgpu::util::DeviceExt as _;
+                self.terrain = Some(TerrainGpu {
+                    cfg: self.cfg.terrain.clone(),
+                    vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("terrain vertices"),
+                        contents: bytemuck::cast_slice(&mesh.vertices),
+                        usage: wgpu::BufferUsages::VERTEX,
+                    }),
+                    indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("terrain indices"),
+                        contents: bytemuck::cast_slice(&mesh.indices),
+                        usage: wgpu::BufferUsages::INDEX,
+                    }),
+                    index_count: mesh.indices.len() as u32,
+                });
+            }
+            if self.depth_view.is_none() {
+                self.depth_view = Some(
+                    texture_2d(
+                        device,
+                        "depth",
+                        self.width,
+                        self.height,
+                        DEPTH_FORMAT,
+                        wgpu::TextureUsages::RENDER_ATTACHMENT
+                            | wgpu::TextureUsages::TEXTURE_BINDING,
+                    )
+                    .create_view(&Default::default()),
+                );
+                self.bind_clouds = None;
+            }
+        } else {
+            self.terrain = None;
+            if self.depth_view.take().is_some() {
+                self.bind_clouds = None;
+            }
+        }
+        let shadow_n = self.cfg.shadow_texels;
+        if f.shadow_map {
+            if self.shadow_view.as_ref().map(|(n, _)| *n) != Some(shadow_n) {
+                let tex = texture_2d(
+                    device,
+                    "cloud shadow map",
+                    shadow_n,
+                    shadow_n,
+                    SHADOW_FORMAT,
+                    wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                );
+                self.shadow_view = Some((shadow_n, tex.create_view(&Default::default())));
+                self.bind_terrain = None;
+            }
+        } else if self.shadow_view.take().is_some() {
+            self.bind_terrain = None;
+        }
+
+        // Bind groups of group 1.
+        if f.terrain && self.bind_terrain.is_none() {
+            let view = self
+                .shadow_view
+                .as_ref()
+                .map(|(_, v)| v)
+                .unwrap_or(&self.white_view);
+            self.bind_terrain = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("terrain: shadow map"),
+                layout: &self.layouts.shadow_tex,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(view),
+                }],
+            }));
+        }
+        if (f.clouds || f.sprites || f.slices) && self.bind_clouds.is_none() {
+            let view = self.depth_view.as_ref().unwrap_or(&self.dummy_depth_view);
+            self.bind_clouds = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("clouds: depth"),
+                layout: &self.layouts.depth,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(view),
+                }],
+            }));
+        }
+
+        // Pipelines: built once per key and kept (see pipelines.rs), for
+        // the frame with clouds and the one without as well as the current
+        // one, so clouds appearing or vanishing never wait for a compile.
+        let current = self.features;
+        let scene_sprites = !self.sprite_scene.is_empty();
+        for features in [
+            self.features_for(true, scene_sprites),
+            self.features_for(false, scene_sprites),
+            current,
+        ] {
+            self.features = features;
+            // The shadow pass marches only the `exact` clouds or the
+            // slices' field; the sprites splat into it with a pipeline of
+            // their own.
+            let mut keys: Vec<PipelineKey> = Pass::ALL
+                .into_iter()
+                .filter(|p| !matches!(p, Pass::Bake | Pass::SliceField) && self.needed(*p))
+                .filter(|p| *p != Pass::Shadow || self.map_marches(self.features))
+                .map(|p| self.key(p))
+                .collect();
+            if self.features.clouds {
+                keys.extend(self.cloud_keys());
+            }
+            if self.split() {
+                keys.push(self.sprites_front_key());
+            }
+            if self.features.sprites && self.features.shadows {
+                keys.push(self.sprite_shadow_key());
+            }
+            self.features = current;
+            for key in keys {
+                self.pipelines.ensure(ctx, &self.layouts, &key)?;
+            }
+        }
+        let target_needed =
+            (current.clouds && !current.temporal && self.cfg.march != MarchPath::Fragment)
+                || current.slices
+                || self.split();
+        if target_needed && self.cloud_target.is_none() {
+            self.cloud_target = Some(self.make_cloud_target(device));
+        }
+        if current.sprites {
+            self.bind_sprites = Some(self.make_bind_sprites(device));
+        }
+        if self.scene.is_none() {
+            self.scene = Some(self.make_scene_target(device));
+        }
+        if !current.temporal {
+            self.temporal = None;
+        } else if self.temporal.is_none() {
+            self.temporal = Some(temporal::TemporalGpu::new(
+                device,
+                &self.layouts,
+                self.width,
+                self.height,
+            ));
+        }
+        if current.sprites && self.sprites.is_none() {
+            self.sprites = Some(SpritesGpu::new(ctx, &self.layouts.sprites));
+        }
+        self.ensure_ring(ctx)
+    }
+}

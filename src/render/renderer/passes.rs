@@ -1,0 +1,196 @@
+//! Which passes, pipelines and `override` constants a frame needs: the
+//! features of a frame with or without clouds and sprites, the pipeline
+//! keys of each pass, and the march path (fragment, compute, temporal).
+
+use super::*;
+
+impl Renderer {
+    /// Features of a frame with or without parcels and sprites: the
+    /// method's own, plus the scene's sprite clouds.
+    /// Sprites cast shadows on the terrain like the ray-marched clouds
+    /// (splatted into the same map).
+    pub(super) fn features_for(&self, any_clouds: bool, any_sprites: bool) -> Features {
+        let mut f = Features::new(&self.cfg, any_clouds);
+        f.sprites = self.cfg.clouds && (f.sprites || any_sprites);
+        f.shadows = self.cfg.shadows && f.terrain && (f.clouds || f.sprites || f.slices);
+        f.shadow_map = f.shadows && (self.map_marches(f) || f.sprites);
+        // Sprites sort against a full-size cloud depth, which the
+        // quarter-rate temporal march does not leave: with both, every
+        // pixel is marched each frame.
+        f.temporal = f.temporal && !f.sprites;
+        f
+    }
+
+    /// Whether the shadow pass marches a field into the map: the `exact`
+    /// clouds or the slicing planes' implicit field (the `baked` terrain
+    /// reads the light volume for its clouds instead).
+    pub(super) fn map_marches(&self, f: Features) -> bool {
+        (f.clouds && self.cfg.method == RenderMethod::Exact) || f.slices
+    }
+
+    /// Whether the terrain reads the ray-marched clouds' shadows from the
+    /// baked light volume.
+    pub(super) fn volume_shadows(&self) -> bool {
+        self.features.clouds && self.cfg.method == RenderMethod::Baked
+    }
+
+    /// Whether sprites and ray-marched clouds both draw: the march then
+    /// runs in compute (it leaves its cloud depth) and the sprites are
+    /// drawn in two halves around its composite (see shaders/sprites.wgsl).
+    pub(super) fn split(&self) -> bool {
+        self.features.clouds && self.features.sprites
+    }
+
+    /// The sprite pipeline drawing the fragments in front of the clouds
+    /// (after their composite; the sprite pass itself draws those behind).
+    pub(super) fn sprites_front_key(&self) -> PipelineKey {
+        let b = |v: bool| if v { 1.0 } else { 0.0 };
+        PipelineKey::new(
+            Pass::Sprites,
+            self.cfg.method,
+            &[
+                ("HAS_TERRAIN", b(self.features.terrain)),
+                ("CLOUD_DEPTH", 2.0),
+            ],
+            SCENE_FORMAT,
+            false,
+        )
+    }
+
+    /// The sprite pipeline splatting their shadows into the shadow map.
+    pub(super) fn sprite_shadow_key(&self) -> PipelineKey {
+        PipelineKey::new(
+            Pass::Sprites,
+            self.cfg.method,
+            &[("HAS_TERRAIN", 0.0), ("SHADOW_SPLAT", 1.0)],
+            crate::render::pipelines::SHADOW_FORMAT,
+            false,
+        )
+    }
+
+    /// The `override` constants of `pass` under the current features.
+    pub(super) fn constants(&self, pass: Pass) -> Vec<(&'static str, f64)> {
+        let b = |v: bool| if v { 1.0 } else { 0.0 };
+        let f = self.features;
+        let srgb = b(!self.format.is_srgb());
+        let exact = self.cfg.method == RenderMethod::Exact;
+        // Only the tone map depends on the output format; the scene passes
+        // are the same pipelines for every target.
+        let mut c = match pass {
+            Pass::Tonemap => vec![("ENCODE_SRGB", srgb)],
+            Pass::Bake
+            | Pass::SliceField
+            | Pass::Sky
+            | Pass::Composite
+            | Pass::Shadow
+            | Pass::Temporal => vec![],
+            Pass::Terrain => vec![
+                ("HAS_SHADOWS", b(f.shadows)),
+                ("SHADOW_FROM_VOLUME", b(f.shadows && self.volume_shadows())),
+                ("SHADOW_FROM_MAP", b(f.shadow_map)),
+                ("HAS_WATER", b(self.cfg.terrain.water_level_m.is_some())),
+            ],
+            Pass::Sprites => vec![
+                ("HAS_TERRAIN", b(f.terrain)),
+                ("CLOUD_DEPTH", if self.split() { 1.0 } else { 0.0 }),
+            ],
+            Pass::Clouds => vec![("USE_NORMALS", b(f.normals)), ("HAS_TERRAIN", b(f.terrain))],
+            Pass::Slices => vec![("HAS_TERRAIN", b(f.terrain))],
+        };
+        if exact && matches!(pass, Pass::Shadow | Pass::Clouds) {
+            c.push(("GRID_CULLING", b(self.cfg.grid_culling)));
+        }
+        c
+    }
+
+    pub(super) fn needed(&self, pass: Pass) -> bool {
+        match pass {
+            Pass::Bake => self.features.clouds && self.cfg.method == RenderMethod::Baked,
+            Pass::SliceField => self.features.slices && self.slices.field_pending(),
+            Pass::Shadow => self.features.shadow_map,
+            Pass::Sky => true,
+            Pass::Terrain => self.features.terrain,
+            Pass::Sprites => self.features.sprites,
+            Pass::Clouds => self.features.clouds,
+            Pass::Temporal => self.features.temporal,
+            Pass::Slices => self.features.slices,
+            Pass::Composite => {
+                (self.features.clouds && self.compute_path()) || self.features.slices
+            }
+            Pass::Tonemap => true,
+        }
+    }
+
+    /// Whether the next frame marches in a compute shader: always on the
+    /// temporal path, and when sprites draw too (it leaves the cloud depth
+    /// they sort against).
+    pub(super) fn compute_path(&self) -> bool {
+        self.features.temporal
+            || self.auto_march.path(self.cfg.march) == MarchPath::Compute
+            || self.split()
+    }
+
+    /// Frames drawn on the temporal path since its history began (0 when
+    /// it is off or has just restarted).
+    pub fn temporal_frames(&self) -> u32 {
+        self.temporal
+            .as_ref()
+            .filter(|t| t.history_valid)
+            .map_or(0, |t| t.frame_index)
+    }
+
+    /// The march path in use: the configured one, or what `auto` chose
+    /// (None while it is still measuring).
+    pub fn march_path(&self) -> Option<MarchPath> {
+        if self.features.temporal {
+            return Some(MarchPath::Compute);
+        }
+        match self.cfg.march {
+            MarchPath::Auto => self.auto_march.chosen(),
+            p => Some(p),
+        }
+    }
+
+    pub(super) fn key(&self, pass: Pass) -> PipelineKey {
+        let compute = (pass == Pass::Clouds && self.compute_path()) || pass == Pass::Temporal;
+        let format = if pass == Pass::Tonemap {
+            self.format
+        } else {
+            SCENE_FORMAT
+        };
+        let key = PipelineKey::new(
+            pass,
+            self.cfg.method,
+            &self.constants(pass),
+            format,
+            compute,
+        );
+        if pass == Pass::Clouds && self.features.temporal {
+            key.temporal()
+        } else {
+            key
+        }
+    }
+
+    /// Both cloud-pass pipelines when `auto` is still measuring (it
+    /// alternates), else the one in use.
+    pub(super) fn cloud_keys(&self) -> Vec<PipelineKey> {
+        let mut keys = vec![self.key(Pass::Clouds)];
+        if self.cfg.march == MarchPath::Auto
+            && self.auto_march.chosen().is_none()
+            && !self.features.temporal
+        {
+            let mut other = keys[0].clone();
+            other.compute = !other.compute;
+            keys.push(other);
+            keys.push(PipelineKey::new(
+                Pass::Composite,
+                self.cfg.method,
+                &self.constants(Pass::Composite),
+                SCENE_FORMAT,
+                false,
+            ));
+        }
+        keys
+    }
+}
