@@ -36,14 +36,7 @@ fn render(
     w: u32,
     h: u32,
 ) -> Vec<u8> {
-    let mut hl = Headless::new(ctx, cfg, w, h).unwrap();
-    let input = FrameInput {
-        camera,
-        parcels,
-        sun: cfg.sun(),
-        time_s: 0.0,
-    };
-    hl.render(ctx, &input).unwrap().0
+    common::render::render(ctx, cfg, Vec::new(), camera, parcels, (w, h))
 }
 
 fn no_terrain() -> RenderConfig {

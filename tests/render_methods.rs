@@ -47,14 +47,7 @@ fn render(
     parcels: &[CloudParcel],
     (w, h): (u32, u32),
 ) -> Vec<u8> {
-    let mut hl = Headless::new(ctx, cfg, w, h).unwrap();
-    let input = FrameInput {
-        camera,
-        parcels,
-        sun: cfg.sun(),
-        time_s: 0.0,
-    };
-    hl.render(ctx, &input).unwrap().0
+    common::render::render(ctx, cfg, Vec::new(), camera, parcels, (w, h))
 }
 
 fn mean_flip(a: &[u8], b: &[u8], (w, h): (u32, u32)) -> f32 {

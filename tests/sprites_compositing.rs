@@ -5,33 +5,13 @@
 
 mod common;
 
-use common::render::{camera, no_terrain};
+use common::render::{camera, no_terrain, render};
 
 use cumulus::physics::CloudParcel;
 use cumulus::render::headless::Headless;
-use cumulus::render::{Camera, FrameInput, GpuContext, RenderConfig, RenderMethod, TerrainConfig};
+use cumulus::render::{FrameInput, RenderConfig, RenderMethod, TerrainConfig};
 use cumulus::sprites_model::{CloudType, SpriteCloud};
 use glam::Vec3;
-
-/// One frame of a fresh renderer.
-fn render(
-    ctx: &GpuContext,
-    cfg: &RenderConfig,
-    clouds: Vec<SpriteCloud>,
-    cam: Camera,
-    parcels: &[CloudParcel],
-    (w, h): (u32, u32),
-) -> Vec<u8> {
-    let mut hl = Headless::new(ctx, cfg, w, h).unwrap();
-    hl.renderer.set_sprite_clouds(ctx, clouds).unwrap();
-    let input = FrameInput {
-        camera: cam,
-        parcels,
-        sun: cfg.sun(),
-        time_s: 0.0,
-    };
-    hl.render(ctx, &input).unwrap().0
-}
 
 /// Rec. 709 luma of an 8-bit RGBA pixel, 0–255.
 fn luma(p: &[u8]) -> f32 {

@@ -8,11 +8,10 @@
 
 mod common;
 
-use common::render::{camera, no_terrain};
+use common::render::{camera, no_terrain, render};
 
 use std::path::PathBuf;
 
-use cumulus::physics::CloudParcel;
 use cumulus::render::headless::Headless;
 use cumulus::render::{Camera, FrameInput, GpuContext, RenderConfig, RenderMethod, TerrainConfig};
 use cumulus::sprites_model::{CloudType, SpriteCloud};
@@ -28,25 +27,6 @@ fn rgb(rgba: &[u8]) -> Vec<u8> {
     rgba.chunks_exact(4)
         .flat_map(|p| [p[0], p[1], p[2]])
         .collect()
-}
-
-fn render(
-    ctx: &GpuContext,
-    cfg: &RenderConfig,
-    clouds: Vec<SpriteCloud>,
-    camera: Camera,
-    parcels: &[CloudParcel],
-    (w, h): (u32, u32),
-) -> Vec<u8> {
-    let mut hl = Headless::new(ctx, cfg, w, h).unwrap();
-    hl.renderer.set_sprite_clouds(ctx, clouds).unwrap();
-    let input = FrameInput {
-        camera,
-        parcels,
-        sun: cfg.sun(),
-        time_s: 0.0,
-    };
-    hl.render(ctx, &input).unwrap().0
 }
 
 /// Pixels whose colour differs by more than 8 levels in some channel.

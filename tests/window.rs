@@ -162,6 +162,28 @@ fn cloud_pixels(img: &image::RgbaImage, clear: &image::RgbaImage) -> u32 {
     n
 }
 
+/// Three frames of the 900×560 window after `warmup` simulated seconds,
+/// with or without clouds (`--set render.clouds=false`), for
+/// [`cloud_pixels`]; the adapter must be there (an earlier capture found it).
+fn window(display: &str, warmup: &str, clouds: bool, name: &str) -> image::RgbaImage {
+    let extra: &[&str] = if clouds {
+        &[]
+    } else {
+        &["--set", "render.clouds=false"]
+    };
+    capture(display, &args("3", warmup, extra), name).expect("the adapter was there a moment ago")
+}
+
+/// `watch` arguments: `frames` frames of the 900×560 window after `warmup`
+/// simulated seconds, then `extra`.
+fn args<'a>(frames: &'a str, warmup: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut a = vec![
+        "--frames", frames, "--warmup", warmup, "--width", "900", "--height", "560",
+    ];
+    a.extend(extra);
+    a
+}
+
 #[test]
 fn screenshot_shows_panel_and_clouds() {
     let Some((display, _xvfb)) = display() else {
@@ -170,13 +192,7 @@ fn screenshot_shows_panel_and_clouds() {
     };
     // Small window (the CPU adapter is slow), a few frames, and ten minutes
     // of simulated warm-up so that clouds have formed.
-    let Some(img) = capture(
-        &display,
-        &[
-            "--frames", "3", "--warmup", "600", "--width", "900", "--height", "560",
-        ],
-        "window.png",
-    ) else {
+    let Some(img) = capture(&display, &args("3", "600", &[]), "window.png") else {
         return;
     };
     let (w, h) = img.dimensions();
@@ -207,16 +223,10 @@ fn screenshot_shows_panel_and_clouds() {
     let panel = mean(0, 360);
     let view = mean(VIEW_X0, w);
     let diff: f64 = (0..3).map(|c| (panel[c] - view[c]).abs()).sum();
-    let window = |warmup: &str, clouds: bool, name: &str| {
-        let mut args = vec![
-            "--frames", "3", "--warmup", warmup, "--width", "900", "--height", "560",
-        ];
-        if !clouds {
-            args.extend(["--set", "render.clouds=false"]);
-        }
-        capture(&display, &args, name).expect("the adapter was there a moment ago")
-    };
-    let cloud = cloud_pixels(&img, &window("600", false, "window-no-clouds.png"));
+    let cloud = cloud_pixels(
+        &img,
+        &window(&display, "600", false, "window-no-clouds.png"),
+    );
     let area = (w - VIEW_X0) * h;
     eprintln!(
         "{} colours, panel {panel:?} vs view {view:?}, {cloud} cloud pixels of {area}",
@@ -237,8 +247,8 @@ fn screenshot_shows_panel_and_clouds() {
     // And the cloud count means cloud: at t = 0 nothing has condensed yet,
     // so the same comparison finds (next to) nothing.
     let clear_cloud = cloud_pixels(
-        &window("0", true, "window-clear.png"),
-        &window("0", false, "window-clear-no-clouds.png"),
+        &window(&display, "0", true, "window-clear.png"),
+        &window(&display, "0", false, "window-clear-no-clouds.png"),
     );
     // 0.02% allows a few pixels of the panel's live numbers spilling over.
     assert!(
@@ -260,18 +270,7 @@ fn a_lost_device_is_reported_and_replaced() {
     };
     let Some((img, log)) = capture_with_log(
         &display,
-        &[
-            "--frames",
-            "4",
-            "--warmup",
-            "600",
-            "--width",
-            "900",
-            "--height",
-            "560",
-            "--lose-device-after",
-            "2",
-        ],
+        &args("4", "600", &["--lose-device-after", "2"]),
         "window-device-lost.png",
     ) else {
         return;
@@ -283,16 +282,10 @@ fn a_lost_device_is_reported_and_replaced() {
     // Two devices were opened: the first and its replacement.
     assert_eq!(log.matches("GPU: ").count(), 2, "{log}");
     let area = (img.width() - VIEW_X0) * img.height();
-    let window = |warmup: &str, clouds: bool, name: &str| {
-        let mut args = vec![
-            "--frames", "3", "--warmup", warmup, "--width", "900", "--height", "560",
-        ];
-        if !clouds {
-            args.extend(["--set", "render.clouds=false"]);
-        }
-        capture(&display, &args, name).expect("the adapter was there a moment ago")
-    };
-    let cloud = cloud_pixels(&img, &window("600", false, "window-no-clouds.png"));
+    let cloud = cloud_pixels(
+        &img,
+        &window(&display, "600", false, "window-no-clouds.png"),
+    );
     // As in screenshot_shows_panel_and_clouds: at least 0.1% of the view.
     assert!(
         cloud * 1000 > area,
@@ -322,18 +315,7 @@ fn window_and_headless_draw_the_same_image() {
     };
     let Some((img, log)) = capture_with_log(
         &display,
-        &[
-            "--frames",
-            "1",
-            "--warmup",
-            "600",
-            "--width",
-            "900",
-            "--height",
-            "560",
-            "--set",
-            "render.temporal=false",
-        ],
+        &args("1", "600", &["--set", "render.temporal=false"]),
         "window-vs-headless.png",
     ) else {
         return;

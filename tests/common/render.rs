@@ -1,6 +1,9 @@
-//! Camera and configuration helpers of the sprite render tests.
+//! Camera, configuration and one-frame helpers of the sprite render tests.
 
-use cumulus::render::{Camera, RenderConfig, RenderMethod, TerrainConfig};
+use cumulus::physics::CloudParcel;
+use cumulus::render::headless::Headless;
+use cumulus::render::{Camera, FrameInput, GpuContext, RenderConfig, RenderMethod, TerrainConfig};
+use cumulus::sprites_model::SpriteCloud;
 use glam::Vec3;
 
 /// A 50° camera at `position` looking at `target`, near plane 10 m.
@@ -24,4 +27,25 @@ pub fn no_terrain(method: RenderMethod) -> RenderConfig {
         },
         ..RenderConfig::default()
     }
+}
+
+/// One frame (RGBA8) of a fresh renderer with the scene's sprite `clouds`
+/// and the physics `parcels`, at t = 0.
+pub fn render(
+    ctx: &GpuContext,
+    cfg: &RenderConfig,
+    clouds: Vec<SpriteCloud>,
+    camera: Camera,
+    parcels: &[CloudParcel],
+    (w, h): (u32, u32),
+) -> Vec<u8> {
+    let mut hl = Headless::new(ctx, cfg, w, h).unwrap();
+    hl.renderer.set_sprite_clouds(ctx, clouds).unwrap();
+    let input = FrameInput {
+        camera,
+        parcels,
+        sun: cfg.sun(),
+        time_s: 0.0,
+    };
+    hl.render(ctx, &input).unwrap().0
 }
