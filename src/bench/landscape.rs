@@ -9,7 +9,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::render::headless::Headless;
 use crate::render::{FrameInput, GpuContext, MarchPath, RenderConfig};
 
@@ -117,32 +117,32 @@ pub fn landscape(
 /// `landscape.csv`: temporal, width, height, parcels, frame_ms, cloud_ms,
 /// mean_flip_vs_full.
 pub fn landscape_csv(rows: &[LandscapeRow]) -> Result<Vec<u8>> {
-    let mut w = csv::Writer::from_writer(Vec::new());
-    let err = |e: csv::Error| Error::invalid("landscape.csv", "a row", e.to_string());
-    w.write_record([
-        "temporal",
-        "width",
-        "height",
-        "parcels",
-        "frame_ms",
-        "cloud_ms",
-        "mean_flip_vs_full",
-    ])
-    .map_err(err)?;
-    for r in rows {
-        w.write_record([
-            super::perf::on_off(r.temporal).to_string(),
-            r.width.to_string(),
-            r.height.to_string(),
-            r.parcels.to_string(),
-            format!("{:.3}", r.frame_ms),
-            format!("{:.3}", r.cloud_ms),
-            format!("{:.4}", r.mean_flip_vs_full),
-        ])
-        .map_err(err)?;
-    }
-    w.into_inner()
-        .map_err(|e| Error::invalid("landscape.csv", "the buffer", e.to_string()))
+    let body: Vec<Vec<String>> = rows
+        .iter()
+        .map(|r| {
+            vec![
+                super::perf::on_off(r.temporal).to_string(),
+                r.width.to_string(),
+                r.height.to_string(),
+                r.parcels.to_string(),
+                format!("{:.3}", r.frame_ms),
+                format!("{:.3}", r.cloud_ms),
+                format!("{:.4}", r.mean_flip_vs_full),
+            ]
+        })
+        .collect();
+    super::report::csv_bytes(
+        &[
+            "temporal",
+            "width",
+            "height",
+            "parcels",
+            "frame_ms",
+            "cloud_ms",
+            "mean_flip_vs_full",
+        ],
+        &body,
+    )
 }
 
 /// The landscape section of `report.md`.

@@ -269,29 +269,29 @@ fn run_case(
 /// `methods.csv`: scene, method, impostors (on/off), frame_ms,
 /// mean_flip_vs_exact (empty where there is no exact frame).
 pub fn methods_csv(rows: &[MethodRow]) -> Result<Vec<u8>> {
-    let mut w = csv::Writer::from_writer(Vec::new());
-    let err = |e: csv::Error| Error::invalid("methods.csv", "a row", e.to_string());
-    w.write_record([
-        "scene",
-        "method",
-        "impostors",
-        "frame_ms",
-        "mean_flip_vs_exact",
-    ])
-    .map_err(err)?;
-    for r in rows {
-        w.write_record([
-            r.scene.clone(),
-            r.method.name().to_string(),
-            super::perf::on_off(r.impostors).to_string(),
-            format!("{:.3}", r.frame_ms),
-            r.mean_flip_vs_exact
-                .map_or(String::new(), |f| format!("{f:.4}")),
-        ])
-        .map_err(err)?;
-    }
-    w.into_inner()
-        .map_err(|e| Error::invalid("methods.csv", "the buffer", e.to_string()))
+    let body: Vec<Vec<String>> = rows
+        .iter()
+        .map(|r| {
+            vec![
+                r.scene.clone(),
+                r.method.name().to_string(),
+                super::perf::on_off(r.impostors).to_string(),
+                format!("{:.3}", r.frame_ms),
+                r.mean_flip_vs_exact
+                    .map_or(String::new(), |f| format!("{f:.4}")),
+            ]
+        })
+        .collect();
+    super::report::csv_bytes(
+        &[
+            "scene",
+            "method",
+            "impostors",
+            "frame_ms",
+            "mean_flip_vs_exact",
+        ],
+        &body,
+    )
 }
 
 /// `methods.md`: the same table with sprite counts and the overdraw.

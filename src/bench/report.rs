@@ -39,7 +39,8 @@ fn md(v: f64, decimals: usize) -> String {
     }
 }
 
-fn csv_bytes(header: &[&str], rows: &[Vec<String>]) -> Result<Vec<u8>> {
+/// A CSV file's bytes: the header, then one record per row.
+pub(super) fn csv_bytes(header: &[&str], rows: &[Vec<String>]) -> Result<Vec<u8>> {
     let mut w = csv::Writer::from_writer(Vec::new());
     let err = |e: csv::Error| Error::io("csv", std::io::Error::other(e));
     w.write_record(header).map_err(err)?;

@@ -8,7 +8,7 @@
 use std::path::Path;
 
 use crate::authored::VertexField;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::render::GpuContext;
 use crate::render::headless::Headless;
 
@@ -78,30 +78,30 @@ pub fn slices_rows(
 /// `slices.csv`: quality, vertex_field, vertices, upload_ms,
 /// field_pass_ms, frame_ms.
 pub fn slices_csv(rows: &[SlicesRow]) -> Result<Vec<u8>> {
-    let mut w = csv::Writer::from_writer(Vec::new());
-    let err = |e: csv::Error| Error::invalid("slices.csv", "a row", e.to_string());
-    w.write_record([
-        "quality",
-        "vertex_field",
-        "vertices",
-        "upload_ms",
-        "field_pass_ms",
-        "frame_ms",
-    ])
-    .map_err(err)?;
-    for r in rows {
-        w.write_record([
-            r.quality.to_string(),
-            r.vertex_field.name().to_string(),
-            r.vertices.to_string(),
-            format!("{:.3}", r.upload_ms),
-            format!("{:.3}", r.field_pass_ms),
-            format!("{:.3}", r.frame_ms),
-        ])
-        .map_err(err)?;
-    }
-    w.into_inner()
-        .map_err(|e| Error::invalid("slices.csv", "the buffer", e.to_string()))
+    let body: Vec<Vec<String>> = rows
+        .iter()
+        .map(|r| {
+            vec![
+                r.quality.to_string(),
+                r.vertex_field.name().to_string(),
+                r.vertices.to_string(),
+                format!("{:.3}", r.upload_ms),
+                format!("{:.3}", r.field_pass_ms),
+                format!("{:.3}", r.frame_ms),
+            ]
+        })
+        .collect();
+    super::report::csv_bytes(
+        &[
+            "quality",
+            "vertex_field",
+            "vertices",
+            "upload_ms",
+            "field_pass_ms",
+            "frame_ms",
+        ],
+        &body,
+    )
 }
 
 /// `slices.md`: the same table with a line per Quality comparing the sides.
