@@ -9,8 +9,6 @@
 
 mod common;
 
-use std::path::PathBuf;
-
 use cumulus::physics::CloudParcel;
 use cumulus::render::headless::Headless;
 use cumulus::render::{
@@ -49,58 +47,8 @@ fn no_terrain() -> RenderConfig {
     }
 }
 
-fn rgb(rgba: &[u8]) -> Vec<u8> {
-    rgba.chunks_exact(4)
-        .flat_map(|p| [p[0], p[1], p[2]])
-        .collect()
-}
-
-fn reference_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/reference/render")
-}
-
 fn compare_with_reference(name: &str, rgba: &[u8], w: u32, h: u32) {
-    let dir = reference_dir();
-    let path = dir.join(format!("{name}.png"));
-    if std::env::var("UPDATE_REFERENCES").as_deref() == Ok("1") || !path.exists() {
-        if !path.exists() && std::env::var("CI").as_deref() == Ok("true") {
-            panic!("missing reference {}", path.display());
-        }
-        cumulus::output::write_png_atomic(&path, w, h, rgba).unwrap();
-        eprintln!("wrote reference {}", path.display());
-        return;
-    }
-    let reference = image::open(&path).unwrap().into_rgb8();
-    assert_eq!(
-        (reference.width(), reference.height()),
-        (w, h),
-        "{name}: size changed"
-    );
-    let ref_img = nv_flip::FlipImageRgb8::with_data(w, h, &reference);
-    let test_img = nv_flip::FlipImageRgb8::with_data(w, h, &rgb(rgba));
-    let error_map = nv_flip::flip(ref_img, test_img, nv_flip::DEFAULT_PIXELS_PER_DEGREE);
-    let mean = nv_flip::FlipPool::from_image(&error_map).mean();
-    if mean > MEAN_FLIP_TOLERANCE {
-        cumulus::output::write_png_atomic(&dir.join(format!("{name}.actual.png")), w, h, rgba)
-            .unwrap();
-        let vis = error_map.apply_color_lut(&nv_flip::magma_lut());
-        let vis_rgba: Vec<u8> = vis
-            .to_vec()
-            .chunks_exact(3)
-            .flat_map(|p| [p[0], p[1], p[2], 255])
-            .collect();
-        cumulus::output::write_png_atomic(
-            &dir.join(format!("{name}.difference.png")),
-            w,
-            h,
-            &vis_rgba,
-        )
-        .unwrap();
-        panic!(
-            "{name}: mean FLIP {mean:.4} > {MEAN_FLIP_TOLERANCE} (wrote {name}.actual.png and {name}.difference.png)"
-        );
-    }
-    eprintln!("{name}: mean FLIP {mean:.4}");
+    common::flip::check_reference(name, rgba, (w, h), MEAN_FLIP_TOLERANCE);
 }
 
 /// One full parcel with its plane 300 m under the centre.

@@ -50,15 +50,6 @@ fn render(
     common::render::render(ctx, cfg, Vec::new(), camera, parcels, (w, h))
 }
 
-fn mean_flip(a: &[u8], b: &[u8], (w, h): (u32, u32)) -> f32 {
-    let rgb =
-        |x: &[u8]| -> Vec<u8> { x.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect() };
-    let ra = nv_flip::FlipImageRgb8::with_data(w, h, &rgb(a));
-    let rb = nv_flip::FlipImageRgb8::with_data(w, h, &rgb(b));
-    let map = nv_flip::flip(ra, rb, nv_flip::DEFAULT_PIXELS_PER_DEGREE);
-    nv_flip::FlipPool::from_image(&map).mean()
-}
-
 /// Renders with both methods; returns (mean FLIP, fraction of pixels the
 /// clouds change in the exact image).
 fn compare(
@@ -95,7 +86,7 @@ fn compare(
         .filter(|(a, b)| a.iter().zip(*b).any(|(x, y)| x.abs_diff(*y) > 12))
         .count() as f32
         / (size.0 * size.1) as f32;
-    (mean_flip(&exact, &baked, size), cloudy)
+    (common::flip::mean_flip(&exact, &baked, size), cloudy)
 }
 
 fn towers_camera() -> Camera {
@@ -195,7 +186,7 @@ fn a_shifted_cloud_fails_the_tolerance() {
         .collect();
     let a = render(&ctx, &cfg, side_camera(), &parcels, size);
     let b = render(&ctx, &cfg, side_camera(), &moved, size);
-    let flip = mean_flip(&a, &b, size);
+    let flip = common::flip::mean_flip(&a, &b, size);
     eprintln!("clouds moved 150 m: mean FLIP {flip:.4}");
     assert!(flip > BAKED_VS_EXACT_FLIP, "moved clouds score only {flip}");
 }
@@ -328,7 +319,7 @@ fn compute_and_fragment_march_agree_and_auto_decides() {
             &parcels,
             size,
         );
-        let flip = mean_flip(&fragment, &compute, size);
+        let flip = common::flip::mean_flip(&fragment, &compute, size);
         eprintln!("{method}: mean FLIP compute vs fragment {flip:.5}");
         assert!(flip <= COMPUTE_VS_FRAGMENT_FLIP, "{method}: {flip}");
     }

@@ -297,32 +297,7 @@ fn authored_scene_matches_its_reference() {
     let Some(ctx) = context() else { return };
     let scene = load_scene_with(Some(&authored_path()), &[]).unwrap().0;
     let img = render(&ctx, &scene);
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/reference/render");
-    let path = dir.join("authored_slices.png");
-    let (w, h) = SIZE;
-    if std::env::var("UPDATE_REFERENCES").as_deref() == Ok("1") || !path.exists() {
-        if !path.exists() && std::env::var("CI").as_deref() == Ok("true") {
-            panic!("missing reference {}", path.display());
-        }
-        cumulus::output::write_png_atomic(&path, w, h, &img).unwrap();
-        eprintln!("wrote reference {}", path.display());
-        return;
-    }
-    let rgb =
-        |x: &[u8]| -> Vec<u8> { x.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect() };
-    let reference = image::open(&path).unwrap().into_rgb8();
-    assert_eq!((reference.width(), reference.height()), (w, h));
-    let map = nv_flip::flip(
-        nv_flip::FlipImageRgb8::with_data(w, h, &reference),
-        nv_flip::FlipImageRgb8::with_data(w, h, &rgb(&img)),
-        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
-    );
-    let mean = nv_flip::FlipPool::from_image(&map).mean();
-    if mean > MEAN_FLIP_TOLERANCE {
-        cumulus::output::write_png_atomic(&dir.join("authored_slices.actual.png"), w, h, &img)
-            .unwrap();
-    }
-    assert!(mean <= MEAN_FLIP_TOLERANCE, "mean FLIP {mean:.4}");
+    common::flip::check_reference("authored_slices", &img, SIZE, MEAN_FLIP_TOLERANCE);
 }
 
 #[test]
@@ -582,14 +557,7 @@ fn the_compute_pass_gives_the_cpu_vertex_field() {
     // largest shadow (measured 0.2 % on lavapipe).
     assert!(shadow < 0.01 * max_shadow, "shadow differs by {shadow}");
     let cpu_img = render(&ctx, &cpu_scene);
-    let rgb =
-        |x: &[u8]| -> Vec<u8> { x.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect() };
-    let map = nv_flip::flip(
-        nv_flip::FlipImageRgb8::with_data(SIZE.0, SIZE.1, &rgb(&cpu_img)),
-        nv_flip::FlipImageRgb8::with_data(SIZE.0, SIZE.1, &rgb(&gpu_img)),
-        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
-    );
-    let mean = nv_flip::FlipPool::from_image(&map).mean();
+    let mean = common::flip::mean_flip(&cpu_img, &gpu_img, SIZE);
     assert!(
         mean <= MEAN_FLIP_TOLERANCE,
         "mean FLIP CPU vs GPU {mean:.4}"

@@ -167,18 +167,6 @@ fn sprite_layers_above_and_below_a_ray_marched_cloud_sort_by_depth() {
     assert!(to_sprites < in_front, "{to_sprites:.1} vs {in_front:.1}");
 }
 
-/// Mean FLIP between two RGBA frames.
-fn mean_flip(a: &[u8], b: &[u8], (w, h): (u32, u32)) -> f32 {
-    let rgb =
-        |v: &[u8]| -> Vec<u8> { v.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect() };
-    let map = nv_flip::flip(
-        nv_flip::FlipImageRgb8::with_data(w, h, &rgb(a)),
-        nv_flip::FlipImageRgb8::with_data(w, h, &rgb(b)),
-        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
-    );
-    nv_flip::FlipPool::from_image(&map).mean()
-}
-
 #[test]
 fn physics_clouds_beyond_the_radius_go_into_the_impostor_ring() {
     let Some(ctx) = common::context("physics clouds in the ring") else {
@@ -232,7 +220,7 @@ fn physics_clouds_beyond_the_radius_go_into_the_impostor_ring() {
     );
     // Same look through the ring (the impostor test's tolerance:
     // sprites_gpu.rs RING_FLIP_TOLERANCE, one bilinear resampling).
-    let flip = mean_flip(&direct[0].0, &ring[8].0, size);
+    let flip = common::flip::mean_flip(&direct[0].0, &ring[8].0, size);
     eprintln!("physics clouds through the ring vs direct: mean FLIP {flip:.4}");
     assert!(flip < 0.015, "mean FLIP {flip:.4}");
 }

@@ -23,12 +23,6 @@ use glam::Vec3;
 /// 0.1+ a changed sprite layout or shading gives.
 const MEAN_FLIP_TOLERANCE: f32 = 0.02;
 
-fn rgb(rgba: &[u8]) -> Vec<u8> {
-    rgba.chunks_exact(4)
-        .flat_map(|p| [p[0], p[1], p[2]])
-        .collect()
-}
-
 /// Pixels whose colour differs by more than 8 levels in some channel.
 fn changed(a: &[u8], b: &[u8]) -> usize {
     a.chunks_exact(4)
@@ -58,34 +52,7 @@ fn physics_parcels_as_sprites_match_the_reference() {
         changed(&rgba, &sky)
     );
 
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/reference/render");
-    let path = dir.join("sprites_standin.png");
-    if std::env::var("UPDATE_REFERENCES").as_deref() == Ok("1") || !path.exists() {
-        assert!(
-            path.exists() || std::env::var("CI").as_deref() != Ok("true"),
-            "missing reference {}",
-            path.display()
-        );
-        cumulus::output::write_png_atomic(&path, w, h, &rgba).unwrap();
-        eprintln!("wrote reference {}", path.display());
-        return;
-    }
-    let reference = image::open(&path).unwrap().into_rgb8();
-    let map = nv_flip::flip(
-        nv_flip::FlipImageRgb8::with_data(w, h, &reference),
-        nv_flip::FlipImageRgb8::with_data(w, h, &rgb(&rgba)),
-        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
-    );
-    let mean = nv_flip::FlipPool::from_image(&map).mean();
-    if mean > MEAN_FLIP_TOLERANCE {
-        let actual = dir.join("sprites_standin.actual.png");
-        cumulus::output::write_png_atomic(&actual, w, h, &rgba).unwrap();
-        panic!(
-            "mean FLIP {mean:.4} > {MEAN_FLIP_TOLERANCE} (wrote {})",
-            actual.display()
-        );
-    }
-    eprintln!("sprites_standin: mean FLIP {mean:.4}");
+    common::flip::check_reference("sprites_standin", &rgba, (w, h), MEAN_FLIP_TOLERANCE);
 }
 
 #[test]
@@ -314,15 +281,6 @@ fn with_ring(radius_m: Option<f32>) -> RenderConfig {
     cfg
 }
 
-fn mean_flip(a: &[u8], b: &[u8], (w, h): (u32, u32)) -> f32 {
-    let map = nv_flip::flip(
-        nv_flip::FlipImageRgb8::with_data(w, h, &rgb(a)),
-        nv_flip::FlipImageRgb8::with_data(w, h, &rgb(b)),
-        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
-    );
-    nv_flip::FlipPool::from_image(&map).mean()
-}
-
 /// Mean FLIP allowed between the far clouds through the ring and drawn
 /// directly: the ring resamples each face once (bilinear, 256² per 45°,
 /// about the screen's density here) and blends the sprites in the face's
@@ -353,7 +311,7 @@ fn impostor_ring_matches_the_direct_render_of_far_clouds() {
         changed(direct_img, sky)
     );
     assert!(changed(ring_img, sky) > 500, "{}", changed(ring_img, sky));
-    let mean = mean_flip(direct_img, ring_img, (192, 108));
+    let mean = common::flip::mean_flip(direct_img, ring_img, (192, 108));
     eprintln!("impostor ring vs direct: mean FLIP {mean:.4}");
     if mean > RING_FLIP_TOLERANCE {
         let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target");

@@ -11,9 +11,11 @@
 //! - [`skewt_panel`]: the profile diagram's height–T and Skew-T views, the
 //!   panel's hodograph;
 //! - [`progress`]: the pre-simulation to the start time on a terminal bar;
-//! - [`window`]: winit event loop, surface, frame loop and screenshot.
+//! - [`window`]: winit event loop, surface, frame loop and screenshot;
+//! - `draw`: what one window frame records (3D view, panel, read-back).
 
 pub mod camera;
+mod draw;
 pub mod ellipsoid_mouse;
 pub mod panel;
 pub mod profile_edit;

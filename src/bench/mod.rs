@@ -18,6 +18,7 @@ pub mod measure;
 pub mod methods;
 pub mod pathtraced;
 pub mod perf;
+mod physics_error;
 pub mod physics_speed;
 pub mod plots;
 pub mod report;

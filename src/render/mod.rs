@@ -24,7 +24,9 @@
 //! the density of the hypertexture (paper eq. 18) in `shaders/density.wgsl`.
 
 pub mod auto_march;
+mod camera;
 pub mod field;
+mod frame;
 pub mod gpu;
 pub mod headless;
 pub mod method;
@@ -42,13 +44,13 @@ pub mod timing;
 
 use std::path::PathBuf;
 
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::physics::CloudParcel;
-use crate::sky::{Atmosphere, SkyLight};
 
+pub use camera::{Camera, CameraConfig};
+pub use frame::{Features, FrameInput, Sun};
 pub use gpu::GpuContext;
 pub use method::{MarchPath, RenderMethod};
 pub use renderer::{FrameTimings, Renderer, TimingMode};
@@ -201,7 +203,7 @@ impl Default for RenderConfig {
     }
 }
 
-fn check(name: &str, value: f32, ok: bool, allowed: &str) -> Result<()> {
+pub(crate) fn check(name: &str, value: f32, ok: bool, allowed: &str) -> Result<()> {
     if ok && value.is_finite() {
         Ok(())
     } else {
@@ -360,268 +362,6 @@ impl RenderConfig {
     /// The sun described by this configuration.
     pub fn sun(&self) -> Sun {
         Sun::from_sky(self.sun_direction(), 1.0)
-    }
-}
-
-/// Camera placement (the `[camera]` table).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct CameraConfig {
-    /// Eye position. units: m
-    pub position_m: [f32; 3],
-    /// Point looked at. units: m
-    pub target_m: [f32; 3],
-    /// Vertical field of view. units: degrees
-    pub vfov_deg: f32,
-    /// Near clip distance. units: m
-    pub near_m: f32,
-    /// Far clip distance. units: m
-    pub far_m: f32,
-}
-
-impl Default for CameraConfig {
-    /// Stands 6.5 km south of a 10 km domain, 1 km up (just under the usual
-    /// cloud base), looking north across the landscape at the cloud layer
-    /// (1–3 km); with the default sun from the east the bases are in shade
-    /// and the shadows fall sideways onto the ground in front of the clouds.
-    fn default() -> Self {
-        Self {
-            position_m: [-2000.0, -11500.0, 1000.0],
-            target_m: [0.0, -1000.0, 900.0],
-            vfov_deg: 45.0,
-            near_m: 10.0,
-            far_m: 60_000.0,
-        }
-    }
-}
-
-impl CameraConfig {
-    /// Checks every field; the error names the field and its allowed range.
-    pub fn validate(&self) -> Result<()> {
-        for (i, v) in self.position_m.iter().chain(&self.target_m).enumerate() {
-            if !v.is_finite() {
-                let name = if i < 3 {
-                    "camera.position_m"
-                } else {
-                    "camera.target_m"
-                };
-                return Err(Error::invalid(name, v, "finite numbers (metres)"));
-            }
-        }
-        let d = Vec3::from(self.target_m) - Vec3::from(self.position_m);
-        if d.length() < 1.0 {
-            return Err(Error::invalid(
-                "camera.target_m",
-                format!("{:?}", self.target_m),
-                "at least 1 m from camera.position_m",
-            ));
-        }
-        if d.normalize().z.abs() > 0.999 {
-            return Err(Error::invalid(
-                "camera.target_m",
-                format!("{:?}", self.target_m),
-                "not straight above or below the camera (z is up)",
-            ));
-        }
-        check(
-            "camera.vfov_deg",
-            self.vfov_deg,
-            self.vfov_deg >= 5.0 && self.vfov_deg <= 150.0,
-            "5 to 150 degrees",
-        )?;
-        check(
-            "camera.near_m",
-            self.near_m,
-            self.near_m > 0.0,
-            "more than 0 m",
-        )?;
-        check(
-            "camera.far_m",
-            self.far_m,
-            self.far_m > self.near_m * 2.0,
-            "more than twice camera.near_m",
-        )?;
-        Ok(())
-    }
-}
-
-/// A perspective camera, z up.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Camera {
-    /// units: m
-    pub position: Vec3,
-    /// units: m
-    pub target: Vec3,
-    /// units: radians
-    pub vfov_rad: f32,
-    /// units: m
-    pub near_m: f32,
-    /// units: m
-    pub far_m: f32,
-}
-
-impl From<&CameraConfig> for Camera {
-    fn from(c: &CameraConfig) -> Self {
-        Self {
-            position: Vec3::from(c.position_m),
-            target: Vec3::from(c.target_m),
-            vfov_rad: c.vfov_deg.to_radians(),
-            near_m: c.near_m,
-            far_m: c.far_m,
-        }
-    }
-}
-
-impl Camera {
-    /// World → view transform (right-handed, z up in the world).
-    pub fn view_from_world(&self) -> Mat4 {
-        Mat4::look_at_rh(self.position, self.target, Vec3::Z)
-    }
-
-    /// View → clip (wgpu depth range 0..1).
-    pub fn clip_from_view(&self, aspect: f32) -> Mat4 {
-        Mat4::perspective_rh(self.vfov_rad, aspect, self.near_m, self.far_m)
-    }
-
-    /// World → clip.
-    pub fn clip_from_world(&self, aspect: f32) -> Mat4 {
-        self.clip_from_view(aspect) * self.view_from_world()
-    }
-
-    /// Pixel (column, row from the top) where a world point lands, or None
-    /// behind the camera.
-    pub fn project_to_pixel(&self, p: Vec3, width: u32, height: u32) -> Option<(f32, f32)> {
-        let c = self.clip_from_world(width as f32 / height as f32) * p.extend(1.0);
-        if c.w <= 0.0 {
-            return None;
-        }
-        let ndc = c.truncate() / c.w;
-        Some((
-            (ndc.x * 0.5 + 0.5) * width as f32,
-            (0.5 - ndc.y * 0.5) * height as f32,
-        ))
-    }
-}
-
-/// The sun as a directional light, and the sky it makes.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Sun {
-    /// Unit vector toward the sun.
-    pub direction: Vec3,
-    /// Linear RGB irradiance scale (1 = nominal daylight exposure): the
-    /// sun's colour after the air (`sky.sun`), unless a caller sets it.
-    pub color: Vec3,
-    /// Sky radiance table and ambient light for this sun (src/sky.rs).
-    pub sky: SkyLight,
-}
-
-impl Sun {
-    /// The sun toward `direction`, its light scaled by `strength` (1 in
-    /// daylight, fading to 0 at dusk), coloured by the atmosphere model
-    /// at the direction's elevation (held at 0 below the horizon).
-    pub fn from_sky(direction: Vec3, strength: f32) -> Self {
-        let sky = sky_light_cached(direction.z.clamp(0.0, 1.0).asin(), strength);
-        Self {
-            direction,
-            color: sky.sun,
-            sky,
-        }
-    }
-}
-
-/// Steps the sky is computed at: elevation 0.05° (the sun moves that far in
-/// about 12 s of clock time; its colour changes by well under 1 %), the
-/// dusk fade 1/256.
-const SKY_ELEVATION_STEP_DEG: f32 = 0.05;
-const SKY_STRENGTH_STEPS: f32 = 256.0;
-
-/// [`Atmosphere::sky_light`] of the Earth at the nearest step of elevation
-/// and strength, remembered for the last step asked for: the window asks
-/// every frame, and a new step costs a few ms of CPU.
-fn sky_light_cached(elevation_rad: f32, strength: f32) -> SkyLight {
-    use std::sync::Mutex;
-    static LAST: Mutex<Option<((i32, i32), SkyLight)>> = Mutex::new(None);
-    let key = (
-        (elevation_rad.to_degrees() / SKY_ELEVATION_STEP_DEG).round() as i32,
-        (strength.clamp(0.0, 1.0) * SKY_STRENGTH_STEPS).round() as i32,
-    );
-    let mut last = LAST.lock().unwrap_or_else(|e| e.into_inner());
-    match *last {
-        Some((k, sky)) if k == key => sky,
-        _ => {
-            let elevation = (key.0 as f64 * SKY_ELEVATION_STEP_DEG as f64).to_radians();
-            let strength = key.1 as f64 / SKY_STRENGTH_STEPS as f64;
-            let sky = Atmosphere::EARTH.sky_light(elevation, strength);
-            *last = Some((key, sky));
-            sky
-        }
-    }
-}
-
-impl Default for Sun {
-    fn default() -> Self {
-        Self::from_sky(RenderConfig::default().sun_direction(), 1.0)
-    }
-}
-
-/// Everything a frame needs from the outside world.
-#[derive(Debug, Clone, Copy)]
-pub struct FrameInput<'a> {
-    pub camera: Camera,
-    /// The condensed parcels to draw (from `ParcelWorld::cloud_parcels`).
-    pub parcels: &'a [CloudParcel],
-    pub sun: Sun,
-    /// Simulation time, for slow noise drift. units: s
-    pub time_s: f32,
-}
-
-/// Which passes and shader code a frame needs ("leave out what a scene does
-/// not need"): derived from the configuration and whether there are clouds.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct Features {
-    /// Ray-march clouds (configured on, a ray-marching method and at
-    /// least one parcel).
-    pub clouds: bool,
-    /// Draw sprite clouds (the `sprites` method's parcels or the scene's
-    /// `[[sprite_clouds]]`/`[[layers]]`; the renderer sets the latter).
-    pub sprites: bool,
-    /// Slicing planes (the `slices` method with at least one primitive).
-    pub slices: bool,
-    /// Terrain mesh pass.
-    pub terrain: bool,
-    /// Cloud shadows on the terrain (needs terrain and ray-marched clouds,
-    /// sprites or slicing planes).
-    pub shadows: bool,
-    /// The cloud-shadow map pass: the `exact` clouds' and the slicing
-    /// planes' shadows (and the sprites', splatted in). The `baked`
-    /// method's terrain reads its light volume instead.
-    pub shadow_map: bool,
-    /// Finite-difference normals compiled into the cloud shader.
-    pub normals: bool,
-    /// Temporal amortisation: the quarter-rate march and the resolve pass
-    /// (`[render] temporal` set to true, and clouds to march).
-    pub temporal: bool,
-}
-
-impl Features {
-    /// Features for `cfg` with or without any condensed parcel.
-    pub fn new(cfg: &RenderConfig, any_clouds: bool) -> Self {
-        let drawn = cfg.clouds && any_clouds;
-        let clouds = drawn && cfg.method.ray_marches();
-        let terrain = cfg.terrain.enabled;
-        let slices = drawn && cfg.method == RenderMethod::Slices;
-        Self {
-            clouds,
-            sprites: drawn && cfg.method == RenderMethod::Sprites,
-            slices,
-            terrain,
-            shadows: cfg.shadows && (clouds || slices) && terrain,
-            shadow_map: cfg.shadows
-                && terrain
-                && ((clouds && cfg.method == RenderMethod::Exact) || slices),
-            normals: cfg.normals && clouds,
-            temporal: cfg.temporal == Some(true) && clouds,
-        }
     }
 }
 

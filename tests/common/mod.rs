@@ -6,6 +6,7 @@
 use cumulus::atmosphere::{EnvLevel, Environment, PressureModel};
 use cumulus::render::GpuContext;
 
+pub mod flip;
 pub mod physics;
 pub mod render;
 

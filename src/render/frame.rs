@@ -1,0 +1,130 @@
+//! What one frame is given: the sun and the sky it makes (cached per step of
+//! elevation), the parcels and camera, and the passes it needs.
+
+use glam::Vec3;
+
+use super::{Camera, RenderConfig, RenderMethod};
+use crate::physics::CloudParcel;
+use crate::sky::{Atmosphere, SkyLight};
+
+/// The sun as a directional light, and the sky it makes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sun {
+    /// Unit vector toward the sun.
+    pub direction: Vec3,
+    /// Linear RGB irradiance scale (1 = nominal daylight exposure): the
+    /// sun's colour after the air (`sky.sun`), unless a caller sets it.
+    pub color: Vec3,
+    /// Sky radiance table and ambient light for this sun (src/sky.rs).
+    pub sky: SkyLight,
+}
+
+impl Sun {
+    /// The sun toward `direction`, its light scaled by `strength` (1 in
+    /// daylight, fading to 0 at dusk), coloured by the atmosphere model
+    /// at the direction's elevation (held at 0 below the horizon).
+    pub fn from_sky(direction: Vec3, strength: f32) -> Self {
+        let sky = sky_light_cached(direction.z.clamp(0.0, 1.0).asin(), strength);
+        Self {
+            direction,
+            color: sky.sun,
+            sky,
+        }
+    }
+}
+
+/// Steps the sky is computed at: elevation 0.05° (the sun moves that far in
+/// about 12 s of clock time; its colour changes by well under 1 %), the
+/// dusk fade 1/256.
+const SKY_ELEVATION_STEP_DEG: f32 = 0.05;
+const SKY_STRENGTH_STEPS: f32 = 256.0;
+
+/// [`Atmosphere::sky_light`] of the Earth at the nearest step of elevation
+/// and strength, remembered for the last step asked for: the window asks
+/// every frame, and a new step costs a few ms of CPU.
+fn sky_light_cached(elevation_rad: f32, strength: f32) -> SkyLight {
+    use std::sync::Mutex;
+    static LAST: Mutex<Option<((i32, i32), SkyLight)>> = Mutex::new(None);
+    let key = (
+        (elevation_rad.to_degrees() / SKY_ELEVATION_STEP_DEG).round() as i32,
+        (strength.clamp(0.0, 1.0) * SKY_STRENGTH_STEPS).round() as i32,
+    );
+    let mut last = LAST.lock().unwrap_or_else(|e| e.into_inner());
+    match *last {
+        Some((k, sky)) if k == key => sky,
+        _ => {
+            let elevation = (key.0 as f64 * SKY_ELEVATION_STEP_DEG as f64).to_radians();
+            let strength = key.1 as f64 / SKY_STRENGTH_STEPS as f64;
+            let sky = Atmosphere::EARTH.sky_light(elevation, strength);
+            *last = Some((key, sky));
+            sky
+        }
+    }
+}
+
+impl Default for Sun {
+    fn default() -> Self {
+        Self::from_sky(RenderConfig::default().sun_direction(), 1.0)
+    }
+}
+
+/// Everything a frame needs from the outside world.
+#[derive(Debug, Clone, Copy)]
+pub struct FrameInput<'a> {
+    pub camera: Camera,
+    /// The condensed parcels to draw (from `ParcelWorld::cloud_parcels`).
+    pub parcels: &'a [CloudParcel],
+    pub sun: Sun,
+    /// Simulation time, for slow noise drift. units: s
+    pub time_s: f32,
+}
+
+/// Which passes and shader code a frame needs ("leave out what a scene does
+/// not need"): derived from the configuration and whether there are clouds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Features {
+    /// Ray-march clouds (configured on, a ray-marching method and at
+    /// least one parcel).
+    pub clouds: bool,
+    /// Draw sprite clouds (the `sprites` method's parcels or the scene's
+    /// `[[sprite_clouds]]`/`[[layers]]`; the renderer sets the latter).
+    pub sprites: bool,
+    /// Slicing planes (the `slices` method with at least one primitive).
+    pub slices: bool,
+    /// Terrain mesh pass.
+    pub terrain: bool,
+    /// Cloud shadows on the terrain (needs terrain and ray-marched clouds,
+    /// sprites or slicing planes).
+    pub shadows: bool,
+    /// The cloud-shadow map pass: the `exact` clouds' and the slicing
+    /// planes' shadows (and the sprites', splatted in). The `baked`
+    /// method's terrain reads its light volume instead.
+    pub shadow_map: bool,
+    /// Finite-difference normals compiled into the cloud shader.
+    pub normals: bool,
+    /// Temporal amortisation: the quarter-rate march and the resolve pass
+    /// (`[render] temporal` set to true, and clouds to march).
+    pub temporal: bool,
+}
+
+impl Features {
+    /// Features for `cfg` with or without any condensed parcel.
+    pub fn new(cfg: &RenderConfig, any_clouds: bool) -> Self {
+        let drawn = cfg.clouds && any_clouds;
+        let clouds = drawn && cfg.method.ray_marches();
+        let terrain = cfg.terrain.enabled;
+        let slices = drawn && cfg.method == RenderMethod::Slices;
+        Self {
+            clouds,
+            sprites: drawn && cfg.method == RenderMethod::Sprites,
+            slices,
+            terrain,
+            shadows: cfg.shadows && (clouds || slices) && terrain,
+            shadow_map: cfg.shadows
+                && terrain
+                && ((clouds && cfg.method == RenderMethod::Exact) || slices),
+            normals: cfg.normals && clouds,
+            temporal: cfg.temporal == Some(true) && clouds,
+        }
+    }
+}
