@@ -115,8 +115,8 @@ pub(crate) fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
 
 /// The bind-group layouts every render pass shares.
 pub struct PassLayouts {
-    /// Group 0: frame, parcels, grid (exact), noise, samplers, baked field
-    /// and occupancy (baked). Keep in sync with shaders/common.wgsl and
+    /// Group 0: frame, parcels, grid (exact), noise, samplers, baked field,
+    /// occupancy and light volume (baked). Keep in sync with shaders/common.wgsl and
     /// shaders/field_baked.wgsl.
     pub common: wgpu::BindGroupLayout,
     /// Group 1 of the terrain: the cloud-shadow map.
@@ -165,6 +165,10 @@ impl PassLayouts {
                     ..float3d
                 },
                 storage_entry(7),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 8,
+                    ..float3d
+                },
             ],
         });
         let shadow_tex = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
