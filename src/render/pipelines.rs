@@ -86,15 +86,25 @@ fn sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
-/// A write-only storage texture of the compute passes.
+/// A write-only 2D storage texture of the compute passes.
 fn storage_texture_entry(binding: u32, format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
+    storage_texture_entry_of(binding, format, wgpu::TextureViewDimension::D2)
+}
+
+/// A write-only storage texture of the compute passes (also the bake's 3D
+/// field and light volume, src/render/raymarch/baked.rs).
+pub(crate) fn storage_texture_entry_of(
+    binding: u32,
+    format: wgpu::TextureFormat,
+    view_dimension: wgpu::TextureViewDimension,
+) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,
         ty: wgpu::BindingType::StorageTexture {
             access: wgpu::StorageTextureAccess::WriteOnly,
             format,
-            view_dimension: wgpu::TextureViewDimension::D2,
+            view_dimension,
         },
         count: None,
     }

@@ -54,6 +54,7 @@ use crate::error::{Error, Result};
 use crate::physics::CloudParcel;
 use crate::render::gpu::GpuContext;
 use crate::render::pack::{self, GpuParcel, GridInfo, MAX_PARCELS, ParcelsUniform};
+use crate::render::pipelines::storage_texture_entry_of;
 use crate::render::raymarch::region::{Region, region};
 
 /// Voxels per coarse occupancy cell along each axis. Keep in sync with
@@ -207,8 +208,8 @@ impl BakedField {
                 compute_storage_entry(1),
                 compute_storage_entry(2),
                 compute_storage_entry(3),
-                storage_volume_entry(4, FIELD_FORMAT),
-                storage_volume_entry(5, LIGHT_FORMAT),
+                storage_texture_entry_of(4, FIELD_FORMAT, wgpu::TextureViewDimension::D3),
+                storage_texture_entry_of(5, LIGHT_FORMAT, wgpu::TextureViewDimension::D3),
             ],
         });
         let bind_frame = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -524,20 +525,6 @@ impl BakedField {
         drop(pass);
         self.dirty = false;
         self.info.bakes += 1;
-    }
-}
-
-/// A write-only 3D storage texture of the bake.
-fn storage_volume_entry(binding: u32, format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::StorageTexture {
-            access: wgpu::StorageTextureAccess::WriteOnly,
-            format,
-            view_dimension: wgpu::TextureViewDimension::D3,
-        },
-        count: None,
     }
 }
 
