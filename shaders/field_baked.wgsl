@@ -5,12 +5,12 @@
 // (`light_tex`, R and G: optical depths toward the sun and straight up) is
 // a second 3D texture over the same region, one texel per coarse cell, so
 // the same coordinates address both and the sampler interpolates between
-// the cells' centres. The frame's grid
-// (grid_min, grid_cell, grid_dims) is the bake's coarse occupancy grid
-// (BAKE_BLOCK³ voxels a cell) over the same region; `occupancy` holds, per
-// coarse cell, the largest v that trilinear filtering can return in it
-// (bit pattern of v + 1; 0 = nothing), so rays cross empty cells in one
-// step. Same functions as field_exact.wgsl; see there.
+// the cells' centres. The frame's grid (grid_min, grid_cell, grid_dims) is
+// the bake's coarse occupancy grid (BAKE_BLOCK³ voxels a cell) over the
+// same region; `occupancy` holds, per coarse cell, the largest v that
+// trilinear filtering can return in it (bit pattern of v + 1; 0 = nothing),
+// so rays cross empty cells in one step. Same functions as
+// field_exact.wgsl; see there.
 
 @group(0) @binding(6) var field_tex: texture_3d<f32>;
 @group(0) @binding(7) var<storage, read> occupancy: array<u32>;

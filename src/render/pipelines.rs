@@ -126,8 +126,8 @@ pub(crate) fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
 /// The bind-group layouts every render pass shares.
 pub struct PassLayouts {
     /// Group 0: frame, parcels, grid (exact), noise, samplers, baked field,
-    /// occupancy and light volume (baked). Keep in sync with shaders/common.wgsl and
-    /// shaders/field_baked.wgsl.
+    /// occupancy and light volume (baked). Keep in sync with
+    /// shaders/common.wgsl and shaders/field_baked.wgsl.
     pub common: wgpu::BindGroupLayout,
     /// Group 1 of the terrain: the cloud-shadow map.
     pub shadow_tex: wgpu::BindGroupLayout,
