@@ -18,13 +18,17 @@
 //    cell's centre it marches toward the sun, and straight up, through the
 //    splatted macro field (parcels only, no noise) to the region's edge and
 //    stores both optical depths (density × m; × extinction gives the
-//    exponent) in `light_depths`. Over the region's whole height: a tower's
-//    top shadows its base and its neighbours, and a base sees little sky.
-// 3. `resolve`, one thread per voxel: writes (v, plane, sun depth, up
-//    depth) into the field texture (the depths interpolated from the coarse
-//    cells), folds v into the coarse cells whose trilinear footprint holds
+//    exponent) in the R and G of its texel of `light_out`, a 3D texture of
+//    one texel per coarse cell that the march samples with the filtering
+//    sampler (hardware trilinear between the cells' centres). Over the
+//    region's whole height: a tower's top shadows its base and its
+//    neighbours, and a base sees little sky.
+// 3. `resolve`, one thread per voxel: writes (v, plane) into the field
+//    texture, folds v into the coarse cells whose trilinear footprint holds
 //    the voxel (so a cell's value bounds every filtered fetch in it), and
-//    zeroes the voxel's accumulators for the next bake.
+//    zeroes the voxel's accumulators for the next bake. (It used to also
+//    upsample the light volume into the field's B and A, 8 storage reads a
+//    voxel: most of the bake's time.)
 
 // Keep in sync with BAKE_BLOCK in src/render/raymarch/baked.rs.
 const BAKE_BLOCK: u32 = 4u;
@@ -41,7 +45,7 @@ struct Chunk {
 @group(1) @binding(2) var<storage, read_write> plane_bits: array<atomic<u32>>;
 @group(1) @binding(3) var<storage, read_write> occupancy_bits: array<atomic<u32>>;
 @group(1) @binding(4) var field_out: texture_storage_3d<rgba16float, write>;
-@group(1) @binding(5) var<storage, read_write> light_depths: array<vec2<f32>>;
+@group(1) @binding(5) var light_out: texture_storage_3d<rgba16float, write>;
 
 // Light-march step of `light`, in voxels: two voxels (half a coarse cell)
 // resolve a cloud's body; the noise detail near each sample is added by
@@ -133,27 +137,9 @@ fn light(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let centre = frame.grid_min.xyz + (vec3<f32>(gid) + 0.5) * frame.grid_cell.xyz;
-    light_depths[gid.x + cells.x * (gid.y + cells.y * gid.z)] = vec2<f32>(
-        splatted_depth(centre, frame.sun_dir.xyz),
-        splatted_depth(centre, vec3<f32>(0.0, 0.0, 1.0)),
-    );
-}
-
-// The light depths at voxel `v`, trilinear between the coarse cells'
-// centres (clamped at the region's edge).
-fn voxel_light(v: vec3<u32>) -> vec2<f32> {
-    let cells = vec3<i32>(frame.grid_dims.xyz);
-    let c = (vec3<f32>(v) + 0.5) / f32(BAKE_BLOCK) - 0.5;
-    let c0 = vec3<i32>(floor(c));
-    let w = c - floor(c);
-    var sum = vec2<f32>(0.0);
-    for (var k = 0; k < 8; k++) {
-        let o = vec3<i32>(k & 1, (k >> 1u) & 1, (k >> 2u) & 1);
-        let ci = clamp(c0 + o, vec3<i32>(0), cells - 1);
-        let wk = select(1.0 - w, w, vec3<bool>(o == vec3<i32>(1)));
-        sum += wk.x * wk.y * wk.z * light_depths[ci.x + cells.x * (ci.y + cells.y * ci.z)];
-    }
-    return sum;
+    let sun = splatted_depth(centre, frame.sun_dir.xyz);
+    let up = splatted_depth(centre, vec3<f32>(0.0, 0.0, 1.0));
+    textureStore(light_out, gid, vec4<f32>(sun, up, 0.0, 0.0));
 }
 
 @compute @workgroup_size(4, 4, 4)
@@ -171,7 +157,7 @@ fn resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
     if plane_key != 0u {
         plane = bitcast<f32>(~plane_key) - PLANE_OFFSET_M;
     }
-    textureStore(field_out, gid, vec4<f32>(value, plane, voxel_light(gid)));
+    textureStore(field_out, gid, vec4<f32>(value, plane, 0.0, 0.0));
     if bits == 0u {
         return;
     }

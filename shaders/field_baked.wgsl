@@ -1,16 +1,20 @@
 // Macro field of the `baked` method: the union of parcel_value over all
 // parcels, baked by bake.wgsl into a 3D texture over the cloud region
-// (R: v, G: condensation plane (m), B and A: the light volume's optical
-// depths toward the sun and straight up), read with one trilinear fetch, so a
-// sample costs the same whatever the parcel count. The frame's grid
-// (grid_min, grid_cell, grid_dims) is the bake's coarse occupancy grid
-// (BAKE_BLOCK³ voxels a cell) over the same region; `occupancy` holds, per
-// coarse cell, the largest v that trilinear filtering can return in it
-// (bit pattern of v + 1; 0 = nothing), so rays cross empty cells in one
-// step. Same functions as field_exact.wgsl; see there.
+// (R: v, G: condensation plane (m)), read with one trilinear fetch, so a
+// sample costs the same whatever the parcel count. The light volume
+// (`light_tex`, R and G: optical depths toward the sun and straight up) is
+// a second 3D texture over the same region, one texel per coarse cell, so
+// the same coordinates address both and the sampler interpolates between
+// the cells' centres. The frame's grid (grid_min, grid_cell, grid_dims) is
+// the bake's coarse occupancy grid (BAKE_BLOCK³ voxels a cell) over the
+// same region; `occupancy` holds, per coarse cell, the largest v that
+// trilinear filtering can return in it (bit pattern of v + 1; 0 = nothing),
+// so rays cross empty cells in one step. Same functions as
+// field_exact.wgsl; see there.
 
 @group(0) @binding(6) var field_tex: texture_3d<f32>;
 @group(0) @binding(7) var<storage, read> occupancy: array<u32>;
+@group(0) @binding(8) var light_tex: texture_3d<f32>;
 
 fn field_uvw(p: vec3<f32>) -> vec3<f32> {
     let size = frame.grid_cell.xyz * vec3<f32>(frame.grid_dims.xyz);
@@ -28,7 +32,9 @@ fn field_sample(p: vec3<f32>) -> vec2<f32> {
 }
 
 fn far_light_depth(p: vec3<f32>) -> vec2<f32> {
-    return textureSampleLevel(field_tex, clamp_sampler, field_uvw(p), 0.0).ba;
+    // Clamped at the region's edge to the outermost cells, as the bake's
+    // own upsampling did.
+    return textureSampleLevel(light_tex, clamp_sampler, field_uvw(p), 0.0).rg;
 }
 
 fn empty_skip(p: vec3<f32>, rd: vec3<f32>) -> f32 {

@@ -86,15 +86,25 @@ fn sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
-/// A write-only storage texture of the compute passes.
+/// A write-only 2D storage texture of the compute passes.
 fn storage_texture_entry(binding: u32, format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
+    storage_texture_entry_of(binding, format, wgpu::TextureViewDimension::D2)
+}
+
+/// A write-only storage texture of the compute passes (also the bake's 3D
+/// field and light volume, src/render/raymarch/baked.rs).
+pub(crate) fn storage_texture_entry_of(
+    binding: u32,
+    format: wgpu::TextureFormat,
+    view_dimension: wgpu::TextureViewDimension,
+) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,
         ty: wgpu::BindingType::StorageTexture {
             access: wgpu::StorageTextureAccess::WriteOnly,
             format,
-            view_dimension: wgpu::TextureViewDimension::D2,
+            view_dimension,
         },
         count: None,
     }
@@ -115,9 +125,9 @@ pub(crate) fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
 
 /// The bind-group layouts every render pass shares.
 pub struct PassLayouts {
-    /// Group 0: frame, parcels, grid (exact), noise, samplers, baked field
-    /// and occupancy (baked). Keep in sync with shaders/common.wgsl and
-    /// shaders/field_baked.wgsl.
+    /// Group 0: frame, parcels, grid (exact), noise, samplers, baked field,
+    /// occupancy and light volume (baked). Keep in sync with
+    /// shaders/common.wgsl and shaders/field_baked.wgsl.
     pub common: wgpu::BindGroupLayout,
     /// Group 1 of the terrain: the cloud-shadow map.
     pub shadow_tex: wgpu::BindGroupLayout,
@@ -165,6 +175,10 @@ impl PassLayouts {
                     ..float3d
                 },
                 storage_entry(7),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 8,
+                    ..float3d
+                },
             ],
         });
         let shadow_tex = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

@@ -4,11 +4,12 @@
 //! per chunk), are splatted
 //! into a 3D texture of the macro field M = max f·(d+1) − 1 over the region
 //! of the condensed parcels, and a coarse occupancy grid (one cell per
-//! [`BAKE_BLOCK`]³ voxels) lets the march skip empty space. A light volume
-//! rides along in the field texture's B and A channels: per coarse cell,
-//! the optical depth of the parcels toward the sun and straight up over
-//! the region's whole height (bake.wgsl `light`), so the march reads a
-//! sample's shadowing and sky visibility in the same fetch as its density.
+//! [`BAKE_BLOCK`]³ voxels) lets the march skip empty space. A light volume,
+//! its own 3D texture ([`LIGHT_FORMAT`]) with one texel per coarse cell,
+//! holds the optical depth of the parcels toward the sun and straight up
+//! over the region's whole height (bake.wgsl `light`); the march and the
+//! terrain's ground shadows sample it with the filtering sampler, so a
+//! sample's shadowing and sky visibility cost one hardware-trilinear fetch.
 //! The bake runs only when the parcels, the shell or the sun changed since
 //! the last one: a paused scene never re-bakes.
 //!
@@ -22,12 +23,17 @@
 //! 168 / 871 (no gain: in the bench's dense field nearly every brick is
 //! touched). The splat's own work, parcels × box voxels, is what grows.
 //! Since the splat runs a compute pass per chunk (see `encode`), the bake
-//! is dominated by `resolve`, and there by `voxel_light` (8 storage reads
-//! per voxel to upsample the light volume): with it left out the bake took
+//! was dominated by `resolve`, and there by upsampling the light volume
+//! (then a storage buffer of coarse cells) into the field texture's spare
+//! channels, 8 storage reads per voxel: with it left out the bake took
 //! 13 / 64 ms at 85 / 4096 parcels against 64–100 / 130–200 ms with it
-//! (llvmpipe, 32×24, shadows off). Not done yet: the light volume as its
-//! own 3D texture at coarse-cell resolution, written by `light` and
-//! filtered by the sampler in the march, would drop that cost.
+//! (llvmpipe, 32×24, shadows off). So `light` now writes the volume as a
+//! coarse texture of its own and the sampler filters it where it is read;
+//! `resolve` writes only (v, plane). Bake ms at 85 / 1024 / 4096 parcels
+//! (`cumulus bench --quick`, llvmpipe, 2-core machine shared with another
+//! build; medians of three runs of each build, interleaved): 6.8 / 12.1 /
+//! 10.9 with the upsampling, 4.4 / 6.1 / 8.6 with the coarse texture; 15
+//! re-baked frames at 16 384 parcels (~2.7·10⁵ voxels): 15.5 → 5.2–7.5.
 //!
 //! Voxel size. The macro field is piecewise linear: it rises from −1 to f
 //! over two shells across a sphere's surface and over two plane shells
@@ -39,8 +45,9 @@
 //! a power of 2^¼ so small radius changes do not reallocate the texture.
 //!
 //! Memory. The field costs [`BYTES_PER_VOXEL`] bytes a voxel (RGBA16F
-//! texture + two u32 accumulators), at most [`MAX_BAKE_VOXELS`] voxels
-//! (128 MiB of field): a larger region (a 40 km × 40 km × 12 km landscape
+//! texture + two u32 accumulators; the light volume's 8 B a coarse cell,
+//! ⅛ B a voxel, are left out), at most [`MAX_BAKE_VOXELS`] voxels (128 MiB
+//! of field): a larger region (a 40 km × 40 km × 12 km landscape
 //! needs ~2.4·10⁷ voxels at 84 m) gets coarser voxels, counted in
 //! [`BakeInfo::coarsened`] and shown by the front ends.
 
@@ -50,6 +57,8 @@ use crate::error::{Error, Result};
 use crate::physics::CloudParcel;
 use crate::render::gpu::GpuContext;
 use crate::render::pack::{self, GpuParcel, GridInfo, MAX_PARCELS, ParcelsUniform};
+use crate::render::pipelines::storage_texture_entry_of;
+use crate::render::raymarch::region::{Region, region};
 
 /// Voxels per coarse occupancy cell along each axis. Keep in sync with
 /// BAKE_BLOCK in shaders/bake.wgsl.
@@ -58,9 +67,16 @@ pub const BAKE_BLOCK: u32 = 4;
 pub const MAX_BAKE_VOXELS: u64 = 1 << 23;
 /// Field texture (RGBA16F, 8 B) + value and plane accumulators (4 B each).
 pub const BYTES_PER_VOXEL: u64 = 16;
-/// Format of the field texture: R = v, G = condensation plane (m), B and A
-/// = optical depth (density × m) toward the sun and straight up.
+/// Format of the field texture: R = v, G = condensation plane (m); B and A
+/// are unused (the smallest format that compute shaders may write and the
+/// sampler may filter without optional features: RG16F is neither
+/// storage-writable in core WebGPU nor RG32F filterable).
 pub const FIELD_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Format of the light volume, one texel per coarse cell: R, G = optical
+/// depth (density × m) toward the sun and straight up; B, A unused. RGBA16F
+/// for the same reason as [`FIELD_FORMAT`]; half floats hold depths up to
+/// 65504 (a 60 km path through solid cloud) to 3 significant digits.
+pub const LIGHT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Plane shell over sphere shell. Keep in sync with PLANE_SHELL in
 /// shaders/parcel.wgsl.
 pub const PLANE_SHELL: f32 = 0.3;
@@ -83,78 +99,14 @@ pub struct BakeInfo {
     pub bakes: u64,
 }
 
-/// Layout of the bake: where the region sits and how it is divided.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Region {
-    min: Vec3,
-    voxel_m: f32,
-    /// Coarse cells per axis (voxels = cells × BAKE_BLOCK).
-    cells: [u32; 3],
-    wanted_voxel_m: f32,
-    coarsened: u32,
-}
-
-impl Region {
-    fn voxel_dims(&self) -> [u32; 3] {
-        self.cells.map(|c| c * BAKE_BLOCK)
-    }
-
-    fn voxels(&self) -> u64 {
-        self.voxel_dims().iter().map(|&d| d as u64).product()
-    }
-}
-
-/// Region and voxel size for `live` parcels (not empty), see the module docs.
-fn region(live: &[GpuParcel], shell_m: f32) -> Region {
-    let mut radii: Vec<f32> = live.iter().map(|p| p.center_radius[3]).collect();
-    radii.sort_by(f32::total_cmp);
-    let median = radii[radii.len() / 2];
-    let raw = (0.25 * median).min(PLANE_SHELL * shell_m).max(1.0);
-    let wanted = 2f32.powf((raw.log2() * 4.0).round() / 4.0);
-    let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-    for p in live {
-        let c = Vec3::from_slice(&p.center_radius[..3]);
-        let reach = p.center_radius[3] + shell_m;
-        let mut a = c - Vec3::splat(reach);
-        let b = c + Vec3::splat(reach);
-        a.z = a.z.max(p.fill_plane[1] - PLANE_SHELL * shell_m).min(b.z);
-        lo = lo.min(a);
-        hi = hi.max(b);
-    }
-    let mut voxel_m = wanted;
-    let mut coarsened = 0;
-    loop {
-        // One empty voxel of padding all round: outside the region the
-        // clamped texture then reads v = −1, as far from every parcel.
-        let min = lo - Vec3::splat(voxel_m);
-        let ext = hi - lo + Vec3::splat(2.0 * voxel_m);
-        let cell = voxel_m * BAKE_BLOCK as f32;
-        let cells = [0, 1, 2].map(|a| ((ext[a] / cell).ceil() as u32).max(1));
-        let r = Region {
-            min,
-            voxel_m,
-            cells,
-            wanted_voxel_m: wanted,
-            coarsened,
-        };
-        if r.voxels() <= MAX_BAKE_VOXELS {
-            return r;
-        }
-        voxel_m *= (r.voxels() as f64 / MAX_BAKE_VOXELS as f64)
-            .cbrt()
-            .max(1.01) as f32;
-        coarsened += 1;
-    }
-}
-
 struct Store {
     dims: [u32; 3],
     /// The accumulators, kept alive for the bind group.
     _value: wgpu::Buffer,
     _plane: wgpu::Buffer,
     occupancy: wgpu::Buffer,
-    /// The light volume per coarse cell, kept alive for the bind group.
-    _light: wgpu::Buffer,
+    /// The light volume, one texel per coarse cell.
+    light_view: wgpu::TextureView,
     view: wgpu::TextureView,
     bind: wgpu::BindGroup,
 }
@@ -169,8 +121,10 @@ pub struct BakedField {
     chunks: wgpu::Buffer,
     chunk_capacity: u64,
     store: Option<Store>,
-    /// Placeholder field (1 voxel, v = −1) and occupancy before any bake.
+    /// Placeholder field (1 voxel, v = −1), light volume (1 cell, no
+    /// cloud) and occupancy before any bake.
     empty_view: wgpu::TextureView,
+    empty_light_view: wgpu::TextureView,
     empty_occupancy: wgpu::Buffer,
     /// Parcels, shell and sun direction of the last bake (re-bake only when
     /// they change).
@@ -199,9 +153,15 @@ pub(crate) fn compute_storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry 
     }
 }
 
-fn field_texture(device: &wgpu::Device, dims: [u32; 3]) -> wgpu::Texture {
+/// A 3D texture the bake writes and the march samples.
+fn volume_texture(
+    device: &wgpu::Device,
+    label: &str,
+    format: wgpu::TextureFormat,
+    dims: [u32; 3],
+) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("baked macro field"),
+        label: Some(label),
         size: wgpu::Extent3d {
             width: dims[0],
             height: dims[1],
@@ -210,7 +170,7 @@ fn field_texture(device: &wgpu::Device, dims: [u32; 3]) -> wgpu::Texture {
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D3,
-        format: FIELD_FORMAT,
+        format,
         usage: wgpu::TextureUsages::TEXTURE_BINDING
             | wgpu::TextureUsages::STORAGE_BINDING
             | wgpu::TextureUsages::COPY_DST,
@@ -251,17 +211,8 @@ impl BakedField {
                 compute_storage_entry(1),
                 compute_storage_entry(2),
                 compute_storage_entry(3),
-                compute_storage_entry(5),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 4,
-                    visibility: wgpu::ShaderStages::COMPUTE,
-                    ty: wgpu::BindingType::StorageTexture {
-                        access: wgpu::StorageTextureAccess::WriteOnly,
-                        format: FIELD_FORMAT,
-                        view_dimension: wgpu::TextureViewDimension::D3,
-                    },
-                    count: None,
-                },
+                storage_texture_entry_of(4, FIELD_FORMAT, wgpu::TextureViewDimension::D3),
+                storage_texture_entry_of(5, LIGHT_FORMAT, wgpu::TextureViewDimension::D3),
             ],
         });
         let bind_frame = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -303,8 +254,9 @@ impl BakedField {
             return Err(Error::Gpu(format!("creating the bake pipelines: {e}")));
         }
         *built += 3;
-        let empty = field_texture(device, [1, 1, 1]);
+        let empty = volume_texture(device, "baked macro field", FIELD_FORMAT, [1, 1, 1]);
         // IEEE half-precision −1 (v far from every parcel), then G, B, A = 0.
+        // (The empty light volume keeps wgpu's zero fill: no cloud.)
         let minus_one: [u16; 4] = [0xBC00, 0, 0, 0];
         ctx.queue.write_texture(
             empty.as_image_copy(),
@@ -330,6 +282,8 @@ impl BakedField {
             chunk_capacity: 1,
             store: None,
             empty_view: empty.create_view(&Default::default()),
+            empty_light_view: volume_texture(device, "bake: light volume", LIGHT_FORMAT, [1, 1, 1])
+                .create_view(&Default::default()),
             empty_occupancy: occupancy_buffer(device, 1),
             last: None,
             region: None,
@@ -340,11 +294,16 @@ impl BakedField {
         })
     }
 
-    /// The field texture and occupancy buffer the march reads.
-    pub fn field(&self) -> (&wgpu::TextureView, &wgpu::Buffer) {
+    /// The field texture, light volume and occupancy buffer the march
+    /// reads.
+    pub fn field(&self) -> (&wgpu::TextureView, &wgpu::TextureView, &wgpu::Buffer) {
         match &self.store {
-            Some(s) => (&s.view, &s.occupancy),
-            None => (&self.empty_view, &self.empty_occupancy),
+            Some(s) => (&s.view, &s.light_view, &s.occupancy),
+            None => (
+                &self.empty_view,
+                &self.empty_light_view,
+                &self.empty_occupancy,
+            ),
         }
     }
 
@@ -464,14 +423,10 @@ impl BakedField {
         let plane = accumulator("bake: plane bits");
         let n_cells: u64 = cells.iter().map(|&c| c as u64).product();
         let occupancy = occupancy_buffer(device, n_cells);
-        // Two f32 (sun, up) per coarse cell.
-        let light = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("bake: light volume"),
-            size: 8 * n_cells,
-            usage: wgpu::BufferUsages::STORAGE,
-            mapped_at_creation: false,
-        });
-        let view = field_texture(device, dims).create_view(&Default::default());
+        let light_view = volume_texture(device, "bake: light volume", LIGHT_FORMAT, cells)
+            .create_view(&Default::default());
+        let view = volume_texture(device, "baked macro field", FIELD_FORMAT, dims)
+            .create_view(&Default::default());
         let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("bake: chunk and field"),
             layout: &self.layout,
@@ -502,7 +457,7 @@ impl BakedField {
                 },
                 wgpu::BindGroupEntry {
                     binding: 5,
-                    resource: light.as_entire_binding(),
+                    resource: wgpu::BindingResource::TextureView(&light_view),
                 },
             ],
         });
@@ -511,7 +466,7 @@ impl BakedField {
             _value: value,
             _plane: plane,
             occupancy,
-            _light: light,
+            light_view,
             view,
             bind,
         }
@@ -562,7 +517,8 @@ impl BakedField {
         pass.set_bind_group(0, &self.bind_frame, &[]);
         pass.set_bind_group(1, &store.bind, &[0]);
         // The light volume reads the splat's accumulators before resolve
-        // clears them (wgpu orders the two dispatches).
+        // clears them (wgpu orders the two dispatches); resolve no longer
+        // reads it.
         pass.set_pipeline(&self.light);
         let c = store.dims.map(|d| d / BAKE_BLOCK);
         pass.dispatch_workgroups(c[0].div_ceil(4), c[1].div_ceil(4), c[2].div_ceil(4));
@@ -591,52 +547,4 @@ fn occupancy_buffer(device: &wgpu::Device, cells: u64) -> wgpu::Buffer {
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn parcel(x: f32, r: f32) -> GpuParcel {
-        GpuParcel {
-            center_radius: [x, 0.0, 2000.0, r],
-            fill_plane: [1.0, 1800.0, 0.0, 0.0],
-        }
-    }
-
-    #[test]
-    fn voxel_follows_radii_and_plane_shell() {
-        // Small parcels: a quarter radius (rounded to 2^¼ steps).
-        let r = region(&[parcel(0.0, 100.0)], 280.0);
-        assert!((r.voxel_m - 25.0).abs() / 25.0 < 0.1, "{}", r.voxel_m);
-        // Large parcels: one plane shell (0.3 × 280 m = 84 m).
-        let r = region(&[parcel(0.0, 2000.0)], 280.0);
-        assert!((r.voxel_m - 84.0).abs() / 84.0 < 0.1, "{}", r.voxel_m);
-        assert_eq!(r.coarsened, 0);
-    }
-
-    #[test]
-    fn a_landscape_fits_the_voxel_budget_with_coarser_voxels() {
-        // 40 km × 40 km of parcels 1–12 km high.
-        let mut live = Vec::new();
-        for i in 0..41 {
-            for j in 0..41 {
-                live.push(GpuParcel {
-                    center_radius: [
-                        i as f32 * 1000.0 - 20_000.0,
-                        j as f32 * 1000.0 - 20_000.0,
-                        1000.0 + (i * j % 12) as f32 * 1000.0,
-                        400.0,
-                    ],
-                    fill_plane: [1.0, 900.0, 0.0, 0.0],
-                });
-            }
-        }
-        let r = region(&live, 280.0);
-        assert!(r.voxels() <= MAX_BAKE_VOXELS);
-        assert!(r.coarsened > 0 && r.voxel_m > r.wanted_voxel_m);
-        let v = r.voxel_dims();
-        let size = Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32) * r.voxel_m;
-        assert!(size.x >= 40_000.0 && size.z >= 11_000.0, "{size}");
-    }
 }

@@ -8,3 +8,4 @@
 
 pub mod baked;
 pub mod exact;
+mod region;

@@ -46,7 +46,7 @@ pub(super) fn make_bind_common(
     repeat: &wgpu::Sampler,
     clamp: &wgpu::Sampler,
 ) -> wgpu::BindGroup {
-    let (field, occupancy) = baked.field();
+    let (field, light, occupancy) = baked.field();
     bind_in_order(
         device,
         "common",
@@ -60,6 +60,7 @@ pub(super) fn make_bind_common(
             wgpu::BindingResource::Sampler(clamp),
             wgpu::BindingResource::TextureView(field),
             occupancy.as_entire_binding(),
+            wgpu::BindingResource::TextureView(light),
         ],
     )
 }
