@@ -27,14 +27,14 @@ fn tower() -> Vec<CloudParcel> {
         .collect()
 }
 
-#[test]
-fn a_tall_cloud_lit_from_above_has_a_dark_base() {
-    let Some(ctx) = common::context("GPU lighting test") else {
-        return;
-    };
-    // Sun overhead, no terrain (no ground bounce off a lit plane in view).
+/// The tower's drawn spheres at the parcels' own radius under the sun at
+/// `sun_azimuth_deg`/`sun_elevation_deg`, without terrain (no ground
+/// bounce off a lit plane in view), and a camera 14 km due south, level
+/// with the tower's middle, looking north.
+fn tower_view(sun_azimuth_deg: f32, sun_elevation_deg: f32) -> (RenderConfig, Camera) {
     let cfg = RenderConfig {
-        sun_elevation_deg: 90.0,
+        sun_azimuth_deg,
+        sun_elevation_deg,
         radius_scale: 1.0,
         terrain: TerrainConfig {
             enabled: false,
@@ -48,6 +48,16 @@ fn a_tall_cloud_lit_from_above_has_a_dark_base() {
         vfov_deg: 24.0,
         ..CameraConfig::default()
     });
+    (cfg, camera)
+}
+
+#[test]
+fn a_tall_cloud_lit_from_above_has_a_dark_base() {
+    let Some(ctx) = common::context("GPU lighting test") else {
+        return;
+    };
+    // Sun overhead.
+    let (cfg, camera) = tower_view(RenderConfig::default().sun_azimuth_deg, 90.0);
     let (w, h) = (128, 192);
     let frames = hdr_frames(&ctx, &cfg, camera, cfg.sun(), (w, h), &[&[], &tower()]);
     let (sky, cloud_rgb) = (&frames[0], &frames[1]);
@@ -116,22 +126,7 @@ fn a_tower_under_a_low_sun_has_a_shaded_side() {
     // Sun low in the east (azimuth 90°, 10° up), the camera due south of
     // the tower looking north: the image's right half is the sunlit east
     // side, its left half the west side in the tower's own shadow.
-    let cfg = RenderConfig {
-        sun_azimuth_deg: 90.0,
-        sun_elevation_deg: 10.0,
-        radius_scale: 1.0,
-        terrain: TerrainConfig {
-            enabled: false,
-            ..TerrainConfig::default()
-        },
-        ..RenderConfig::default()
-    };
-    let camera = Camera::from(&CameraConfig {
-        position_m: [0.0, -14000.0, 3200.0],
-        target_m: [0.0, 0.0, 3200.0],
-        vfov_deg: 24.0,
-        ..CameraConfig::default()
-    });
+    let (cfg, camera) = tower_view(90.0, 10.0);
     let size = (128, 192);
     // Shaded over sunlit mean luminance under `cfg`, on the cloud pixels
     // of the dense tower (the same geometry in every case).

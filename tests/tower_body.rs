@@ -80,7 +80,7 @@ fn side_camera(tower: &[CloudParcel], radius_scale: f32) -> Camera {
     }
 }
 
-/// What one side view of the tower at `radius_scale` shows.
+/// What one side view of the tower shows.
 struct SideView {
     /// Separate bodies: 4-connected components of cloud pixels holding at
     /// least `MIN_BODY_PX` pixels.
@@ -97,9 +97,20 @@ struct SideView {
 /// specks are noise detail torn off an edge, not a ball of the tower.
 const MIN_BODY_PX: usize = 16;
 
-fn side_view(ctx: &GpuContext, cfg: &RenderConfig, sun: Sun, tower: &[CloudParcel]) -> SideView {
-    let camera = side_camera(tower, cfg.radius_scale);
-    let f = hdr_frames(ctx, cfg, camera, sun, SIZE, &[&[], tower]);
+/// The tower drawn at `radius_scale` under `cfg` otherwise.
+fn side_view(
+    ctx: &GpuContext,
+    cfg: &RenderConfig,
+    radius_scale: f32,
+    sun: Sun,
+    tower: &[CloudParcel],
+) -> SideView {
+    let cfg = RenderConfig {
+        radius_scale,
+        ..cfg.clone()
+    };
+    let camera = side_camera(tower, radius_scale);
+    let f = hdr_frames(ctx, &cfg, camera, sun, SIZE, &[&[], tower]);
     let mask = cloud_mask(&f[1], &f[0]);
     let lum = luminance(&f[1]);
     let components = components(&mask, SIZE.0);
@@ -178,7 +189,7 @@ fn the_towering_scene_draws_its_tallest_tower_as_one_body() {
     };
     let (parcels, cfg, sun) = scene();
     let tower = tallest_tower(&parcels);
-    let v = side_view(&ctx, &cfg, sun, &tower);
+    let v = side_view(&ctx, &cfg, cfg.radius_scale, sun, &tower);
     eprintln!(
         "radius_scale {}: {} parcels, {} bodies (components {:?}), top {:.3}, base {:.3}",
         cfg.radius_scale,
@@ -193,15 +204,7 @@ fn the_towering_scene_draws_its_tallest_tower_as_one_body() {
     assert_eq!(v.bodies, 1, "components {:?}", v.components);
     // Control: at radius_scale 1 (the physical parcels) the same tower
     // falls apart into separate balls, so the count can fail.
-    let thin = side_view(
-        &ctx,
-        &RenderConfig {
-            radius_scale: 1.0,
-            ..cfg.clone()
-        },
-        sun,
-        &tower,
-    );
+    let thin = side_view(&ctx, &cfg, 1.0, sun, &tower);
     assert!(
         thin.bodies > 1,
         "at radius_scale 1 the tower should be separate balls: {:?}",
@@ -222,11 +225,7 @@ fn sweep_radius_scale() {
     println!("| radius_scale | bodies | components (px) | top | base | base/top |");
     println!("|---|---|---|---|---|---|");
     for scale in [1.0, 2.5, 3.0, 4.0, 5.0] {
-        let c = RenderConfig {
-            radius_scale: scale,
-            ..cfg.clone()
-        };
-        let v = side_view(&ctx, &c, sun, &tower);
+        let v = side_view(&ctx, &cfg, scale, sun, &tower);
         let shown: Vec<_> = v.components.iter().take(6).collect();
         println!(
             "| {scale} | {} | {shown:?} | {:.3} | {:.3} | {:.2} |",
