@@ -7,6 +7,7 @@ use cumulus::atmosphere::{EnvLevel, Environment, PressureModel};
 use cumulus::render::GpuContext;
 
 pub mod flip;
+pub mod hdr;
 pub mod physics;
 pub mod render;
 
