@@ -18,16 +18,24 @@ impl ParcelWorld {
         let h = self.cfg.physics.support_radius_m;
         let k = self.cfg.physics.stiffness;
         let w0 = sph::poly6(0.0, h);
-        let (parcels, grid) = (&self.parcels, &self.grid);
+        let grid = &self.grid;
+        // The masses as one dense array: each neighbour costs one number
+        // read, not one parcel record.
+        let mut mass = std::mem::take(&mut self.scratch.mass);
+        self.parcels
+            .par_iter()
+            .with_min_len(PAR_MIN)
+            .map(|p| p.total_mass_kg())
+            .collect_into_vec(&mut mass);
         let mut out = std::mem::take(&mut self.scratch.density);
-        (0..parcels.len())
+        (0..mass.len())
             .into_par_iter()
             .with_min_len(PAR_MIN)
             .map(|i| {
-                let mi = parcels[i].total_mass_kg();
+                let mi = mass[i];
                 let mut rho = mi * w0;
                 for n in grid.of(i) {
-                    rho += parcels[n.j].total_mass_kg() * sph::poly6(n.dist * n.dist, h);
+                    rho += mass[n.j] * sph::poly6(n.dist * n.dist, h);
                 }
                 (rho, k * (rho - mi * w0))
             })
@@ -41,5 +49,6 @@ impl ParcelWorld {
                 p.sph_pressure_pa = pr;
             });
         self.scratch.density = out;
+        self.scratch.mass = mass;
     }
 }

@@ -19,6 +19,16 @@ impl ParcelWorld {
         let c = &self.cfg.physics;
         let h = c.support_radius_m;
         let (parcels, grid, env, cfg) = (&self.parcels, &self.grid, &self.env, &self.cfg);
+        // What the neighbour loops read of each neighbour, as dense arrays:
+        // the total mass (after this sub-step's mixing) and the SPH density
+        // and pressure of the density stage.
+        let mut mass = std::mem::take(&mut self.scratch.mass);
+        parcels
+            .par_iter()
+            .with_min_len(PAR_MIN)
+            .map(|p| p.total_mass_kg())
+            .collect_into_vec(&mut mass);
+        let sph_state = &self.scratch.density;
         // The predicted end-of-step velocities (computed after the drift).
         let vpred = std::mem::take(&mut self.scratch.vpred);
         // Guard: explicit viscosity relaxes v_i towards its neighbours at the
@@ -39,12 +49,11 @@ impl ParcelWorld {
                 if !viscous {
                     return 0.0;
                 }
-                let rhoi = parcels[i].sph_density_kg_m3;
+                let rhoi = sph_state[i].0;
                 grid.of(i)
                     .iter()
                     .map(|nb| {
-                        let q = &parcels[nb.j];
-                        c.viscosity_mu * q.total_mass_kg() / (rhoi * q.sph_density_kg_m3)
+                        c.viscosity_mu * mass[nb.j] / (rhoi * sph_state[nb.j].0)
                             * sph::viscosity_laplacian(nb.dist, h)
                     })
                     .sum()
@@ -63,10 +72,10 @@ impl ParcelWorld {
             .with_min_len(PAR_MIN)
             .map(|i| {
                 let p = &parcels[i];
-                let mi = p.total_mass_kg();
+                let mi = mass[i];
                 let mut a = DVec3::ZERO;
                 if c.sph || c.viscosity {
-                    let (pi, rhoi) = (p.sph_pressure_pa, p.sph_density_kg_m3);
+                    let (rhoi, pi) = sph_state[i];
                     let mut fp = DVec3::ZERO;
                     let mut fv = DVec3::ZERO;
                     for nb in grid.of(i) {
@@ -74,12 +83,10 @@ impl ParcelWorld {
                             // A contact beyond the SPH support: no kernel force.
                             continue;
                         }
-                        let q = &parcels[nb.j];
-                        let mj = q.total_mass_kg();
+                        let (mj, (rhoj, pj)) = (mass[nb.j], sph_state[nb.j]);
                         if c.sph {
                             // eq 9 (mass-weighted, antisymmetric: momentum is conserved).
-                            let s = pi / (rhoi * rhoi)
-                                + q.sph_pressure_pa / (q.sph_density_kg_m3 * q.sph_density_kg_m3);
+                            let s = pi / (rhoi * rhoi) + pj / (rhoj * rhoj);
                             fp -= sph::spiky_gradient(nb.r, h) * (mi * mj * s);
                         }
                         if c.viscosity {
@@ -87,7 +94,7 @@ impl ParcelWorld {
                             let rate = 2.0 * vr[i].max(vr[nb.j]) * visc_dt;
                             let scale = if rate > 1.0 { 1.0 / rate } else { 1.0 };
                             fv += (vp[nb.j] - vp[i])
-                                * (scale * c.viscosity_mu * mj / q.sph_density_kg_m3
+                                * (scale * c.viscosity_mu * mj / rhoj
                                     * sph::viscosity_laplacian(nb.dist, h));
                         }
                     }
@@ -132,5 +139,6 @@ impl ParcelWorld {
         self.scratch.vpred = vpred;
         self.scratch.visc_rate = visc_rate;
         self.scratch.accel = acc;
+        self.scratch.mass = mass;
     }
 }

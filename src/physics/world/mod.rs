@@ -86,8 +86,13 @@ pub use stats::{ClampCounts, Counters, Diagnostics, Fates, StepReport};
 /// world so that a sub-step allocates nothing once they have grown.
 #[derive(Debug, Clone, Default)]
 struct Scratch {
-    /// SPH density and pressure. units: kg m⁻³, Pa
+    /// SPH density and pressure (read again by the forces). units: kg m⁻³, Pa
     density: Vec<(f64, f64)>,
+    /// Total mass of each parcel, dense (for the neighbour loops of the
+    /// density and the forces; each stage refills it). units: kg
+    mass: Vec<f64>,
+    /// The fields the exchange reads of each neighbour, dense.
+    mix_state: Vec<mixing::MixState>,
     /// Exposed area, atmospheric force, whether the force was capped,
     /// quads tested (None: no overlap, no tessellation). units: m², N
     exposed: Vec<(f64, DVec3, bool, Option<u64>)>,
