@@ -84,7 +84,10 @@ impl UnitSphere {
     /// α of u's are tested (the angle between a quad centre and u is at
     /// least their polar difference), without trigonometry: cos(θ_b − θ_u)
     /// < cos α is tested with the bands' stored cos and sin. Each quad of a
-    /// tested band is decided by the exact test n·u > cos α.
+    /// tested band is decided by the exact test n·u > cos α, unless the
+    /// whole band lies inside the cap: the angle between a quad centre and u
+    /// is at most θ_b + θ_u (or 2π minus it), so cos(θ_b + θ_u) > cos α
+    /// hides every quad of the band without a dot product.
     pub fn cap_masks(&self, u: DVec3, cos_alpha: f64) -> ([u32; BANDS], u32) {
         let (cu, su) = (u.z, (1.0 - u.z * u.z).max(0.0).sqrt());
         let mut masks = [0u32; BANDS];
@@ -95,6 +98,11 @@ impl UnitSphere {
                 continue;
             }
             tested += SLICES as u32;
+            // 1e-9 again: only a band inside by more than rounding is taken whole.
+            if cb * cu - sb * su > cos_alpha + 1e-9 {
+                masks[b] = (1 << SLICES) - 1;
+                continue;
+            }
             let (x, y, z) = (&self.band_x[b], &self.band_y[b], &self.band_z[b]);
             let mut m = 0u32;
             for s in 0..SLICES {
