@@ -27,26 +27,22 @@ impl ParcelWorld {
             .with_min_len(PAR_MIN)
             .map(|p| p.total_mass_kg())
             .collect_into_vec(&mut mass);
+        // Kept for the forces; written into the parcels in the same pass.
         let mut out = std::mem::take(&mut self.scratch.density);
-        (0..mass.len())
-            .into_par_iter()
+        out.resize(mass.len(), (0.0, 0.0));
+        self.parcels
+            .par_iter_mut()
             .with_min_len(PAR_MIN)
-            .map(|i| {
+            .zip(out.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (p, out))| {
                 let mi = mass[i];
                 let mut rho = mi * w0;
                 for n in grid.of(i) {
                     rho += mass[n.j] * sph::poly6(n.dist * n.dist, h);
                 }
-                (rho, k * (rho - mi * w0))
-            })
-            .collect_into_vec(&mut out);
-        self.parcels
-            .par_iter_mut()
-            .with_min_len(PAR_MIN)
-            .zip(&out)
-            .for_each(|(p, &(rho, pr))| {
-                p.sph_density_kg_m3 = rho;
-                p.sph_pressure_pa = pr;
+                *out = (rho, k * (rho - mi * w0));
+                (p.sph_density_kg_m3, p.sph_pressure_pa) = *out;
             });
         self.scratch.density = out;
         self.scratch.mass = mass;

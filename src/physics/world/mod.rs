@@ -93,9 +93,6 @@ struct Scratch {
     mass: Vec<f64>,
     /// The fields the exchange reads of each neighbour, dense.
     mix_state: Vec<mixing::MixState>,
-    /// Exposed area, atmospheric force, whether the force was capped,
-    /// quads tested (None: no overlap, no tessellation). units: m², N
-    exposed: Vec<(f64, DVec3, bool, Option<u64>)>,
     /// Contacts per parcel (for the exchange bound).
     contacts: Vec<u32>,
     /// Mixing rates (entrainment, detrainment, exchange) and the entrained
@@ -105,8 +102,6 @@ struct Scratch {
     vpred: Vec<DVec3>,
     /// Viscous relaxation rate. units: s⁻¹
     visc_rate: Vec<f64>,
-    /// Accelerations. units: m s⁻²
-    accel: Vec<DVec3>,
 }
 
 /// The wind at height `z_m` that drag and entrainment see: the one place

@@ -193,12 +193,16 @@ impl ParcelWorld {
         let c = &self.cfg.physics;
         let need = c.sph || c.viscosity || c.needs_exposed_area() || c.exchange;
         let h = c.support_radius_m;
-        self.hot_pos.clear();
-        self.hot_pos
-            .extend(self.parcels.iter().map(|p| p.position_m));
-        self.hot_radius.clear();
-        self.hot_radius
-            .extend(self.parcels.iter().map(|p| p.radius_m));
+        self.parcels
+            .par_iter()
+            .with_min_len(PAR_MIN)
+            .map(|p| p.position_m)
+            .collect_into_vec(&mut self.hot_pos);
+        self.parcels
+            .par_iter()
+            .with_min_len(PAR_MIN)
+            .map(|p| p.radius_m)
+            .collect_into_vec(&mut self.hot_radius);
         let r_max = self.hot_radius.iter().fold(0.0_f64, |a, &b| a.max(b));
         let g = &mut self.grid;
         g.cells.sort(&self.hot_pos, h.max(2.0 * r_max));
