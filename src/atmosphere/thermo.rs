@@ -88,13 +88,21 @@ pub fn pow_1p(t: f64, a: f64) -> f64 {
     if !(t.abs() <= NEAR_ONE) || a.abs() > 4.0 {
         return (1.0 + t).powf(a);
     }
-    // 1/k as constants: no division in the loop.
-    const INV: [f64; 8] = [0.0, 1.0, 0.5, 1.0 / 3.0, 0.25, 0.2, 1.0 / 6.0, 1.0 / 7.0];
-    let mut s = 1.0;
-    for k in (1..=7).rev() {
-        s = 1.0 + (a - (k - 1) as f64) * INV[k] * t * s;
+    // The coefficients C(a, k) = C(a, k−1) (a − k + 1)/k (constants when a
+    // is), then Estrin's scheme: three levels of independent products
+    // instead of Horner's chain of seven.
+    let mut c = [1.0; 8];
+    for k in 1..8 {
+        c[k] = c[k - 1] * (a - (k - 1) as f64) * (1.0 / k as f64);
     }
-    s
+    let (t2, t4) = (t * t, t * t * t * t);
+    let (p01, p23, p45, p67) = (
+        c[0] + c[1] * t,
+        c[2] + c[3] * t,
+        c[4] + c[5] * t,
+        c[6] + c[7] * t,
+    );
+    (p01 + p23 * t2) + (p45 + p67 * t2) * t4
 }
 
 /// Potential temperature θ = T (P0/P)^κ. units: K, Pa → K

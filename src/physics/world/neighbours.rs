@@ -196,13 +196,8 @@ impl ParcelWorld {
         self.parcels
             .par_iter()
             .with_min_len(PAR_MIN)
-            .map(|p| p.position_m)
-            .collect_into_vec(&mut self.hot_pos);
-        self.parcels
-            .par_iter()
-            .with_min_len(PAR_MIN)
-            .map(|p| p.radius_m)
-            .collect_into_vec(&mut self.hot_radius);
+            .map(|p| (p.position_m, p.radius_m))
+            .unzip_into_vecs(&mut self.hot_pos, &mut self.hot_radius);
         let r_max = self.hot_radius.iter().fold(0.0_f64, |a, &b| a.max(b));
         let g = &mut self.grid;
         g.cells.sort(&self.hot_pos, h.max(2.0 * r_max));
