@@ -11,6 +11,8 @@ use glam::DVec3;
 pub const SLICES: usize = 18;
 /// Bands in polar angle.
 pub const BANDS: usize = 9;
+/// The mask of a band whose every quad is in the cap.
+pub const FULL_BAND: u32 = (1 << SLICES) - 1;
 /// Quads per sphere.
 pub const QUADS: usize = SLICES * BANDS;
 
@@ -21,6 +23,9 @@ pub struct UnitSphere {
     pub normal: Vec<DVec3>,
     /// Area of each quad on the unit sphere (they sum to 4π). units: 1 (m² per m² of r²)
     pub area: Vec<f64>,
+    /// Sum of each band's 18 normals, in slice order (a band wholly inside
+    /// a cap adds this once instead of quad by quad).
+    pub band_normal_sum: [DVec3; BANDS],
     /// cos and sin of each band's centre polar angle.
     band_cos_sin: Vec<(f64, f64)>,
     /// The normals' components per band, slices in order (structure of
@@ -68,7 +73,10 @@ impl UnitSphere {
             let (b, s) = (q / SLICES, q % SLICES);
             (band_x[b][s], band_y[b][s], band_z[b][s]) = (n.x, n.y, n.z);
         }
+        let band_normal_sum =
+            std::array::from_fn(|b| normal[b * SLICES..(b + 1) * SLICES].iter().sum());
         UnitSphere {
+            band_normal_sum,
             normal,
             area,
             band_cos_sin,
@@ -100,7 +108,7 @@ impl UnitSphere {
             tested += SLICES as u32;
             // 1e-9 again: only a band inside by more than rounding is taken whole.
             if cb * cu - sb * su > cos_alpha + 1e-9 {
-                masks[b] = (1 << SLICES) - 1;
+                masks[b] = FULL_BAND;
                 continue;
             }
             let (x, y, z) = (&self.band_x[b], &self.band_y[b], &self.band_z[b]);

@@ -11,7 +11,7 @@ use super::PAR_MIN;
 use super::{ClampCounts, ParcelWorld};
 use crate::atmosphere::thermo;
 use crate::physics::parcel::Parcel;
-use crate::physics::tessellation::{BANDS, SLICES};
+use crate::physics::tessellation::{BANDS, FULL_BAND, SLICES};
 
 impl ParcelWorld {
     /// Exposed area of each sphere and the atmospheric pressure force on it
@@ -104,8 +104,12 @@ impl ParcelWorld {
                     if weight == 0.0 || m == 0 {
                         continue;
                     }
-                    // Quads in increasing order, as the sum always went.
+                    // Quads in increasing order; a whole band at once.
                     let dp = (band_p[b] - p_ref) * band_a[b] * r2;
+                    if m == FULL_BAND {
+                        force += sphere.band_normal_sum[b] * dp;
+                        continue;
+                    }
                     let mut bits = m;
                     while bits != 0 {
                         let s = bits.trailing_zeros() as usize;
