@@ -43,7 +43,7 @@ impl ParcelWorld {
         // The radii of the neighbour build (unchanged since): a dense array
         // instead of one parcel record per neighbour. A parcel reads no
         // other's record, so its results go straight into it (one pass).
-        let radius = &self.hot_radius;
+        let (pos, radius) = (&self.hot_pos, &self.hot_radius);
         let exposed_and_force = |i: usize, p: &Parcel| {
             let (ci, ri) = (p.position_m, p.radius_m);
             // P across the sphere by the quadratic through P(z_c − r), P(z_c),
@@ -75,7 +75,7 @@ impl ParcelWorld {
                 if !(n.dist < ri + rj && n.dist > 0.0) {
                     continue;
                 }
-                let u = -n.r / n.dist;
+                let u = -(ci - pos[n.j]) / n.dist;
                 let x = (n.dist * n.dist + ri * ri - rj * rj) / (2.0 * n.dist);
                 // x ≥ r_i: sphere j lies inside sphere i and hides nothing of its surface.
                 if x >= ri {

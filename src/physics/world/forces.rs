@@ -66,7 +66,7 @@ impl ParcelWorld {
                 .filter(|&&s| 2.0 * s * visc_dt > 1.0)
                 .count() as u64;
         }
-        let (vp, vr) = (&vpred, &visc_rate);
+        let (vp, vr, pos) = (&vpred, &visc_rate, &self.hot_pos);
         // Of its neighbours a parcel reads only the dense arrays, so the
         // acceleration goes straight into its record (one pass).
         let accel = |i: usize, p: &Parcel| {
@@ -85,7 +85,8 @@ impl ParcelWorld {
                     if c.sph {
                         // eq 9 (mass-weighted, antisymmetric: momentum is conserved).
                         let s = pi / (rhoi * rhoi) + pj / (rhoj * rhoj);
-                        fp -= sph::spiky_gradient(nb.r, h) * (mi * mj * s);
+                        let r = pos[i] - pos[nb.j];
+                        fp -= sph::spiky_gradient(r, h) * (mi * mj * s);
                     }
                     if c.viscosity {
                         // eq 10 is a force density; divided by ρ_i below.

@@ -25,11 +25,13 @@ use super::ParcelWorld;
 const BLOCK: usize = 256;
 
 /// One neighbour of a parcel: within the SPH support radius or touching.
+/// 16 bytes: the lists are read by five stages, so their size is memory
+/// traffic; the few stages that need x_i − x_j take it from the positions
+/// of the build (`ParcelWorld::hot_pos`, unchanged until the next drift),
+/// the same subtraction as here.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Neighbour {
     pub(super) j: usize,
-    /// x_i − x_j. units: m
-    pub(super) r: DVec3,
     /// |x_i − x_j|. units: m
     pub(super) dist: f64,
 }
@@ -231,11 +233,7 @@ impl ParcelWorld {
                         let d2 = r.length_squared();
                         let touch = rad[i] + rad[j];
                         if d2 < h2 || d2 < touch * touch {
-                            list.push(Neighbour {
-                                j,
-                                r,
-                                dist: d2.sqrt(),
-                            });
+                            list.push(Neighbour { j, dist: d2.sqrt() });
                         }
                     });
                     *out = (start, list.len() as u32);
