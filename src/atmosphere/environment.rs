@@ -61,6 +61,10 @@ pub struct Environment {
     model: PressureModel,
     /// Exner function Π at z = i·TABLE_DZ_M (hydrostatic model only).
     exner_table: Vec<f64>,
+    /// Per table entry: P_i = P0 Π_i^(1/κ) and the cell's relative step
+    /// (Π_{i+1} − Π_i)/Π_i. Within cell i at weight w, Π/Π_i = 1 + w·step,
+    /// so P = P_i (1 + w·step)^(1/κ), a power near 1 (≈ 3e-4 away). units: Pa, 1
+    pressure_table: Vec<(f64, f64)>,
     /// Wind profile (a sounding's DRCT/SKNT), if the source has one.
     wind: Option<WindProfile>,
 }
@@ -146,10 +150,21 @@ impl Environment {
             surface_pressure_pa,
             model,
             exner_table: Vec::new(),
+            pressure_table: Vec::new(),
             wind: None,
         };
         if model == PressureModel::Hydrostatic {
             env.exner_table = env.integrate_exner()?;
+            let t = &env.exner_table;
+            env.pressure_table = (0..t.len())
+                .map(|i| {
+                    let next = t.get(i + 1).unwrap_or(&t[i]);
+                    (
+                        thermo::P0_PA * t[i].powf(1.0 / thermo::KAPPA),
+                        (next - t[i]) / t[i],
+                    )
+                })
+                .collect();
         }
         Ok(env)
     }
@@ -273,18 +288,22 @@ impl Environment {
     }
 
     /// Environment pressure P(z) and its Exner function Π = (P/P0)^κ
-    /// together: the hydrostatic model holds Π and raises it to 1/κ for P,
-    /// so Π costs nothing more (the physics needs both at every parcel
-    /// every sub-step; each power is a large part of its cost). units: m → (Pa, 1)
+    /// together: the hydrostatic model holds Π and takes P from the table's
+    /// pressure by a power near 1 (`thermo::pow_1p`), so Π costs nothing
+    /// more (the physics needs both at every parcel every sub-step, and a
+    /// general power was a large part of its cost). units: m → (Pa, 1)
     pub fn pressure_exner(&self, z_m: f64) -> (f64, f64) {
         match self.model {
             PressureModel::Hydrostatic => {
                 let x = (z_m / TABLE_DZ_M).max(0.0);
                 let last = self.exner_table.len() - 1;
-                let pi = if x <= last as f64 {
+                if x <= last as f64 {
                     let i = (x as usize).min(last - 1);
                     let w = x - i as f64;
-                    self.exner_table[i] + (self.exner_table[i + 1] - self.exner_table[i]) * w
+                    let (pi_a, pi_b) = (self.exner_table[i], self.exner_table[i + 1]);
+                    let pi = pi_a + (pi_b - pi_a) * w;
+                    let (p_a, step) = self.pressure_table[i];
+                    (p_a * thermo::pow_1p(w * step, 1.0 / thermo::KAPPA), pi)
                 } else {
                     // Above the table, an isothermal layer at the table top's
                     // T_v: dΠ/dz = −g/(c_p θ_v) with θ_v = T_v/Π, so Π decays
@@ -292,9 +311,10 @@ impl Environment {
                     // reached Π = 0 and needed a floor).
                     let (z_top, pi_top) = (last as f64 * TABLE_DZ_M, self.exner_table[last]);
                     let tv_top = self.theta_v_k(z_top) * pi_top;
-                    pi_top * (-thermo::GRAVITY / (thermo::CP_DRY * tv_top) * (z_m - z_top)).exp()
-                };
-                (thermo::P0_PA * pi.powf(1.0 / thermo::KAPPA), pi)
+                    let pi = pi_top
+                        * (-thermo::GRAVITY / (thermo::CP_DRY * tv_top) * (z_m - z_top)).exp();
+                    (thermo::P0_PA * pi.powf(1.0 / thermo::KAPPA), pi)
+                }
             }
             PressureModel::PaperExponential => {
                 let p = self.surface_pressure_pa * (-0.143 * z_m / 1000.0).exp();

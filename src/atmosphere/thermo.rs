@@ -72,6 +72,39 @@ pub fn exner(p_pa: f64) -> f64 {
     (p_pa / P0_PA).powf(KAPPA)
 }
 
+/// Largest |t| for which [`pow_1p`] sums its series: past it, `powf`.
+const NEAR_ONE: f64 = 1.0 / 128.0;
+
+/// (1 + t)^a for small t and |a| ≤ 4: a power whose base is near 1 (the
+/// Exner function's 1/κ within one table cell, eq 6's 1/γ over one
+/// sub-step, both within 1e-3 of 1). The binomial series 1 + a t (1 +
+/// (a−1)/2 t (1 + (a−2)/3 t (…))) to the t⁷ term: for |t| ≤ 1/128 the first
+/// omitted term is below |C(a, 8)| 2⁻⁵⁶ < 1e-16 of the result, so it agrees
+/// with `powf` to a few ulps (tested) at a fraction of the cost. Taking t
+/// rather than 1 + t keeps the small difference exact where the caller
+/// has it (a table's relative step, a pressure difference). Farther from
+/// 1, or for larger |a|, it is `powf`.
+pub fn pow_1p(t: f64, a: f64) -> f64 {
+    if !(t.abs() <= NEAR_ONE) || a.abs() > 4.0 {
+        return (1.0 + t).powf(a);
+    }
+    // The coefficients C(a, k) = C(a, k−1) (a − k + 1)/k (constants when a
+    // is), then Estrin's scheme: three levels of independent products
+    // instead of Horner's chain of seven.
+    let mut c = [1.0; 8];
+    for k in 1..8 {
+        c[k] = c[k - 1] * (a - (k - 1) as f64) * (1.0 / k as f64);
+    }
+    let (t2, t4) = (t * t, t * t * t * t);
+    let (p01, p23, p45, p67) = (
+        c[0] + c[1] * t,
+        c[2] + c[3] * t,
+        c[4] + c[5] * t,
+        c[6] + c[7] * t,
+    );
+    (p01 + p23 * t2) + (p45 + p67 * t2) * t4
+}
+
 /// Potential temperature θ = T (P0/P)^κ. units: K, Pa → K
 pub fn potential_temperature_k(t_k: f64, p_pa: f64) -> f64 {
     t_k / exner(p_pa)
@@ -234,6 +267,28 @@ mod tests {
         assert!((saturation_vapour_pressure_pa(273.15) - 611.0).abs() < 1e-9);
         let e20 = saturation_vapour_pressure_pa(293.15);
         assert!((e20 - 2339.0).abs() / 2339.0 < 0.005, "{e20}");
+    }
+
+    #[test]
+    fn pow_1p_matches_powf() {
+        // Relative 4e-16 (≈ 2 ulp): the omitted series terms are far below
+        // an ulp, what remains is the rounding of the 7 Horner steps and of
+        // powf itself. Exponents: κ, 1/κ, eq 6's 1/γ for γ = 1.4, and others.
+        for a in [KAPPA, 1.0 / KAPPA, 1.0 / 1.4, -1.0, 0.5, 3.9] {
+            // t = k 2⁻¹⁷ up to ±1/128: 1 + t is exact, so powf's answer
+            // is not off by the rounding of its base.
+            for k in -1024..=1024 {
+                let t = k as f64 * (NEAR_ONE / 1024.0);
+                let (got, want) = (pow_1p(t, a), (1.0 + t).powf(a));
+                assert!(
+                    (got - want).abs() <= 4e-16 * want,
+                    "(1+{t})^{a}: {got} vs {want}"
+                );
+            }
+        }
+        // Far from 1 it is powf itself.
+        assert_eq!(pow_1p(-0.5, KAPPA), 0.5f64.powf(KAPPA));
+        assert_eq!(pow_1p(0.001, 5.0), 1.001f64.powf(5.0));
     }
 
     #[test]

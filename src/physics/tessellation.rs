@@ -11,6 +11,8 @@ use glam::DVec3;
 pub const SLICES: usize = 18;
 /// Bands in polar angle.
 pub const BANDS: usize = 9;
+/// The mask of a band whose every quad is in the cap.
+pub const FULL_BAND: u32 = (1 << SLICES) - 1;
 /// Quads per sphere.
 pub const QUADS: usize = SLICES * BANDS;
 
@@ -21,6 +23,9 @@ pub struct UnitSphere {
     pub normal: Vec<DVec3>,
     /// Area of each quad on the unit sphere (they sum to 4π). units: 1 (m² per m² of r²)
     pub area: Vec<f64>,
+    /// Sum of each band's 18 normals, in slice order (a band wholly inside
+    /// a cap adds this once instead of quad by quad).
+    pub band_normal_sum: [DVec3; BANDS],
     /// cos and sin of each band's centre polar angle.
     band_cos_sin: Vec<(f64, f64)>,
     /// The normals' components per band, slices in order (structure of
@@ -68,7 +73,10 @@ impl UnitSphere {
             let (b, s) = (q / SLICES, q % SLICES);
             (band_x[b][s], band_y[b][s], band_z[b][s]) = (n.x, n.y, n.z);
         }
+        let band_normal_sum =
+            std::array::from_fn(|b| normal[b * SLICES..(b + 1) * SLICES].iter().sum());
         UnitSphere {
+            band_normal_sum,
             normal,
             area,
             band_cos_sin,
@@ -84,7 +92,10 @@ impl UnitSphere {
     /// α of u's are tested (the angle between a quad centre and u is at
     /// least their polar difference), without trigonometry: cos(θ_b − θ_u)
     /// < cos α is tested with the bands' stored cos and sin. Each quad of a
-    /// tested band is decided by the exact test n·u > cos α.
+    /// tested band is decided by the exact test n·u > cos α, unless the
+    /// whole band lies inside the cap: the angle between a quad centre and u
+    /// is at most θ_b + θ_u (or 2π minus it), so cos(θ_b + θ_u) > cos α
+    /// hides every quad of the band without a dot product.
     pub fn cap_masks(&self, u: DVec3, cos_alpha: f64) -> ([u32; BANDS], u32) {
         let (cu, su) = (u.z, (1.0 - u.z * u.z).max(0.0).sqrt());
         let mut masks = [0u32; BANDS];
@@ -95,6 +106,11 @@ impl UnitSphere {
                 continue;
             }
             tested += SLICES as u32;
+            // 1e-9 again: only a band inside by more than rounding is taken whole.
+            if cb * cu - sb * su > cos_alpha + 1e-9 {
+                masks[b] = FULL_BAND;
+                continue;
+            }
             let (x, y, z) = (&self.band_x[b], &self.band_y[b], &self.band_z[b]);
             let mut m = 0u32;
             for s in 0..SLICES {

@@ -18,28 +18,33 @@ impl ParcelWorld {
         let h = self.cfg.physics.support_radius_m;
         let k = self.cfg.physics.stiffness;
         let w0 = sph::poly6(0.0, h);
-        let (parcels, grid) = (&self.parcels, &self.grid);
-        let mut out = std::mem::take(&mut self.scratch.density);
-        (0..parcels.len())
-            .into_par_iter()
+        let grid = &self.grid;
+        // The masses as one dense array: each neighbour costs one number
+        // read, not one parcel record.
+        let mut mass = std::mem::take(&mut self.scratch.mass);
+        self.parcels
+            .par_iter()
             .with_min_len(PAR_MIN)
-            .map(|i| {
-                let mi = parcels[i].total_mass_kg();
-                let mut rho = mi * w0;
-                for n in grid.of(i) {
-                    rho += parcels[n.j].total_mass_kg() * sph::poly6(n.dist * n.dist, h);
-                }
-                (rho, k * (rho - mi * w0))
-            })
-            .collect_into_vec(&mut out);
+            .map(|p| p.total_mass_kg())
+            .collect_into_vec(&mut mass);
+        // Kept for the forces; written into the parcels in the same pass.
+        let mut out = std::mem::take(&mut self.scratch.density);
+        out.resize(mass.len(), (0.0, 0.0));
         self.parcels
             .par_iter_mut()
             .with_min_len(PAR_MIN)
-            .zip(&out)
-            .for_each(|(p, &(rho, pr))| {
-                p.sph_density_kg_m3 = rho;
-                p.sph_pressure_pa = pr;
+            .zip(out.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (p, out))| {
+                let mi = mass[i];
+                let mut rho = mi * w0;
+                for n in grid.of(i) {
+                    rho += mass[n.j] * sph::poly6(n.dist * n.dist, h);
+                }
+                *out = (rho, k * (rho - mi * w0));
+                (p.sph_density_kg_m3, p.sph_pressure_pa) = *out;
             });
         self.scratch.density = out;
+        self.scratch.mass = mass;
     }
 }

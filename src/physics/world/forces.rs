@@ -11,6 +11,7 @@ use super::PAR_MIN;
 
 use super::{ClampCounts, ParcelWorld, wind_at};
 use crate::atmosphere::thermo;
+use crate::physics::parcel::Parcel;
 use crate::physics::sph;
 
 impl ParcelWorld {
@@ -19,6 +20,16 @@ impl ParcelWorld {
         let c = &self.cfg.physics;
         let h = c.support_radius_m;
         let (parcels, grid, env, cfg) = (&self.parcels, &self.grid, &self.env, &self.cfg);
+        // What the neighbour loops read of each neighbour, as dense arrays:
+        // the total mass (after this sub-step's mixing) and the SPH density
+        // and pressure of the density stage.
+        let mut mass = std::mem::take(&mut self.scratch.mass);
+        parcels
+            .par_iter()
+            .with_min_len(PAR_MIN)
+            .map(|p| p.total_mass_kg())
+            .collect_into_vec(&mut mass);
+        let sph_state = &self.scratch.density;
         // The predicted end-of-step velocities (computed after the drift).
         let vpred = std::mem::take(&mut self.scratch.vpred);
         // Guard: explicit viscosity relaxes v_i towards its neighbours at the
@@ -39,12 +50,11 @@ impl ParcelWorld {
                 if !viscous {
                     return 0.0;
                 }
-                let rhoi = parcels[i].sph_density_kg_m3;
+                let rhoi = sph_state[i].0;
                 grid.of(i)
                     .iter()
                     .map(|nb| {
-                        let q = &parcels[nb.j];
-                        c.viscosity_mu * q.total_mass_kg() / (rhoi * q.sph_density_kg_m3)
+                        c.viscosity_mu * mass[nb.j] / (rhoi * sph_state[nb.j].0)
                             * sph::viscosity_laplacian(nb.dist, h)
                     })
                     .sum()
@@ -56,81 +66,76 @@ impl ParcelWorld {
                 .filter(|&&s| 2.0 * s * visc_dt > 1.0)
                 .count() as u64;
         }
-        let mut acc = std::mem::take(&mut self.scratch.accel);
-        let (vp, vr) = (&vpred, &visc_rate);
-        (0..parcels.len())
-            .into_par_iter()
-            .with_min_len(PAR_MIN)
-            .map(|i| {
-                let p = &parcels[i];
-                let mi = p.total_mass_kg();
-                let mut a = DVec3::ZERO;
-                if c.sph || c.viscosity {
-                    let (pi, rhoi) = (p.sph_pressure_pa, p.sph_density_kg_m3);
-                    let mut fp = DVec3::ZERO;
-                    let mut fv = DVec3::ZERO;
-                    for nb in grid.of(i) {
-                        if nb.dist >= h {
-                            // A contact beyond the SPH support: no kernel force.
-                            continue;
-                        }
-                        let q = &parcels[nb.j];
-                        let mj = q.total_mass_kg();
-                        if c.sph {
-                            // eq 9 (mass-weighted, antisymmetric: momentum is conserved).
-                            let s = pi / (rhoi * rhoi)
-                                + q.sph_pressure_pa / (q.sph_density_kg_m3 * q.sph_density_kg_m3);
-                            fp -= sph::spiky_gradient(nb.r, h) * (mi * mj * s);
-                        }
-                        if c.viscosity {
-                            // eq 10 is a force density; divided by ρ_i below.
-                            let rate = 2.0 * vr[i].max(vr[nb.j]) * visc_dt;
-                            let scale = if rate > 1.0 { 1.0 / rate } else { 1.0 };
-                            fv += (vp[nb.j] - vp[i])
-                                * (scale * c.viscosity_mu * mj / q.sph_density_kg_m3
-                                    * sph::viscosity_laplacian(nb.dist, h));
-                        }
+        let (vp, vr, pos) = (&vpred, &visc_rate, &self.hot_pos);
+        // Of its neighbours a parcel reads only the dense arrays, so the
+        // acceleration goes straight into its record (one pass).
+        let accel = |i: usize, p: &Parcel| {
+            let mi = mass[i];
+            let mut a = DVec3::ZERO;
+            if c.sph || c.viscosity {
+                let (rhoi, pi) = sph_state[i];
+                let mut fp = DVec3::ZERO;
+                let mut fv = DVec3::ZERO;
+                for nb in grid.of(i) {
+                    if nb.dist >= h {
+                        // A contact beyond the SPH support: no kernel force.
+                        continue;
                     }
-                    a += fp / mi;
+                    let (mj, (rhoj, pj)) = (mass[nb.j], sph_state[nb.j]);
+                    if c.sph {
+                        // eq 9 (mass-weighted, antisymmetric: momentum is conserved).
+                        let s = pi / (rhoi * rhoi) + pj / (rhoj * rhoj);
+                        let r = pos[i] - pos[nb.j];
+                        fp -= sph::spiky_gradient(r, h) * (mi * mj * s);
+                    }
                     if c.viscosity {
-                        a += fv / rhoi;
+                        // eq 10 is a force density; divided by ρ_i below.
+                        let rate = 2.0 * vr[i].max(vr[nb.j]) * visc_dt;
+                        let scale = if rate > 1.0 { 1.0 / rate } else { 1.0 };
+                        fv += (vp[nb.j] - vp[i])
+                            * (scale * c.viscosity_mu * mj / rhoj
+                                * sph::viscosity_laplacian(nb.dist, h));
                     }
                 }
-                if c.atmospheric_pressure {
-                    a += p.atm_force_n / mi;
+                a += fp / mi;
+                if c.viscosity {
+                    a += fv / rhoi;
                 }
-                let z = p.position_m.z;
-                if c.buoyancy {
-                    // eq 5 with θ_v of eq 4 (optionally with condensate loading).
-                    let ql = if c.condensate_loading {
-                        p.ql_kg_per_kg
-                    } else {
-                        0.0
-                    };
-                    let tv = thermo::virtual_potential_temperature_k(p.theta_k, p.qv_kg_per_kg, ql);
-                    let tv_env = env.theta_v_k(z);
-                    a.z += thermo::GRAVITY * (tv - tv_env) / tv_env;
-                }
-                let rel = vp[i] - wind_at(cfg, env, z);
-                if c.drag {
-                    let area = PI * p.radius_m * p.radius_m;
-                    a -= rel
-                        * (0.5 * c.drag_coefficient * p.env_at_centre.1 * rel.length() * area / mi);
-                }
-                if c.mixing {
-                    // Entrained air arrives with the wind's velocity.
-                    a -= rel * (p.entrain_rate_kg_s / mi);
-                }
-                a
-            })
-            .collect_into_vec(&mut acc);
+            }
+            if c.atmospheric_pressure {
+                a += p.atm_force_n / mi;
+            }
+            let z = p.position_m.z;
+            if c.buoyancy {
+                // eq 5 with θ_v of eq 4 (optionally with condensate loading).
+                let ql = if c.condensate_loading {
+                    p.ql_kg_per_kg
+                } else {
+                    0.0
+                };
+                let tv = thermo::virtual_potential_temperature_k(p.theta_k, p.qv_kg_per_kg, ql);
+                let tv_env = env.theta_v_k(z);
+                a.z += thermo::GRAVITY * (tv - tv_env) / tv_env;
+            }
+            let rel = vp[i] - wind_at(cfg, env, z);
+            if c.drag {
+                let area = PI * p.radius_m * p.radius_m;
+                a -=
+                    rel * (0.5 * c.drag_coefficient * p.env_at_centre.1 * rel.length() * area / mi);
+            }
+            if c.mixing {
+                // Entrained air arrives with the wind's velocity.
+                a -= rel * (p.entrain_rate_kg_s / mi);
+            }
+            a
+        };
         self.parcels
             .par_iter_mut()
             .with_min_len(PAR_MIN)
-            .zip(&acc)
-            .for_each(|(p, a)| p.accel_m_s2 = *a);
+            .enumerate()
+            .for_each(|(i, p)| p.accel_m_s2 = accel(i, p));
         self.scratch.vpred = vpred;
         self.scratch.visc_rate = visc_rate;
-        self.scratch.accel = acc;
+        self.scratch.mass = mass;
     }
 }

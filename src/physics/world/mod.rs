@@ -86,11 +86,13 @@ pub use stats::{ClampCounts, Counters, Diagnostics, Fates, StepReport};
 /// world so that a sub-step allocates nothing once they have grown.
 #[derive(Debug, Clone, Default)]
 struct Scratch {
-    /// SPH density and pressure. units: kg m⁻³, Pa
+    /// SPH density and pressure (read again by the forces). units: kg m⁻³, Pa
     density: Vec<(f64, f64)>,
-    /// Exposed area, atmospheric force, whether the force was capped,
-    /// quads tested (None: no overlap, no tessellation). units: m², N
-    exposed: Vec<(f64, DVec3, bool, Option<u64>)>,
+    /// Total mass of each parcel, dense (for the neighbour loops of the
+    /// density and the forces; each stage refills it). units: kg
+    mass: Vec<f64>,
+    /// The fields the exchange reads of each neighbour, dense.
+    mix_state: Vec<mixing::MixState>,
     /// Contacts per parcel (for the exchange bound).
     contacts: Vec<u32>,
     /// Mixing rates (entrainment, detrainment, exchange) and the entrained
@@ -100,8 +102,6 @@ struct Scratch {
     vpred: Vec<DVec3>,
     /// Viscous relaxation rate. units: s⁻¹
     visc_rate: Vec<f64>,
-    /// Accelerations. units: m s⁻²
-    accel: Vec<DVec3>,
 }
 
 /// The wind at height `z_m` that drag and entrainment see: the one place

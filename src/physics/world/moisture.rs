@@ -29,7 +29,8 @@ pub(super) fn update_volume(p: &mut Parcel, c: &PhysicsConfig) -> ClampCounts {
     let m2 = p.total_mass_kg();
     let (p1, m1) = p.volume_ref;
     if p1 != p2 {
-        p.volume_m3 *= (p1 / p2).powf(1.0 / c.gamma) * (m2 / m1);
+        // P₁/P₂ = 1 + (P₁ − P₂)/P₂, one sub-step's change: within 1e-3 of 1.
+        p.volume_m3 *= thermo::pow_1p((p1 - p2) / p2, 1.0 / c.gamma) * (m2 / m1);
         p.volume_ref = (p2, m2);
     } else if m1 != m2 {
         // Same pressure (the corrector's mass change): no power needed.

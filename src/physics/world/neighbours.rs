@@ -25,11 +25,13 @@ use super::ParcelWorld;
 const BLOCK: usize = 256;
 
 /// One neighbour of a parcel: within the SPH support radius or touching.
+/// 16 bytes: the lists are read by five stages, so their size is memory
+/// traffic; the few stages that need x_i − x_j take it from the positions
+/// of the build (`ParcelWorld::hot_pos`, unchanged until the next drift),
+/// the same subtraction as here.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Neighbour {
     pub(super) j: usize,
-    /// x_i − x_j. units: m
-    pub(super) r: DVec3,
     /// |x_i − x_j|. units: m
     pub(super) dist: f64,
 }
@@ -193,12 +195,11 @@ impl ParcelWorld {
         let c = &self.cfg.physics;
         let need = c.sph || c.viscosity || c.needs_exposed_area() || c.exchange;
         let h = c.support_radius_m;
-        self.hot_pos.clear();
-        self.hot_pos
-            .extend(self.parcels.iter().map(|p| p.position_m));
-        self.hot_radius.clear();
-        self.hot_radius
-            .extend(self.parcels.iter().map(|p| p.radius_m));
+        self.parcels
+            .par_iter()
+            .with_min_len(PAR_MIN)
+            .map(|p| (p.position_m, p.radius_m))
+            .unzip_into_vecs(&mut self.hot_pos, &mut self.hot_radius);
         let r_max = self.hot_radius.iter().fold(0.0_f64, |a, &b| a.max(b));
         let g = &mut self.grid;
         g.cells.sort(&self.hot_pos, h.max(2.0 * r_max));
@@ -232,11 +233,7 @@ impl ParcelWorld {
                         let d2 = r.length_squared();
                         let touch = rad[i] + rad[j];
                         if d2 < h2 || d2 < touch * touch {
-                            list.push(Neighbour {
-                                j,
-                                r,
-                                dist: d2.sqrt(),
-                            });
+                            list.push(Neighbour { j, dist: d2.sqrt() });
                         }
                     });
                     *out = (start, list.len() as u32);
