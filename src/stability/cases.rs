@@ -433,7 +433,16 @@ pub fn matrix(size: Size) -> Result<Vec<Case>> {
             frames: (secs / 2.0) as u32,
             cluster: Some(cl),
             seed: 41,
-            declared_clamps: vec![],
+            // hot_45c: the 3 km deep dry-adiabatic layer ends in a stable
+            // one, below the ~4 km condensation level, so dry thermals stop
+            // and crowd at its top. One parcel held there among its
+            // neighbours for 42 s (ages 679–720 s, z ≈ 3.05 km) sums hidden
+            // caps to up to 1.27 ρgV, which the Archimedes bound caps.
+            declared_clamps: if *name == "hot_45c" {
+                vec!["atm_force"]
+            } else {
+                vec![]
+            },
         });
     }
 
