@@ -185,7 +185,7 @@ fn sky_color(dir: vec3<f32>) -> vec3<f32> {
 
 // Light arriving from the whole sky on an upward-facing surface, over π
 // (the sky's cosine-weighted mean radiance), integrated on the CPU from
-// the same sky (src/sky.rs).
+// the same sky (src/sky/view.rs).
 fn sky_ambient() -> vec3<f32> {
     return frame.sky_ambient.rgb;
 }

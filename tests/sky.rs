@@ -1,4 +1,4 @@
-//! The atmosphere model (src/sky.rs) against analytic and published values,
+//! The atmosphere model (src/sky/) against analytic and published values,
 //! and what it does to a frame: dawn and noon light the scene differently.
 
 mod common;

@@ -15,7 +15,7 @@ pub struct Sun {
     /// Linear RGB irradiance scale (1 = nominal daylight exposure): the
     /// sun's colour after the air (`sky.sun`), unless a caller sets it.
     pub color: Vec3,
-    /// Sky radiance table and ambient light for this sun (src/sky.rs).
+    /// Sky-view table and ambient light for this sun (src/sky).
     pub sky: SkyLight,
 }
 

@@ -67,7 +67,7 @@ pub struct FrameUniform {
     /// Ground rectangle the cloud-shadow map covers: min x, min y, max x, max y (m).
     pub shadow_rect: [f32; 4],
     /// rgb: ambient light, the sky's irradiance on an up-facing surface
-    /// over π; w: asymmetry g of the sky's Mie phase (src/sky.rs `SkyLight`).
+    /// over π; w: asymmetry g of the sky's Mie phase (src/sky/view.rs `SkyLight`).
     pub sky_ambient: [f32; 4],
     /// The sky-view table (src/sky/view.rs `SkyLight`), three vec4 per
     /// texel (texel k = elevation·SKY_AZIMUTHS + azimuth): [3k] Rayleigh
