@@ -5,7 +5,7 @@ mod common;
 
 use std::process::Command;
 
-use cumulus::sky::{mie_phase, rayleigh_phase, Atmosphere, SkyLight, SkyLuts, SKY_TEXELS};
+use cumulus::sky::{Atmosphere, SKY_TEXELS, SkyLight, SkyLuts, mie_phase, rayleigh_phase};
 use glam::{DVec3, Vec3};
 
 /// Only Rayleigh scattering: the cases with a closed-form answer.
@@ -207,7 +207,13 @@ fn sky_view_table_matches_brute_force_integration() {
     let a = Atmosphere::EARTH;
     for sun_el in [3.0f64, 20.0, 60.0] {
         let sun = direction(sun_el, 0.0);
-        for (el, az) in [(90.0, 0.0), (1.0, 0.0), (10.0, 90.0), (30.0, 180.0), (0.2, 150.0)] {
+        for (el, az) in [
+            (90.0, 0.0),
+            (1.0, 0.0),
+            (10.0, 90.0),
+            (30.0, 180.0),
+            (0.2, 150.0),
+        ] {
             let view = direction(el, az);
             // Single scattering: the transmittance table against an
             // optical depth integrated toward the sun at every sample.

@@ -114,7 +114,8 @@ impl MultipleScatteringLut {
             .into_par_iter()
             .flat_map_iter(|j| {
                 // Just under the top, so that upward rays have some length.
-                let height = (a.top_radius_m - a.ground_radius_m - 1.0) * j as f64 / (ny - 1) as f64;
+                let height =
+                    (a.top_radius_m - a.ground_radius_m - 1.0) * j as f64 / (ny - 1) as f64;
                 (0..nx).map(move |i| {
                     let mu_s = -1.0 + 2.0 * i as f64 / (nx - 1) as f64;
                     a.psi_ms(height, mu_s, transmittance)

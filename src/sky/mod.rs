@@ -31,9 +31,9 @@ mod view;
 use glam::DVec3;
 
 pub use luts::{
-    MultipleScatteringLut, SkyLuts, TransmittanceLut, MULTIPLE_SCATTERING_SIZE, TRANSMITTANCE_SIZE,
+    MULTIPLE_SCATTERING_SIZE, MultipleScatteringLut, SkyLuts, TRANSMITTANCE_SIZE, TransmittanceLut,
 };
-pub use view::{SkyLight, SKY_AZIMUTHS, SKY_ELEVATIONS, SKY_TEXELS};
+pub use view::{SKY_AZIMUTHS, SKY_ELEVATIONS, SKY_TEXELS, SkyLight};
 
 /// The sun's colour above the atmosphere, in the renderer's units (linear
 /// RGB; the cloud march's irradiance is 4π times it, see
@@ -139,7 +139,8 @@ impl Atmosphere {
         match self.distance_to_top(r_m, mu) {
             Some(d) => (d, false),
             None => {
-                let disc = r_m * r_m * (mu * mu - 1.0) + self.ground_radius_m * self.ground_radius_m;
+                let disc =
+                    r_m * r_m * (mu * mu - 1.0) + self.ground_radius_m * self.ground_radius_m;
                 ((-r_m * mu - disc.max(0.0).sqrt()).max(0.0), true)
             }
         }

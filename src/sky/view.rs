@@ -14,7 +14,7 @@
 
 use glam::{DVec3, Vec3};
 
-use super::{Atmosphere, SkyLuts, SUN_ABOVE_AIR};
+use super::{Atmosphere, SUN_ABOVE_AIR, SkyLuts};
 
 /// Azimuths of the sky-view table, 0 to π from the sun (12° apart).
 /// Keep in sync with the WGSL prelude (src/render/shaders.rs).
