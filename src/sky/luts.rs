@@ -16,7 +16,7 @@ pub const TRANSMITTANCE_SIZE: [usize; 2] = [128, 32];
 /// 32 × 32).
 pub const MULTIPLE_SCATTERING_SIZE: [usize; 2] = [32, 32];
 /// Directions per texel of Ψ_ms (Hillaire: 64), as a square grid over
-/// (cos θ, φ): uniform in solid angle.
+/// (cos θ, φ): uniform in solid angle (half of them integrated, by symmetry).
 const MS_DIRECTIONS_SQRT: u32 = 8;
 /// Samples along one ray of Ψ_ms.
 const MS_STEPS: u32 = 20;
@@ -147,14 +147,16 @@ impl Atmosphere {
         for i in 0..n {
             let cos_t = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
             let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
-            for j in 0..n {
+            // The half φ ∈ (0, π): the other half mirrors it in the sun's
+            // vertical plane (y → −y) and gives the same light; the means
+            // below count each direction twice.
+            for j in 0..n / 2 {
                 let phi = std::f64::consts::TAU * (j as f64 + 0.5) / n as f64;
                 let dir = DVec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t);
                 let (length, ground) = self.distance_to_end(origin.z, cos_t);
                 let mut last_seen = DVec3::ONE;
-                self.march(origin, dir, length, MS_STEPS, |p, h, dt, seen| {
-                    let (rayleigh, mie) = self.scattering(h);
-                    let scattered = (rayleigh + mie) * seen * dt;
+                self.march(origin, dir, length, MS_STEPS, |p, medium, dt, seen| {
+                    let scattered = (medium.rayleigh + medium.mie) * seen * dt;
                     let r = p.length();
                     second += scattered * transmittance.at(r, p.dot(sun) / r) * isotropic;
                     f_ms += scattered;
@@ -176,7 +178,7 @@ impl Atmosphere {
             }
         }
         // Means over the sphere: ∫ … p_u dω with p_u = 1/(4π).
-        let count = (n * n) as f64;
+        let count = (n * (n / 2)) as f64;
         let (second, f_ms) = (second / count, f_ms / count);
         second / (DVec3::ONE - f_ms)
     }

@@ -101,19 +101,20 @@ impl Atmosphere {
 
     /// Extinction at height `h_m`. units: 1/m
     fn extinction(&self, h_m: f64) -> DVec3 {
-        let (r, m, o) = self.densities(h_m);
-        self.rayleigh_scattering_per_m * r
-            + DVec3::splat(self.mie_extinction_per_m * m)
-            + self.ozone_absorption_per_m * o
+        self.medium(h_m).extinction
     }
 
-    /// Scattering at height `h_m`: (Rayleigh, Mie). units: 1/m
-    fn scattering(&self, h_m: f64) -> (DVec3, DVec3) {
-        let (r, m, _) = self.densities(h_m);
-        (
-            self.rayleigh_scattering_per_m * r,
-            DVec3::splat(self.mie_scattering_per_m * m),
-        )
+    /// Extinction and scattering at height `h_m`.
+    fn medium(&self, h_m: f64) -> Medium {
+        let (r, m, o) = self.densities(h_m);
+        let rayleigh = self.rayleigh_scattering_per_m * r;
+        Medium {
+            extinction: rayleigh
+                + DVec3::splat(self.mie_extinction_per_m * m)
+                + self.ozone_absorption_per_m * o,
+            rayleigh,
+            mie: DVec3::splat(self.mie_scattering_per_m * m),
+        }
     }
 
     /// Whether a ray from radius `r_m` with cosine `mu` to the vertical
@@ -149,14 +150,14 @@ impl Atmosphere {
     /// Samples of a ray from `origin` (relative to the Earth's centre)
     /// along unit `dir` over `length`: midpoint rule in s with t = L·s²
     /// (steps short near the start, where the air is densest). Calls
-    /// `visit(point, height, dt, transmittance from the origin)`.
+    /// `visit(point, medium there, dt, transmittance from the origin)`.
     fn march(
         &self,
         origin: DVec3,
         dir: DVec3,
         length: f64,
         steps: u32,
-        mut visit: impl FnMut(DVec3, f64, f64, DVec3),
+        mut visit: impl FnMut(DVec3, &Medium, f64, DVec3),
     ) {
         let mut depth = DVec3::ZERO;
         let mut t_prev = 0.0;
@@ -167,9 +168,10 @@ impl Atmosphere {
             let p = origin + dir * t;
             let h = p.length() - self.ground_radius_m;
             // Optical depth from the origin to this sample.
-            depth += self.extinction(h) * (t - t_prev);
+            let medium = self.medium(h);
+            depth += medium.extinction * (t - t_prev);
             t_prev = t;
-            visit(p, h, dt, (-depth).exp());
+            visit(p, &medium, dt, (-depth).exp());
         }
     }
 
@@ -237,10 +239,10 @@ impl Atmosphere {
             return [DVec3::ZERO; 3];
         };
         let mut out = [DVec3::ZERO; 3];
-        self.march(origin, view, length, VIEW_STEPS, |p, h, dt, seen| {
+        self.march(origin, view, length, VIEW_STEPS, |p, medium, dt, seen| {
             let r = p.length();
             let mu_sun = p.dot(sun) / r;
-            let (rayleigh, mie) = self.scattering(h);
+            let (rayleigh, mie) = (medium.rayleigh, medium.mie);
             let w = seen * dt;
             let lit = to_sun(r, mu_sun) * w;
             out[0] += rayleigh * lit;
@@ -249,6 +251,15 @@ impl Atmosphere {
         });
         out
     }
+}
+
+/// The air at one height. units: 1/m
+struct Medium {
+    extinction: DVec3,
+    /// Rayleigh scattering.
+    rayleigh: DVec3,
+    /// Mie scattering.
+    mie: DVec3,
 }
 
 /// Height of the eye above the ground for the sky (1 m: on the ground).
