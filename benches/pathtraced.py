@@ -4,7 +4,7 @@
 Exports one fixed frame with `cumulus export` (the density of eq. 18 on a
 grid plus a JSON sidecar), path-traces it with Mitsuba 3's `volpath`
 (multiple scattering, the renderer's two-lobe Henyey-Greenstein phase,
-albedo 1, the same sun and a sky environment map of the same sky table),
+albedo 1, the same sun and a sky environment map of the same sky-view table),
 renders the same frame with `cumulus render` at each setting of the error
 sweep (and each `--method` the binary offers), and writes
 
@@ -148,25 +148,35 @@ def tone_map(radiance, exposure):
 
 def sky_color(d, sun, sky):
     """Sky radiance along unit directions d (..., 3), z up, from the
-    sidecar's sky table (the atmosphere model of src/sky.rs). Mirrors
-    `sky_color` in shaders/common.wgsl and `SkyLight::radiance` in src/sky.rs."""
-    ray = np.asarray(sky["rayleigh_rgb"], dtype=float)
-    mie = np.asarray(sky["mie_rgb"], dtype=float)
+    sidecar's sky-view table (the atmosphere model of src/sky). Mirrors
+    `sky_color` in shaders/common.wgsl and `SkyLight::radiance` in src/sky/view.rs."""
+    na, ne = sky["azimuths"], sky["elevations"]
+    parts = [np.asarray(sky[k], dtype=float).reshape(ne, na, 3) for k in ("rayleigh_rgb", "mie_rgb", "multiple_rgb")]
     g = sky["mie_g"]
-    n = len(ray)
-    up = np.clip(d[..., 2:3], -1.0, 1.0)
-    x = np.sqrt(np.clip(up, 0.0, 1.0)) * (n - 1)
-    k = np.minimum(np.floor(x).astype(int), n - 2)
-    f = x - k
-    r = ray[k[..., 0]] * (1.0 - f) + ray[k[..., 0] + 1] * f
-    m = mie[k[..., 0]] * (1.0 - f) + mie[k[..., 0] + 1] * f
+    up = np.clip(d[..., 2], -1.0, 1.0)
+    y = np.sqrt(np.arcsin(np.clip(up, 0.0, 1.0)) / (0.5 * math.pi)) * (ne - 1)
+    e = np.minimum(np.floor(y).astype(int), ne - 2)
+    fe = (y - e)[..., None]
+    lens = np.hypot(d[..., 0], d[..., 1]) * math.hypot(sun[0], sun[1])
+    dot = d[..., 0] * sun[0] + d[..., 1] * sun[1]
+    cos_az = np.where(lens > 1e-6, dot / np.maximum(lens, 1e-12), 1.0)
+    x = np.arccos(np.clip(cos_az, -1.0, 1.0)) / math.pi * (na - 1)
+    a = np.minimum(np.floor(x).astype(int), na - 2)
+    fa = (x - a)[..., None]
+
+    def lerp2(t):
+        lo = t[e, a] * (1.0 - fa) + t[e, a + 1] * fa
+        hi = t[e + 1, a] * (1.0 - fa) + t[e + 1, a + 1] * fa
+        return lo * (1.0 - fe) + hi * fe
+
+    r, m, ms = (lerp2(t) for t in parts)
     mu = (d * sun).sum(-1, keepdims=True)
     p_r = 3.0 / (16.0 * math.pi) * (1.0 + mu * mu)
     p_m = (
         3.0 / (8.0 * math.pi) * (1.0 - g * g) * (1.0 + mu * mu)
         / ((2.0 + g * g) * np.power(np.maximum(1.0 + g * g - 2.0 * g * mu, 1e-6), 1.5))
     )
-    return (r * p_r + m * p_m) * (1.0 - 0.4 * np.clip(-3.0 * up, 0.0, 1.0))
+    return (r * p_r + m * p_m + ms) * (1.0 - 0.4 * np.clip(-3.0 * up[..., None], 0.0, 1.0))
 
 
 def sky_envmap(sun, sky, width=512):

@@ -2,7 +2,7 @@
 //
 // Keep in sync with src/render/pack.rs (FrameUniform, GpuParcel,
 // ParcelsUniform, GridUniform). The array sizes MAX_PARCELS,
-// GRID_CELL_PAIRS, GRID_ENTRY_QUADS and SKY_KNOTS are prepended by
+// GRID_CELL_PAIRS, GRID_ENTRY_QUADS, SKY_AZIMUTHS and SKY_ELEVATIONS are prepended by
 // src/render/shaders.rs from the Rust constants, so they cannot drift.
 // naga has no #include: src/render/shaders.rs concatenates
 // prelude + common.wgsl (+ density.wgsl) + the pass file.
@@ -12,7 +12,7 @@
 // Encode sRGB in the tone-map pass (its target format is not sRGB).
 override ENCODE_SRGB: bool = false;
 
-// 304 + 32·SKY_KNOTS bytes; keep in sync with FrameUniform in src/render/pack.rs.
+// 304 + 48·SKY_AZIMUTHS·SKY_ELEVATIONS bytes; keep in sync with FrameUniform in src/render/pack.rs.
 struct Frame {
     clip_from_world: mat4x4<f32>,
     world_from_clip: mat4x4<f32>,
@@ -27,10 +27,9 @@ struct Frame {
     grid_dims: vec4<u32>,  // nx, ny, nz, parcel count
     shadow_rect: vec4<f32>, // ground rectangle of the shadow map: min x, min y, max x, max y (m)
     sky_ambient: vec4<f32>, // rgb: sky irradiance on an up-facing surface / π; w: Mie phase g
-    // Sky radiance per unit phase at view elevations sin(el) = (k/(SKY_KNOTS−1))²:
-    // Rayleigh and Mie parts (rgb), from the atmosphere model of src/sky.rs.
-    sky_rayleigh: array<vec4<f32>, SKY_KNOTS>,
-    sky_mie: array<vec4<f32>, SKY_KNOTS>,
+    // Sky-view table of src/sky/view.rs, texel k = elevation·SKY_AZIMUTHS + azimuth:
+    // [3k] Rayleigh per unit phase, [3k + 1] Mie per unit phase, [3k + 2] multiple (rgb).
+    sky_view: array<vec4<f32>, 3u * SKY_AZIMUTHS * SKY_ELEVATIONS>,
 }
 
 // 32 bytes; keep in sync with GpuParcel in src/render/pack.rs.
@@ -147,27 +146,46 @@ fn mie_phase(mu: f32, g: f32) -> f32 {
     return 3.0 / (8.0 * PI) * (1.0 - g2) * (1.0 + mu * mu) / ((2.0 + g2) * pow(max(1.0 + g2 - 2.0 * g * mu, 1e-6), 1.5));
 }
 
-// Sky radiance along a direction, from the atmosphere model's table in the
-// frame (src/sky.rs, single scattering in Rayleigh + Mie + ozone air, for
-// the frame's sun): the Rayleigh and Mie parts at the view's elevation,
-// linear between knots, each times its phase of the angle to the sun (the
-// glow around the sun is the Mie lobe); below the horizon, the horizon's
-// radiance darkening toward the ground haze. CPU twin: SkyLight::radiance
-// in src/sky.rs (keep in sync; benches/pathtraced.py mirrors it too).
+// One part (0 Rayleigh, 1 Mie, 2 multiple) of sky-view texel k.
+fn sky_texel(k: u32, part: u32) -> vec3<f32> {
+    return frame.sky_view[3u * k + part].rgb;
+}
+
+// Sky radiance along a direction: the sky-view table of the atmosphere
+// model (src/sky/view.rs, Hillaire 2020: single scattering with
+// transmittance from a table, multiple scattering Ψ_ms) for the frame's
+// sun, bilinear in (azimuth from the sun 0..π, √(elevation/(π/2))); the
+// Rayleigh and Mie parts times their phase of the angle to the sun (the
+// glow around the sun is the Mie lobe), plus the isotropic multiple part;
+// below the horizon, the horizon's radiance darkening toward the ground
+// haze. CPU twin: SkyLight::radiance in src/sky/view.rs (keep in sync;
+// benches/pathtraced.py mirrors it too).
 fn sky_color(dir: vec3<f32>) -> vec3<f32> {
-    let x = sqrt(clamp(dir.z, 0.0, 1.0)) * f32(SKY_KNOTS - 1u);
-    let k = min(u32(x), SKY_KNOTS - 2u);
-    let f = x - f32(k);
-    let r = mix(frame.sky_rayleigh[k].rgb, frame.sky_rayleigh[k + 1u].rgb, f);
-    let m = mix(frame.sky_mie[k].rgb, frame.sky_mie[k + 1u].rgb, f);
-    let mu = dot(dir, frame.sun_dir.xyz);
-    let c = r * rayleigh_phase(mu) + m * mie_phase(mu, frame.sky_ambient.w);
+    let sun = frame.sun_dir.xyz;
+    let el = asin(clamp(dir.z, 0.0, 1.0));
+    let y = sqrt(el / (0.5 * PI)) * f32(SKY_ELEVATIONS - 1u);
+    let e = min(u32(y), SKY_ELEVATIONS - 2u);
+    let fe = y - f32(e);
+    let lens = length(dir.xy) * length(sun.xy);
+    let cos_az = select(1.0, dot(dir.xy, sun.xy) / lens, lens > 1e-6);
+    let x = acos(clamp(cos_az, -1.0, 1.0)) / PI * f32(SKY_AZIMUTHS - 1u);
+    let a = min(u32(x), SKY_AZIMUTHS - 2u);
+    let fa = x - f32(a);
+    let k = e * SKY_AZIMUTHS + a;
+    var part: array<vec3<f32>, 3>;
+    for (var i = 0u; i < 3u; i++) {
+        let lo = mix(sky_texel(k, i), sky_texel(k + 1u, i), fa);
+        let hi = mix(sky_texel(k + SKY_AZIMUTHS, i), sky_texel(k + SKY_AZIMUTHS + 1u, i), fa);
+        part[i] = mix(lo, hi, fe);
+    }
+    let mu = dot(dir, sun);
+    let c = part[0] * rayleigh_phase(mu) + part[1] * mie_phase(mu, frame.sky_ambient.w) + part[2];
     return c * (1.0 - 0.4 * clamp(-3.0 * dir.z, 0.0, 1.0));
 }
 
 // Light arriving from the whole sky on an upward-facing surface, over π
 // (the sky's cosine-weighted mean radiance), integrated on the CPU from
-// the same sky (src/sky.rs).
+// the same sky (src/sky/view.rs).
 fn sky_ambient() -> vec3<f32> {
     return frame.sky_ambient.rgb;
 }

@@ -249,12 +249,15 @@ fn shadow_pass_darkens_terrain_under_the_cloud() {
         cumulus::output::write_png_atomic(&d.join("shadow_on.png"), w, h, &with).unwrap();
         cumulus::output::write_png_atomic(&d.join("shadow_off.png"), w, h, &without).unwrap();
     }
-    // Linear luminance. Direct sun is about 70 % of the ground's light here
-    // (ambient sky and haze the rest), and a full parcel 1.4 km thick blocks
-    // nearly all of it: the shadow must take away at least a fifth (no shadow
-    // pass gives a ratio of 1).
+    // Linear luminance (of the tone-mapped pixel). A full parcel 1.4 km
+    // thick blocks nearly all of the direct sun, but the ground's light also
+    // holds the sky's ambient and, ~10 km from the eye, a haze veil of ~15 %
+    // of the horizon sky; since the sky has multiple scattering (Hillaire
+    // 2020, src/sky/) both are brighter (ambient ×1.3, horizon ×1.6) and the
+    // shadow takes away 17 % (was over a fifth). 0.9: no shadow pass gives a
+    // ratio of 1, and a shadow half as dark as measured would fail.
     assert!(
-        shaded < 0.8 * lit,
+        shaded < 0.9 * lit,
         "ground at ({px:.0},{py:.0}): luminance {shaded:.3} with shadows vs {lit:.3} without"
     );
     // And the cloud itself is not in that spot (we see ground, not cloud).

@@ -511,10 +511,12 @@ fn terrain_under_an_authored_cloud_is_darker_with_shadows_on() {
         sum(&on),
         sum(&off)
     );
-    // The shadow is a patch of ground as wide as the cloud (measured 1.2 %
-    // of the frame on lavapipe; 0.5 % is a floor no missing shadow
-    // reaches); nothing gets lighter beyond 8-bit rounding.
-    assert!(darker > (SIZE.0 * SIZE.1) as usize / 200, "{darker} px");
+    // The shadow is a patch of ground as wide as the cloud (measured 0.4 %
+    // of the frame on lavapipe darker by more than 8 levels; 1.2 % before
+    // the sky had multiple scattering, whose brighter ambient and haze fill
+    // the shadow more); 0.25 % is a floor no missing shadow reaches;
+    // nothing gets lighter beyond 8-bit rounding.
+    assert!(darker > (SIZE.0 * SIZE.1) as usize / 400, "{darker} px");
     assert_eq!(brighter, 0);
 }
 

@@ -304,13 +304,17 @@ fn impostor_ring_matches_the_direct_render_of_far_clouds() {
     assert!(*direct_n > 50, "{direct_n} sprites");
     // Every far cloud went into the ring: nothing drawn directly.
     assert_eq!(*ring_n, 0);
-    // The clouds are on screen (hundreds of pixels) both ways.
+    // The clouds are on screen (hundreds of pixels) both ways. 300: the
+    // far clouds sit in the horizon haze, which multiple scattering in the
+    // sky (src/sky/) made paler, so fewer of their pixels differ from it by
+    // more than 8 levels (measured 475 through the ring; was over 500); a
+    // ring that drew nothing changes none.
     assert!(
-        changed(direct_img, sky) > 500,
+        changed(direct_img, sky) > 300,
         "{}",
         changed(direct_img, sky)
     );
-    assert!(changed(ring_img, sky) > 500, "{}", changed(ring_img, sky));
+    assert!(changed(ring_img, sky) > 300, "{}", changed(ring_img, sky));
     let mean = common::flip::mean_flip(direct_img, ring_img, (192, 108));
     eprintln!("impostor ring vs direct: mean FLIP {mean:.4}");
     if mean > RING_FLIP_TOLERANCE {

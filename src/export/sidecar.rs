@@ -5,11 +5,12 @@
 //! The lighting constants below mirror the WGSL of the cloud pass; keep in
 //! sync with shaders/lighting.wgsl (`sun_phase_weights`, `HG_BACK_G`, `HG_BACK_WEIGHT`, `LIGHT_DENSITY`) and
 //! shaders/common.wgsl (`sky_color`, `tone_map`); the sky itself is the
-//! frame's table from the atmosphere model (src/sky.rs).
+//! frame's sky-view table from the atmosphere model (src/sky).
 
 use serde::{Deserialize, Serialize};
 
 use crate::render::{Camera, RenderConfig, Sun};
+use crate::sky::{SKY_AZIMUTHS, SKY_ELEVATIONS};
 
 use super::GridSpec;
 
@@ -88,17 +89,24 @@ pub struct LightInfo {
     pub tone_exposure: f32,
 }
 
-/// The sky's radiance as a table over view elevation (src/sky.rs): toward
-/// unit direction d (z up) with mu = d·sun and x = sqrt(max(d.z, 0))·(n − 1),
-/// L = P_R(mu)·lerp(rayleigh, x) + P_M(mu; g)·lerp(mie, x), with P_R the
-/// Rayleigh and P_M the Cornette–Shanks phase; below the horizon times
-/// 1 − 0.4·clamp(−3·d.z, 0, 1).
+/// The sky's radiance as the sky-view table of src/sky/view.rs, texel
+/// k = e·azimuths + a at azimuth π·a/(azimuths − 1) from the sun and
+/// elevation π/2·(e/(elevations − 1))²: toward unit direction d (z up)
+/// with mu = d·sun, bilinear in (acos of the horizontal cosine between d
+/// and the sun, √(elevation/(π/2))),
+/// L = P_R(mu)·rayleigh + P_M(mu; g)·mie + multiple, with P_R the
+/// Rayleigh and P_M the Cornette–Shanks phase; below the horizon the
+/// horizon's value times 1 − 0.4·clamp(−3·d.z, 0, 1).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SkyInfo {
+    pub azimuths: usize,
+    pub elevations: usize,
     /// units: linear RGB radiance per unit phase (1/sr)
     pub rayleigh_rgb: Vec<[f32; 3]>,
     /// units: linear RGB radiance per unit phase (1/sr)
     pub mie_rgb: Vec<[f32; 3]>,
+    /// Multiple-scattered part (isotropic). units: linear RGB radiance
+    pub multiple_rgb: Vec<[f32; 3]>,
     /// Asymmetry of the Mie phase.
     pub mie_g: f32,
     pub model: String,
@@ -172,11 +180,15 @@ impl Sidecar {
                 sun_irradiance_rgb: irr.to_array(),
                 sky_ambient_rgb: sun.sky.ambient.to_array(),
                 sky: SkyInfo {
+                    azimuths: SKY_AZIMUTHS,
+                    elevations: SKY_ELEVATIONS,
                     rayleigh_rgb: sun.sky.rayleigh.iter().map(|c| c.to_array()).collect(),
                     mie_rgb: sun.sky.mie.iter().map(|c| c.to_array()).collect(),
+                    multiple_rgb: sun.sky.multiple.iter().map(|c| c.to_array()).collect(),
                     mie_g: sun.sky.mie_g,
-                    model: "single scattering, Rayleigh + Mie + ozone, Earth parameters of \
-                            Bruneton 2017 / Hillaire 2020 (src/sky.rs)"
+                    model: "Hillaire 2020 sky-view table: single scattering (transmittance \
+                            table) + multiple scattering Psi_ms, Rayleigh + Mie + ozone, Earth \
+                            parameters of Bruneton 2017 (src/sky)"
                         .into(),
                 },
                 tone_exposure: TONE_EXPOSURE,

@@ -21,7 +21,7 @@ use glam::Vec3;
 
 use crate::error::{Error, Result};
 use crate::physics::CloudParcel;
-use crate::sky::SKY_KNOTS;
+use crate::sky::SKY_TEXELS;
 
 /// Most condensed parcels one frame can draw (uniform array length; the
 /// physics emits at most `emission.max_parcels`, 1024 by default).
@@ -67,13 +67,13 @@ pub struct FrameUniform {
     /// Ground rectangle the cloud-shadow map covers: min x, min y, max x, max y (m).
     pub shadow_rect: [f32; 4],
     /// rgb: ambient light, the sky's irradiance on an up-facing surface
-    /// over π; w: asymmetry g of the sky's Mie phase (src/sky.rs `SkyLight`).
+    /// over π; w: asymmetry g of the sky's Mie phase (src/sky/view.rs `SkyLight`).
     pub sky_ambient: [f32; 4],
-    /// rgb: Rayleigh part of the sky radiance per unit phase at the view
-    /// elevations of `SKY_KNOTS` (src/sky.rs); w: unused.
-    pub sky_rayleigh: [[f32; 4]; SKY_KNOTS],
-    /// rgb: Mie part, same knots; w: unused.
-    pub sky_mie: [[f32; 4]; SKY_KNOTS],
+    /// The sky-view table (src/sky/view.rs `SkyLight`), three vec4 per
+    /// texel (texel k = elevation·SKY_AZIMUTHS + azimuth): [3k] Rayleigh
+    /// radiance per unit phase, [3k + 1] Mie per unit phase, [3k + 2]
+    /// multiple-scattered (rgb; w unused).
+    pub sky_view: [[f32; 4]; 3 * SKY_TEXELS],
 }
 
 /// One parcel. Keep in sync with `struct Parcel` in shaders/common.wgsl.
@@ -103,7 +103,7 @@ pub struct GridUniform {
     pub entries: [[u32; 4]; MAX_GRID_ENTRIES / 4],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniform>() == 304 + 32 * SKY_KNOTS);
+const _: () = assert!(std::mem::size_of::<FrameUniform>() == 304 + 48 * SKY_TEXELS);
 const _: () = assert!(std::mem::size_of::<GpuParcel>() == 32);
 const _: () = assert!(std::mem::size_of::<ParcelsUniform>() == 32 * MAX_PARCELS);
 const _: () =

@@ -10,7 +10,7 @@
 
 use crate::render::method::RenderMethod;
 use crate::render::pack::{MAX_GRID_CELLS, MAX_GRID_ENTRIES, MAX_PARCELS};
-use crate::sky::SKY_KNOTS;
+use crate::sky::{SKY_AZIMUTHS, SKY_ELEVATIONS};
 
 /// Shared uniforms, camera, noise, sun and sky.
 pub const COMMON_WGSL: &str = include_str!("../../shaders/common.wgsl");
@@ -259,7 +259,8 @@ pub fn prelude() -> String {
          const MAX_PARCELS: u32 = {MAX_PARCELS}u;\n\
          const GRID_CELL_PAIRS: u32 = {}u;\n\
          const GRID_ENTRY_QUADS: u32 = {}u;\n\
-         const SKY_KNOTS: u32 = {SKY_KNOTS}u;\n\n",
+         const SKY_AZIMUTHS: u32 = {SKY_AZIMUTHS}u;\n\
+         const SKY_ELEVATIONS: u32 = {SKY_ELEVATIONS}u;\n\n",
         MAX_GRID_CELLS / 2,
         MAX_GRID_ENTRIES / 4
     )

@@ -51,8 +51,7 @@ impl Renderer {
             grid_dims: [g.dims[0], g.dims[1], g.dims[2], g.parcel_count],
             shadow_rect: self.shadow_rect(input.sun.direction),
             sky_ambient: input.sun.sky.ambient.extend(input.sun.sky.mie_g).to_array(),
-            sky_rayleigh: input.sun.sky.rayleigh.map(|c| c.extend(0.0).to_array()),
-            sky_mie: input.sun.sky.mie.map(|c| c.extend(0.0).to_array()),
+            sky_view: sky_view(&input.sun.sky),
         }
     }
 
@@ -362,4 +361,16 @@ impl Renderer {
         rp.set_bind_group(2, &s.bind, &[]);
         rp.draw(0..6, 0..s.count);
     }
+}
+
+/// The sky-view table as the frame uniform lays it out (`sky_view` in
+/// src/render/pack.rs).
+fn sky_view(sky: &crate::sky::SkyLight) -> [[f32; 4]; 3 * crate::sky::SKY_TEXELS] {
+    let mut out = [[0.0; 4]; 3 * crate::sky::SKY_TEXELS];
+    for (k, texel) in out.chunks_exact_mut(3).enumerate() {
+        texel[0] = sky.rayleigh[k].extend(0.0).to_array();
+        texel[1] = sky.mie[k].extend(0.0).to_array();
+        texel[2] = sky.multiple[k].extend(0.0).to_array();
+    }
+    out
 }
