@@ -224,17 +224,7 @@ impl Renderer {
             beginning_of_pass_write_index: (!face).then_some(i),
             end_of_pass_write_index: Some(i + 1),
         });
-        let color = |view, load| {
-            [Some(wgpu::RenderPassColorAttachment {
-                view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })]
-        };
+        let color = |view, load| [Some(crate::render::gpu::stored_color(view, load))];
         let clear = wgpu::LoadOp::Clear(wgpu::Color::WHITE);
         let slices = self.cfg.method == crate::render::RenderMethod::Slices;
         // The paper's Background control: a flat colour instead of the sky.

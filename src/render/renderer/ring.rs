@@ -164,15 +164,10 @@ impl Renderer {
         };
         let mut rp = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("impostor face"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            color_attachments: &[Some(crate::render::gpu::stored_color(
                 view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
+                wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+            ))],
             depth_stencil_attachment: None,
             timestamp_writes: begin.map(|(set, i)| wgpu::RenderPassTimestampWrites {
                 query_set: set,
