@@ -18,7 +18,7 @@ struct Frame {
     world_from_clip: mat4x4<f32>,
     camera_pos: vec4<f32>, // xyz: eye (m); w: time (s)
     sun_dir: vec4<f32>,    // xyz: unit vector toward the sun
-    sun_color: vec4<f32>,  // rgb: sun irradiance scale
+    sun_color: vec4<f32>,  // rgb: sun irradiance scale; w: display exposure k (tone_map)
     march: vec4<f32>,      // step (m), max steps, light steps, light step (m)
     cloud: vec4<f32>,      // noise amplitude k, shell (m), extinction (1/m), early-exit T
     noise: vec4<f32>,      // 1/noise scale (1/m), octaves, HG g, noise texels per m of eye distance
@@ -201,7 +201,7 @@ fn haze_color(dir: vec3<f32>) -> vec3<f32> {
 // (ENCODE_SRGB). Keep the curve in sync with benches/pathtraced.py
 // (`tone_map`) and src/export/sidecar.rs (its exposure).
 fn tone_map(c: vec3<f32>) -> vec3<f32> {
-    let t = vec3<f32>(1.0) - exp(-max(c, vec3<f32>(0.0)) * 1.1);
+    let t = vec3<f32>(1.0) - exp(-max(c, vec3<f32>(0.0)) * frame.sun_color.w);
     if ENCODE_SRGB {
         return srgb_encode(t);
     }

@@ -111,10 +111,11 @@ fn bad_render_table_names_the_field() {
     assert!(stderr.contains("render.step_m"), "{stderr}");
 }
 
-/// The display transform of shaders/common.wgsl `tone_map` (exposure curve,
-/// then the sRGB encoding), to compare an EXR with the PNG of one frame.
-fn tone_map(c: f32) -> f32 {
-    let t = 1.0 - (-c.max(0.0) * 1.1).exp();
+/// The display transform of shaders/common.wgsl `tone_map` (exposure curve
+/// with scale `k`, then the sRGB encoding), to compare an EXR with the PNG of
+/// one frame.
+fn tone_map(c: f32, k: f32) -> f32 {
+    let t = 1.0 - (-c.max(0.0) * k).exp();
     if t <= 0.003_130_8 {
         12.92 * t
     } else {
@@ -128,12 +129,14 @@ fn exr_is_the_linear_scene_the_png_tone_maps() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let render = |name: &str| {
+    let render = |name: &str, ev: f32| {
         let out = dir.path().join(name);
         let o = cumulus()
             .args([
                 "render",
                 "--stand-in",
+                "--set",
+                &format!("render.exposure_ev={ev}"),
                 "--width",
                 "80",
                 "--height",
@@ -146,8 +149,11 @@ fn exr_is_the_linear_scene_the_png_tone_maps() {
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         out
     };
-    let exr = image::open(render("frame.exr")).unwrap().to_rgb32f();
-    let png = image::open(render("frame.png")).unwrap().to_rgb8();
+    let exr = image::open(render("frame.exr", 0.0)).unwrap().to_rgb32f();
+    let png = image::open(render("frame.png", 0.0)).unwrap().to_rgb8();
+    // Exposure compensation scales the light before the curve, and only
+    // there: the EXR is the same scene.
+    let dark = image::open(render("dark.png", -1.5)).unwrap().to_rgb8();
     assert_eq!(exr.dimensions(), (80, 56));
     // Linear radiance, not display values: the sunlit cloud tops and the
     // sun's glow exceed 1, which no tone-mapped value does.
@@ -157,15 +163,21 @@ fn exr_is_the_linear_scene_the_png_tone_maps() {
     // 2/255 per channel: the half-float scene target rounds the radiance
     // (11-bit mantissa, ≤ 0.05 % → < 0.3/255 after the curve) and both
     // paths round to 8 bits (≤ 1/255 between them, GPU vs f32 here).
-    let mut worst = 0i32;
-    for (e, p) in exr.pixels().zip(png.pixels()) {
-        for c in 0..3 {
-            let mapped = (tone_map(e[c]) * 255.0).round() as i32;
-            worst = worst.max((mapped - p[c] as i32).abs());
+    let base = cumulus::render::TONE_EXPOSURE;
+    for (png, k, what) in [(&png, base, "EV 0"), (&dark, base * (-1.5f32).exp2(), "EV −1.5")] {
+        let mut worst = 0i32;
+        for (e, p) in exr.pixels().zip(png.pixels()) {
+            for c in 0..3 {
+                let mapped = (tone_map(e[c], k) * 255.0).round() as i32;
+                worst = worst.max((mapped - p[c] as i32).abs());
+            }
         }
+        assert!(
+            worst <= 2,
+            "tone-mapped EXR differs from the {what} PNG by {worst}/255"
+        );
     }
-    assert!(
-        worst <= 2,
-        "tone-mapped EXR differs from the PNG by {worst}/255"
-    );
+    // And it can fail: the EV −1.5 frame is not the EV 0 curve's.
+    let mean = |img: &image::RgbImage| img.pixels().map(|p| p[1] as f64).sum::<f64>();
+    assert!(mean(&dark) < 0.9 * mean(&png), "exposure −1.5 EV did not darken the PNG");
 }

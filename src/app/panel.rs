@@ -462,6 +462,12 @@ fn render_section(ui: &mut egui::Ui, m: &mut Model) -> bool {
             .text("march step (m)"),
     );
     ui.add(egui::Slider::new(&mut r.noise_octaves, 1..=6).text("noise octaves"));
+    ui.add(
+        egui::Slider::new(&mut r.exposure_ev, -4.0..=4.0)
+            .step_by(0.1)
+            .text("exposure (EV)"),
+    )
+    .on_hover_text("exposure compensation of the tone curve, in stops");
     ui.horizontal(|ui| {
         ui.checkbox(&mut r.normals, "normals");
         ui.checkbox(&mut r.shadows, "shadows");

@@ -21,8 +21,6 @@ pub const BACK_LOBE_WEIGHT: f32 = 0.25;
 /// Extra density factor of the light march toward the sun (lighting.wgsl `LIGHT_DENSITY`;
 /// 1: the same medium as the view rays and the path tracer).
 pub const LIGHT_DENSITY: f32 = 1.0;
-/// Exposure of the tone curve 1 − exp(−k·L) (common.wgsl `tone_map`).
-pub const TONE_EXPOSURE: f32 = 1.1;
 
 /// The grid file and what its values mean.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -191,7 +189,7 @@ impl Sidecar {
                             parameters of Bruneton 2017 (src/sky)"
                         .into(),
                 },
-                tone_exposure: TONE_EXPOSURE,
+                tone_exposure: cfg.tone_exposure(),
             },
         }
     }

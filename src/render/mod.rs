@@ -95,6 +95,11 @@ impl Default for TerrainConfig {
     }
 }
 
+/// Scale of linear radiance in the tone curve at `exposure_ev` = 0: a
+/// sunlit fair-weather cloud (L ≈ 2–3) maps near white, the clear sky
+/// (L ≈ 0.4–0.6) to a mid blue. Keep benches/pathtraced.py's default in sync.
+pub const TONE_EXPOSURE: f32 = 1.1;
+
 /// Render settings and feature switches (the `[render]` table).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -153,6 +158,12 @@ pub struct RenderConfig {
     pub early_exit_transmittance: f32,
     /// Henyey–Greenstein asymmetry g of the phase function.
     pub phase_g: f32,
+    /// Exposure compensation of the one display transform, in stops
+    /// (photographic EV: −1 halves the light before the tone curve). 0 keeps
+    /// the curve that the fair-weather scenes and the path-tracer
+    /// comparison use; a scene of big sunlit towers is exposed lower so that
+    /// their tops do not all sit on the curve's shoulder (README).
+    pub exposure_ev: f32,
     /// Sun azimuth, clockwise from +y (north) toward +x (east). units: degrees
     pub sun_azimuth_deg: f32,
     /// Sun elevation above the horizon. units: degrees
@@ -192,6 +203,7 @@ impl Default for RenderConfig {
             extinction_per_m: 0.03,
             early_exit_transmittance: 0.02,
             phase_g: 0.8,
+            exposure_ev: 0.0,
             sun_azimuth_deg: 100.0,
             sun_elevation_deg: 30.0,
             noise_texels: 64,
@@ -212,6 +224,12 @@ pub(crate) fn check(name: &str, value: f32, ok: bool, allowed: &str) -> Result<(
 }
 
 impl RenderConfig {
+    /// Scale of linear radiance in the tone curve 1 − exp(−k·L) (common.wgsl
+    /// `tone_map`): the base exposure times 2^`exposure_ev`.
+    pub fn tone_exposure(&self) -> f32 {
+        TONE_EXPOSURE * self.exposure_ev.exp2()
+    }
+
     /// Checks every field; the error names the field and its allowed range.
     pub fn validate(&self) -> Result<()> {
         let r = self;
@@ -280,6 +298,12 @@ impl RenderConfig {
             r.phase_g,
             r.phase_g > -0.99 && r.phase_g < 0.99,
             "between -0.99 and 0.99",
+        )?;
+        check(
+            "render.exposure_ev",
+            r.exposure_ev,
+            (-8.0..=8.0).contains(&r.exposure_ev),
+            "-8 to 8 stops",
         )?;
         check(
             "render.sun_azimuth_deg",

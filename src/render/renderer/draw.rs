@@ -27,7 +27,7 @@ impl Renderer {
             world_from_clip: clip_from_world.inverse().to_cols_array_2d(),
             camera_pos: input.camera.position.extend(input.time_s).to_array(),
             sun_dir: input.sun.direction.normalize().extend(0.0).to_array(),
-            sun_color: input.sun.color.extend(0.0).to_array(),
+            sun_color: input.sun.color.extend(c.tone_exposure()).to_array(),
             march: [
                 c.step_m,
                 c.max_steps as f32,
