@@ -79,6 +79,9 @@ fn bad_arguments_are_named() {
         (vec!["--every=-1"], "--every"),
         (vec!["--time", "nan"], "--time"),
         (vec!["--normals", "maybe"], "--normals"),
+        // Exposure compensation: finite, within ±8 stops (k = 1.1·2^EV).
+        (vec!["--set", "render.exposure_ev=12"], "render.exposure_ev"),
+        (vec!["--set", "render.exposure_ev=nan"], "render.exposure_ev"),
     ] {
         let o = cumulus()
             .arg("render")
