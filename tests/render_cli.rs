@@ -81,7 +81,10 @@ fn bad_arguments_are_named() {
         (vec!["--normals", "maybe"], "--normals"),
         // Exposure compensation: finite, within ±8 stops (k = 1.1·2^EV).
         (vec!["--set", "render.exposure_ev=12"], "render.exposure_ev"),
-        (vec!["--set", "render.exposure_ev=nan"], "render.exposure_ev"),
+        (
+            vec!["--set", "render.exposure_ev=nan"],
+            "render.exposure_ev",
+        ),
     ] {
         let o = cumulus()
             .arg("render")
@@ -167,7 +170,10 @@ fn exr_is_the_linear_scene_the_png_tone_maps() {
     // (11-bit mantissa, ≤ 0.05 % → < 0.3/255 after the curve) and both
     // paths round to 8 bits (≤ 1/255 between them, GPU vs f32 here).
     let base = cumulus::render::TONE_EXPOSURE;
-    for (png, k, what) in [(&png, base, "EV 0"), (&dark, base * (-1.5f32).exp2(), "EV −1.5")] {
+    for (png, k, what) in [
+        (&png, base, "EV 0"),
+        (&dark, base * (-1.5f32).exp2(), "EV −1.5"),
+    ] {
         let mut worst = 0i32;
         for (e, p) in exr.pixels().zip(png.pixels()) {
             for c in 0..3 {
@@ -182,5 +188,8 @@ fn exr_is_the_linear_scene_the_png_tone_maps() {
     }
     // And it can fail: the EV −1.5 frame is not the EV 0 curve's.
     let mean = |img: &image::RgbImage| img.pixels().map(|p| p[1] as f64).sum::<f64>();
-    assert!(mean(&dark) < 0.9 * mean(&png), "exposure −1.5 EV did not darken the PNG");
+    assert!(
+        mean(&dark) < 0.9 * mean(&png),
+        "exposure −1.5 EV did not darken the PNG"
+    );
 }
