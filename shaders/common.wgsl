@@ -198,8 +198,9 @@ fn haze_color(dir: vec3<f32>) -> vec3<f32> {
 // The one display transform, applied once per frame by tonemap.wgsl to the
 // HDR scene target: a filmic-ish exposure curve to [0, 1), then the exact
 // sRGB encoding when the output format does not encode itself
-// (ENCODE_SRGB). Keep the curve in sync with benches/pathtraced.py
-// (`tone_map`) and src/export/sidecar.rs (its exposure).
+// (ENCODE_SRGB). The exposure k is the frame's (`RenderConfig::tone_exposure`
+// in src/render/mod.rs, also written to the export sidecar); keep the curve
+// in sync with benches/pathtraced.py (`tone_map`).
 fn tone_map(c: vec3<f32>) -> vec3<f32> {
     let t = vec3<f32>(1.0) - exp(-max(c, vec3<f32>(0.0)) * frame.sun_color.w);
     if ENCODE_SRGB {

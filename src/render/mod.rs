@@ -97,7 +97,8 @@ impl Default for TerrainConfig {
 
 /// Scale of linear radiance in the tone curve at `exposure_ev` = 0: a
 /// sunlit fair-weather cloud (L ≈ 2–3) maps near white, the clear sky
-/// (L ≈ 0.4–0.6) to a mid blue. Keep benches/pathtraced.py's default in sync.
+/// (L ≈ 0.4–0.6) to a mid blue. benches/pathtraced.py reads the scene's k
+/// from the export sidecar.
 pub const TONE_EXPOSURE: f32 = 1.1;
 
 /// Render settings and feature switches (the `[render]` table).
