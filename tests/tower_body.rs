@@ -38,8 +38,9 @@ fn scene() -> (Vec<CloudParcel>, RenderConfig, Sun) {
 
 /// The tallest tower: the parcels within `COLUMN_M` horizontally of the
 /// vertical axis (through a parcel's centre) that holds the most parcels.
-/// At 1800 s the densest column holds 38 parcels of radius 95–170 m from
-/// 1.1 to 9.2 km, up to 730 m apart in height, like the physics stacks them.
+/// At 1800 s the densest column holds 88 parcels of radius 100–170 m from
+/// 1.1 to 8.4 km, at most 500 m apart in height (38 up to 730 m apart at
+/// the scene's former emission rate, 60 per km² per hour).
 fn tallest_tower(parcels: &[CloudParcel]) -> Vec<CloudParcel> {
     let xy = |p: &CloudParcel| Vec2::new(p.center_m.x, p.center_m.y);
     let column = |axis: Vec2| {
@@ -55,6 +56,23 @@ fn tallest_tower(parcels: &[CloudParcel]) -> Vec<CloudParcel> {
         .max_by_key(|&a| column(a).len())
         .expect("the scene has condensed parcels at its start");
     column(axis)
+}
+
+/// How many parcels the column holds, their radii and heights, and the
+/// widest vertical gap between neighbours in height (the README's words).
+fn column_summary(tower: &[CloudParcel]) -> String {
+    let mut z: Vec<f32> = tower.iter().map(|p| p.center_m.z).collect();
+    z.sort_by(f32::total_cmp);
+    let gap = z.windows(2).map(|w| w[1] - w[0]).fold(0.0, f32::max);
+    let (r_lo, r_hi) = tower.iter().fold((f32::MAX, f32::MIN), |(lo, hi), p| {
+        (lo.min(p.radius_m), hi.max(p.radius_m))
+    });
+    format!(
+        "{} parcels of radius {r_lo:.0}–{r_hi:.0} m from {:.0} to {:.0} m, widest gap in height {gap:.0} m",
+        tower.len(),
+        z.first().copied().unwrap_or(0.0),
+        z.last().copied().unwrap_or(0.0),
+    )
 }
 
 /// A camera due south of the tower, level with its middle, framing its
@@ -191,9 +209,9 @@ fn the_towering_scene_draws_its_tallest_tower_as_one_body() {
     let tower = tallest_tower(&parcels);
     let v = side_view(&ctx, &cfg, cfg.radius_scale, sun, &tower);
     eprintln!(
-        "radius_scale {}: {} parcels, {} bodies (components {:?}), top {:.3}, base {:.3}",
+        "radius_scale {}: {}, {} bodies (components {:?}), top {:.3}, base {:.3}",
         cfg.radius_scale,
-        tower.len(),
+        column_summary(&tower),
         v.bodies,
         v.components,
         v.top,
