@@ -10,12 +10,13 @@ sweep (and each `--method` the binary offers), and writes
 
   error_vs_pathtraced.csv   setting,time_ms,mean_flip,rmse
   pathtraced.png            the path tracer, tone-mapped like ours
+  pathtraced.exr            its linear radiance (before the tone map)
   ours.png                  cumulus at the default setting
   flip.png                  FLIP error map of ours against pathtraced.png
   side_by_side.png          the three above, left to right
 
 Exposure is matched by construction: the path-traced radiance goes through
-the renderer's own tone curve, display = 1 - exp(-k L) then sRGB, with k from
+the renderer's own tone curve, display = filmic(k L) then sRGB, with k from
 the sidecar; mean FLIP (flip-evaluator, LDR) and RMSE compare the displayed
 sRGB values on 0..1 (ours exists only as 8-bit display values).
 
@@ -143,7 +144,9 @@ def srgb_encode(x):
 
 def tone_map(radiance, exposure):
     """The renderer's display transform (common.wgsl `tone_map`, applied once to the HDR scene)."""
-    return srgb_encode(1.0 - np.exp(-exposure * radiance))
+    x = exposure * np.maximum(radiance, 0.0)
+    # Narkowicz's ACES fit, clamped to [0, 1] (srgb_encode clamps).
+    return srgb_encode(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14))
 
 
 def sky_color(d, sun, sky):
@@ -274,6 +277,12 @@ def load_png(path):
     return a[..., :3] / (255.0 if a.max() > 1.0 else 1.0)
 
 
+def save_exr(path, rgb):
+    import mitsuba as mi
+
+    mi.Bitmap(np.ascontiguousarray(rgb, dtype=np.float32), pixel_format=mi.Bitmap.PixelFormat.RGB).write(path)
+
+
 def save_png(path, rgb01):
     import mitsuba as mi
 
@@ -343,6 +352,7 @@ def main():
     exposure = side["light"]["tone_exposure"]
     pt = tone_map(hdr, exposure)
     save_png(os.path.join(a.out, "pathtraced.png"), pt)
+    save_exr(os.path.join(a.out, "pathtraced.exr"), hdr)
     print(f"path traced {width}x{height}, {spp} spp, {variant}: {pt_ms:.0f} ms", file=sys.stderr)
 
     rows = [("pathtraced", pt_ms, 0.0, 0.0)]

@@ -196,17 +196,30 @@ fn haze_color(dir: vec3<f32>) -> vec3<f32> {
 }
 
 // The one display transform, applied once per frame by tonemap.wgsl to the
-// HDR scene target: a filmic-ish exposure curve to [0, 1), then the exact
-// sRGB encoding when the output format does not encode itself
-// (ENCODE_SRGB). The exposure k is the frame's (`RenderConfig::tone_exposure`
-// in src/render/mod.rs, also written to the export sidecar); keep the curve
-// in sync with benches/pathtraced.py (`tone_map`).
+// HDR scene target: exposure k (`RenderConfig::tone_exposure` in
+// src/render/mod.rs, also written to the export sidecar), then a filmic
+// curve, then the exact sRGB encoding when the output format does not
+// encode itself (ENCODE_SRGB). Keep it in sync with benches/pathtraced.py
+// (`tone_map`) and tests/render_cli.rs.
 fn tone_map(c: vec3<f32>) -> vec3<f32> {
-    let t = vec3<f32>(1.0) - exp(-max(c, vec3<f32>(0.0)) * frame.sun_color.w);
+    let t = filmic(max(c, vec3<f32>(0.0)) * frame.sun_color.w);
     if ENCODE_SRGB {
         return srgb_encode(t);
     }
     return t;
+}
+
+// Narkowicz's 2015 fit of the ACES reference rendering and output
+// transforms, x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14), clamped to
+// [0, 1] (its limit is 2.51/2.43). An S-curve: a toe (slope 0.21 at 0)
+// keeps sunlit ground and the sky's blue from washing out, and a long
+// shoulder (0.80 at x = 1, 0.95 at 3, 1 from 7.2 on) keeps the shading of
+// sunlit cloud domes, which are 4–6× the ground's radiance. The curve
+// 1 − exp(−x) it replaced has no toe: with the ground lit as a Lambertian
+// surface it put the meadows at 0.76 sRGB, and its shoulder flattened
+// every sunlit dome to white.
+fn filmic(x: vec3<f32>) -> vec3<f32> {
+    return clamp(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14), vec3<f32>(0.0), vec3<f32>(1.0));
 }
 
 // The sRGB transfer function (IEC 61966-2-1), linear [0, 1] to encoded.

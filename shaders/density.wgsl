@@ -28,3 +28,47 @@ fn cloud_density(p: vec3<f32>) -> f32 {
 fn coarse_density(p: vec3<f32>) -> f32 {
     return smoothstep(0.0, 1.0, field_value(p));
 }
+
+// Optical depth ∫ρ ds of the parcels alone (no noise; density × m) from p
+// along unit `dir` to the cloud region's (the frame grid's box) edge, at
+// a fixed step `ds` (m), samples at the step centres counted from p. Empty
+// cells (`empty_skip`) are crossed in one jump to the next sample on the
+// same lattice, so the skip leaves out only samples where no density can
+// be. The step is fixed in metres, not a share of the box, so the samples
+// do not move with the box's size.
+const FAR_LIGHT_MAX_STEPS: u32 = 256u;
+
+fn far_depth_along(p: vec3<f32>, dir: vec3<f32>, ds: f32) -> f32 {
+    let box_max = frame.grid_min.xyz + frame.grid_cell.xyz * vec3<f32>(frame.grid_dims.xyz);
+    let span = ray_box(p, dir, frame.grid_min.xyz, box_max);
+    // First sample at or past the box's entry, on the lattice (k + ½)·ds.
+    var k = max(ceil(max(span.x, 0.0) / ds - 0.5), 0.0);
+    var od = 0.0;
+    for (var i = 0u; i < FAR_LIGHT_MAX_STEPS; i++) {
+        let t = (k + 0.5) * ds;
+        if t >= span.y {
+            break;
+        }
+        let q = p + dir * t;
+        let skip = empty_skip(q, dir);
+        if skip > 0.0 {
+            k = max(ceil((t + skip) / ds - 0.5), k + 1.0);
+            continue;
+        }
+        od += coarse_density(q);
+        k += 1.0;
+    }
+    return od * ds;
+}
+
+// The clouds' shadow on the ground, as an optical depth toward the sun
+// from the ground point p: the parcels alone (the noise's detail is finer
+// than a shadow's penumbra seen from afar, and the far light of the
+// clouds themselves leaves it out too) at a step of one plane shell (one
+// voxel of the baked field), by the same routine under both methods, so
+// their ground shadows differ only as their fields do. shadow.wgsl stores
+// it per texel of the shadow map; terrain.wgsl evaluates it per fragment
+// for ground inside the cloud region.
+fn ground_sun_depth(p: vec3<f32>) -> f32 {
+    return far_depth_along(p, frame.sun_dir.xyz, PLANE_SHELL * frame.cloud.y);
+}

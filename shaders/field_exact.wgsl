@@ -12,45 +12,18 @@
 //                           (no density can appear); 0: p may be cloudy.
 
 // The exact method's far light march (the baked method reads a light
-// volume instead): from P along `dir` to the grid box's edge, at a fixed
-// step of one grid cell's shortest side, samples at the step centres
-// counted from P. Empty cells (no parcel listed, `empty_skip`) are crossed
-// in one jump to the next sample on the same lattice, so culling skips
-// only samples where brute force finds no density either. The step is
-// fixed in metres, not a share of the box, so the samples do not move with
-// the box's size. Over the whole cloud height: a tower's top shadows its
-// base and its neighbours, as the baked light volume does.
-const FAR_LIGHT_MAX_STEPS: u32 = 256u;
-
-fn far_depth_along(p: vec3<f32>, dir: vec3<f32>) -> f32 {
-    let box_max = frame.grid_min.xyz + frame.grid_cell.xyz * vec3<f32>(frame.grid_dims.xyz);
-    let span = ray_box(p, dir, frame.grid_min.xyz, box_max);
+// volume instead): far_depth_along (density.wgsl) at a step of one grid
+// cell's shortest side.
+fn far_step() -> f32 {
     let cell = frame.grid_cell.xyz;
-    let ds = min(cell.x, min(cell.y, cell.z));
-    // First sample at or past the box's entry, on the lattice (k + ½)·ds.
-    var k = max(ceil(max(span.x, 0.0) / ds - 0.5), 0.0);
-    var od = 0.0;
-    for (var i = 0u; i < FAR_LIGHT_MAX_STEPS; i++) {
-        let t = (k + 0.5) * ds;
-        if t >= span.y {
-            break;
-        }
-        let q = p + dir * t;
-        let skip = empty_skip(q, dir);
-        if skip > 0.0 {
-            k = max(ceil((t + skip) / ds - 0.5), k + 1.0);
-            continue;
-        }
-        od += coarse_density(q);
-        k += 1.0;
-    }
-    return od * ds;
+    return min(cell.x, min(cell.y, cell.z));
 }
 
 // Optical depths (density × m) of the parcels alone from P to the grid
 // box's edge toward the sun (x) and straight up (y).
 fn far_light_depth(p: vec3<f32>) -> vec2<f32> {
-    return vec2<f32>(far_depth_along(p, frame.sun_dir.xyz), far_depth_along(p, vec3<f32>(0.0, 0.0, 1.0)));
+    let ds = far_step();
+    return vec2<f32>(far_depth_along(p, frame.sun_dir.xyz, ds), far_depth_along(p, vec3<f32>(0.0, 0.0, 1.0), ds));
 }
 
 // Evaluate only the parcels listed in the sample's grid cell (paper §6.2).

@@ -6,8 +6,6 @@
 // so hills (a few hundred metres) under clouds (1–3 km) get the right shadow.
 // Texel row 0 is the rectangle's north edge (max y), like an image.
 
-const SHADOW_STEPS: u32 = 48u;
-
 @vertex
 fn vs_main(@builtin(vertex_index) i: u32) -> FullscreenOut {
     return fullscreen_vertex(i);
@@ -18,17 +16,5 @@ fn fs_main(in: FullscreenOut) -> @location(0) vec4<f32> {
     let r = frame.shadow_rect;
     let uv = vec2<f32>(0.5 + 0.5 * in.ndc.x, 0.5 - 0.5 * in.ndc.y);
     let ground = vec3<f32>(r.x + uv.x * (r.z - r.x), r.w - uv.y * (r.w - r.y), 0.0);
-    let sun = frame.sun_dir.xyz;
-    let grid_max = frame.grid_min.xyz + frame.grid_cell.xyz * vec3<f32>(frame.grid_dims.xyz);
-    let span = ray_box(ground, sun, frame.grid_min.xyz, grid_max);
-    let t0 = max(span.x, 0.0);
-    if span.y <= t0 {
-        return vec4<f32>(1.0);
-    }
-    let ds = (span.y - t0) / f32(SHADOW_STEPS);
-    var od = 0.0;
-    for (var i = 0u; i < SHADOW_STEPS; i++) {
-        od += cloud_density(ground + sun * (t0 + ds * (f32(i) + 0.5)));
-    }
-    return vec4<f32>(exp(-od * ds * frame.cloud.z));
+    return vec4<f32>(exp(-ground_sun_depth(ground) * frame.cloud.z));
 }

@@ -44,9 +44,9 @@ struct SpriteInstance {
 @group(2) @binding(1) var atlas_sampler: sampler;
 @group(2) @binding(2) var<storage, read> sprites: array<SpriteInstance>;
 
-// The artist's colours are display colours: 1.0 reaches 0.89 after
-// output_color's exposure curve (1 − exp(−1.1 · 2)).
-const ARTIST_EXPOSURE: f32 = 2.0;
+// The artist's colours are display colours: 1.0 reaches 0.89 after the
+// tone curve at the base exposure (filmic(0.25 · 6.6), common.wgsl).
+const ARTIST_EXPOSURE: f32 = 6.6;
 
 struct SpriteOut {
     @builtin(position) pos: vec4<f32>,

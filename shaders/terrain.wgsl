@@ -1,17 +1,17 @@
 // Terrain pass: the heightfield mesh (procedural fBm or a heightmap PNG,
-// built on the CPU by src/render/terrain.rs) with depth, lit by the sun
-// (Lambert, darkened by the clouds' transmittance: the light volume for
-// `baked` clouds, the cloud-shadow map for `exact` clouds and for sprites)
-// and the sky, fading into haze.
+// built on the CPU by src/render/terrain.rs) with depth, lit as a
+// Lambertian surface by the sun, darkened by the clouds' transmittance (the
+// cloud-shadow map every method's clouds are marched or splatted into,
+// shadow.wgsl), and by the sky, fading into haze.
 
 // Darken the sun by the clouds (false: no cloud shadows this frame).
 override HAS_SHADOWS: bool = true;
-// Where the clouds' transmittance comes from (both may hold; they
-// multiply): the `baked` method's light volume (field_baked.wgsl, the same
-// optical depth toward the sun that lights the clouds), and the shadow map
-// (shadow.wgsl's `exact` march and the sprites splatted into it).
-override SHADOW_FROM_VOLUME: bool = false;
-override SHADOW_FROM_MAP: bool = true;
+// Ray-marched clouds (`baked`, `exact`): ground inside their region (a
+// hill among the clouds) marches its own sun ray (density.wgsl
+// `ground_sun_depth`, the routine the shadow map's texels run from z = 0),
+// so cloud below it casts no shadow on it. False: the map alone (sprites,
+// slicing planes).
+override SHADOW_IN_REGION: bool = false;
 // The mesh has a water plane (`[render.terrain] water_level_m`), whose
 // vertices have the normal (0, 0, −1) (src/render/terrain.rs WATER_NORMAL).
 override HAS_WATER: bool = false;
@@ -38,38 +38,18 @@ fn vs_main(v: VertexIn) -> VertexOut {
     return o;
 }
 
-// Sun transmittance through the clouds above a terrain point.
+// Sun transmittance through the clouds above a terrain point. Below the
+// cloud region the map's texel holds the same sun ray's optical depth
+// (the ray from the point and from its projection to z = 0 along the sun
+// cross the region alike); inside it the point marches its own.
 fn cloud_shadow(p: vec3<f32>) -> f32 {
     if !HAS_SHADOWS {
         return 1.0;
     }
-    let sun = frame.sun_dir.xyz;
-    var t = 1.0;
-    if SHADOW_FROM_VOLUME {
-        t = volume_shadow(p, sun);
+    if SHADOW_IN_REGION && p.z > frame.grid_min.z {
+        return exp(-ground_sun_depth(p) * frame.cloud.z);
     }
-    if SHADOW_FROM_MAP {
-        t *= map_shadow(p, sun);
-    }
-    return t;
-}
-
-// Transmittance of the baked clouds over p, from the light volume.
-fn volume_shadow(p: vec3<f32>, sun: vec3<f32>) -> f32 {
-    // The light volume holds, at each point of the cloud region, the
-    // optical depth from there to the region's edge toward the sun.
-    // Below the region (hills under the clouds) the point's own sun
-    // ray enters it at the bottom face (or a side): read it there; a
-    // point inside the region (a mountain among the clouds) reads its
-    // own height. Same extinction as the clouds' light (LIGHT_DENSITY
-    // of lighting.wgsl is 1: the same medium).
-    let region_max = frame.grid_min.xyz + frame.grid_cell.xyz * vec3<f32>(frame.grid_dims.xyz);
-    let span = ray_box(p, sun, frame.grid_min.xyz, region_max);
-    let t0 = max(span.x, 0.0);
-    if span.y <= t0 {
-        return 1.0;
-    }
-    return exp(-far_light_depth(p + sun * t0).x * frame.cloud.z);
+    return map_shadow(p, frame.sun_dir.xyz);
 }
 
 // Transmittance over p from the cloud-shadow map.
@@ -83,6 +63,19 @@ fn map_shadow(p: vec3<f32>, sun: vec3<f32>) -> f32 {
     return textureSampleLevel(shadow_tex, clamp_sampler, uv, 0.0).r;
 }
 
+// Radiance of a Lambertian surface of `albedo` with normal n, in the
+// clouds' units: the sun's irradiance is 4π·sun_color (the march's source
+// is sun_color·4π·phase, src/export/sidecar.rs), so the sunlit part is
+// albedo/π · 4π·sun_color·cos = 4·albedo·sun_color·cos, darkened by the
+// clouds' shadow; the sky's part is albedo/π times its irradiance (π·
+// sky_ambient on an up-facing surface, less on a slope that sees less of
+// the sky).
+fn lambert(albedo: vec3<f32>, n: vec3<f32>, shadow: f32) -> vec3<f32> {
+    let sun = frame.sun_dir.xyz;
+    let direct = 4.0 * frame.sun_color.rgb * max(dot(n, sun), 0.0) * shadow;
+    return albedo * (direct + sky_ambient() * (0.6 + 0.4 * n.z));
+}
+
 // A lake's surface: dark water (little light comes back up out of it)
 // that mirrors the sky by Fresnel's law (Schlick, water's reflectance 0.02
 // at normal incidence, all of it at grazing angles), and the sun's glint,
@@ -92,7 +85,7 @@ fn water(p: vec3<f32>) -> vec3<f32> {
     let sun = frame.sun_dir.xyz;
     let fresnel = 0.02 + 0.98 * pow(1.0 - max(v.z, 0.0), 5.0);
     let shadow = cloud_shadow(p);
-    let body = vec3<f32>(0.01, 0.025, 0.03) * (sky_ambient() + frame.sun_color.rgb * max(sun.z, 0.0) * shadow);
+    let body = lambert(vec3<f32>(0.01, 0.025, 0.03), vec3<f32>(0.0, 0.0, 1.0), shadow);
     // Glint: a Blinn–Phong lobe of a slightly rippled surface.
     let h = normalize(v + sun);
     let glint = frame.sun_color.rgb * shadow * 2.0 * pow(max(h.z, 0.0), 600.0);
@@ -103,7 +96,6 @@ fn water(p: vec3<f32>) -> vec3<f32> {
 // Sunlit and sky-lit ground.
 fn ground(in: VertexOut) -> vec3<f32> {
     let n = normalize(in.normal);
-    let sun = frame.sun_dir.xyz;
     // Albedo: meadows and fields on gentle slopes, rock on steep ones,
     // patchy by a large-scale noise lookup: the four packed octaves summed
     // with weights 2^-c (a single octave shows its value-noise lattice), at
@@ -111,13 +103,11 @@ fn ground(in: VertexOut) -> vec3<f32> {
     let octaves = textureSample(noise_tex, repeat_sampler, vec3<f32>(in.world.xy * 1.1e-3, 0.37));
     let patchiness = dot(octaves, vec4<f32>(8.0, 4.0, 2.0, 1.0) / 15.0);
     let fields = smoothstep(0.35, 0.65, patchiness);
-    let meadow = mix(vec3<f32>(0.06, 0.10, 0.035), vec3<f32>(0.13, 0.15, 0.06), fields);
+    let meadow = mix(vec3<f32>(0.06, 0.10, 0.035), vec3<f32>(0.10, 0.13, 0.05), fields);
     let rock = vec3<f32>(0.22, 0.2, 0.18);
     let steep = smoothstep(0.75, 0.55, n.z);
     let albedo = mix(meadow, rock, steep);
-    let direct = frame.sun_color.rgb * max(dot(n, sun), 0.0) * cloud_shadow(in.world);
-    let ambient = sky_ambient() * (0.6 + 0.4 * n.z);
-    return albedo * (direct + ambient);
+    return lambert(albedo, n, cloud_shadow(in.world));
 }
 
 @fragment

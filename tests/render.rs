@@ -276,8 +276,11 @@ fn shadow_pass_darkens_terrain_under_the_cloud() {
         .into_iter()
         .filter(|n| *n != "composite")
         .collect();
-    // The baked method's terrain reads the light volume: no shadow map pass.
-    assert_eq!(names, ["bake", "sky", "terrain", "clouds", "tonemap"]);
+    // The baked method marches its parcels into the shadow map too.
+    assert_eq!(
+        names,
+        ["bake", "shadow", "sky", "terrain", "clouds", "tonemap"]
+    );
 }
 
 #[test]
@@ -314,12 +317,11 @@ fn pruned_scenes_create_fewer_passes() {
     let Some(ctx) = context() else { return };
     let fmt = wgpu::TextureFormat::Rgba8UnormSrgb;
     // The baked method (the default) adds its bake pass before the others;
-    // its terrain reads the shadows from the bake's light volume, so it has
-    // no shadow map pass (the exact method has one).
+    // both methods march their clouds' shadows into the map.
     let full = Renderer::new(&ctx, &RenderConfig::default(), fmt, 64, 48).unwrap();
     assert_eq!(
         full.pass_names(),
-        ["bake", "sky", "terrain", "clouds", "tonemap"]
+        ["bake", "shadow", "sky", "terrain", "clouds", "tonemap"]
     );
     let exact = RenderConfig {
         method: cumulus::render::RenderMethod::Exact,
@@ -366,16 +368,15 @@ fn pruned_scenes_create_fewer_passes() {
         r.pass_names(),
         ["bake", "sky", "terrain", "clouds", "tonemap"]
     );
-    // Shadows on: only the terrain pipeline is built anew (its HAS_SHADOWS
-    // constant changed; under `baked` it reads the light volume, no shadow
-    // map pass); sky and clouds are kept.
+    // Shadows on: only the terrain pipeline (its HAS_SHADOWS constant
+    // changed) and the shadow map's are built anew; sky and clouds are kept.
     let built = r.pipelines_built();
     r.set_config(&ctx, &RenderConfig::default()).unwrap();
     assert_eq!(
         r.pass_names(),
-        ["bake", "sky", "terrain", "clouds", "tonemap"]
+        ["bake", "shadow", "sky", "terrain", "clouds", "tonemap"]
     );
-    assert_eq!(r.pipelines_built(), built + 1);
+    assert_eq!(r.pipelines_built(), built + 2);
     // Normals: only the cloud pipeline changes.
     let normals = RenderConfig {
         normals: true,
@@ -384,14 +385,14 @@ fn pruned_scenes_create_fewer_passes() {
     // Normals: only the cloud pipelines change (fragment and compute, both
     // built while march = "auto" is still measuring).
     r.set_config(&ctx, &normals).unwrap();
-    assert_eq!(r.pipelines_built(), built + 3);
+    assert_eq!(r.pipelines_built(), built + 4);
     // A march parameter is a uniform: nothing is rebuilt.
     let steps = RenderConfig {
         step_m: 80.0,
         ..normals
     };
     r.set_config(&ctx, &steps).unwrap();
-    assert_eq!(r.pipelines_built(), built + 3);
+    assert_eq!(r.pipelines_built(), built + 4);
 }
 
 #[test]
@@ -422,8 +423,12 @@ fn timings_name_every_pass() {
     // Whole frame: at least its longest pass (gaps between passes count too).
     let longest = t.passes.iter().map(|(_, ms)| *ms).fold(0.0, f64::max);
     assert!(t.frame_ms >= longest, "{} < {longest}", t.frame_ms);
-    // Later frames of the same parcels do not bake again.
-    let names: Vec<&str> = names.into_iter().filter(|n| *n != "bake").collect();
+    // Later frames of the same parcels neither bake again nor redraw the
+    // shadow map of the bake.
+    let names: Vec<&str> = names
+        .into_iter()
+        .filter(|n| *n != "bake" && *n != "shadow")
+        .collect();
     // The CPU-clock fallback names the same passes and says so.
     hl.renderer.set_gpu_timestamps(false);
     let (_, t) = hl.render(&ctx, &input).unwrap();
@@ -599,6 +604,6 @@ fn a_target_of_another_size_resizes_the_renderer() {
     });
     let t = r.render(&ctx, &tex.create_view(&Default::default()));
     assert_eq!(r.size(), (80, 40));
-    // bake, sky, terrain, clouds, tonemap
-    assert_eq!(t.passes.len(), 5);
+    // bake, shadow, sky, terrain, clouds, tonemap
+    assert_eq!(t.passes.len(), 6);
 }

@@ -117,11 +117,13 @@ fn bad_render_table_names_the_field() {
     assert!(stderr.contains("render.step_m"), "{stderr}");
 }
 
-/// The display transform of shaders/common.wgsl `tone_map` (exposure curve
-/// with scale `k`, then the sRGB encoding), to compare an EXR with the PNG of
+/// The display transform of shaders/common.wgsl `tone_map` (exposure `k`,
+/// the filmic curve, then the sRGB encoding), to compare an EXR with the PNG of
 /// one frame.
 fn tone_map(c: f32, k: f32) -> f32 {
-    let t = 1.0 - (-c.max(0.0) * k).exp();
+    // Narkowicz's ACES fit, clamped to [0, 1].
+    let x = c.max(0.0) * k;
+    let t = (x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0);
     if t <= 0.003_130_8 {
         12.92 * t
     } else {

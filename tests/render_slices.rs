@@ -209,12 +209,12 @@ fn only_the_slices_method_builds_the_slices_pass() {
     for m in RenderMethod::ALL {
         assert_eq!(Pass::Slices.used_by(m), m == RenderMethod::Slices, "{m}");
         // No ray-march under slices (nor under sprites); the shadow map of
-        // the slices comes from their own implicit field (`baked` terrain
-        // reads its light volume, so only `exact` marches the map too).
+        // the slices comes from their own implicit field, the ray-marching
+        // methods march their parcels into it.
         assert_eq!(Pass::Clouds.used_by(m), m.ray_marches(), "{m}");
         assert_eq!(
             Pass::Shadow.used_by(m),
-            m == RenderMethod::Exact || m == RenderMethod::Slices,
+            m.ray_marches() || m == RenderMethod::Slices,
             "{m}"
         );
     }

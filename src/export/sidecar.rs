@@ -83,7 +83,8 @@ pub struct LightInfo {
     pub sky_ambient_rgb: [f32; 3],
     /// The sky's radiance (common.wgsl `sky_color`).
     pub sky: SkyInfo,
-    /// Display value = 1 − exp(−exposure·L), then sRGB-encoded.
+    /// Display value = filmic(exposure·L) (shaders/common.wgsl `tone_map`:
+    /// Narkowicz's ACES fit, clamped to [0, 1]), then sRGB-encoded.
     pub tone_exposure: f32,
 }
 

@@ -103,9 +103,8 @@ pub struct Features {
     /// Cloud shadows on the terrain (needs terrain and ray-marched clouds,
     /// sprites or slicing planes).
     pub shadows: bool,
-    /// The cloud-shadow map pass: the `exact` clouds' and the slicing
-    /// planes' shadows (and the sprites', splatted in). The `baked`
-    /// method's terrain reads its light volume instead.
+    /// The cloud-shadow map pass: the ray-marched clouds' and the slicing
+    /// planes' shadows (and the sprites', splatted in).
     pub shadow_map: bool,
     /// Finite-difference normals compiled into the cloud shader.
     pub normals: bool,
@@ -127,9 +126,7 @@ impl Features {
             slices,
             terrain,
             shadows: cfg.shadows && (clouds || slices) && terrain,
-            shadow_map: cfg.shadows
-                && terrain
-                && ((clouds && cfg.method == RenderMethod::Exact) || slices),
+            shadow_map: cfg.shadows && terrain && (clouds || slices),
             normals: cfg.normals && clouds,
             temporal: cfg.temporal == Some(true) && clouds,
         }

@@ -95,11 +95,12 @@ impl Default for TerrainConfig {
     }
 }
 
-/// Scale of linear radiance in the tone curve at `exposure_ev` = 0: a
-/// sunlit fair-weather cloud (L ≈ 2–3) maps near white, the clear sky
-/// (L ≈ 0.4–0.6) to a mid blue. benches/pathtraced.py reads the scene's k
-/// from the export sidecar.
-pub const TONE_EXPOSURE: f32 = 1.1;
+/// Scale of linear radiance before the filmic curve (common.wgsl
+/// `tone_map`) at `exposure_ev` = 0: sunlit cloud domes (L ≈ 4–6) map to
+/// 0.90–0.95, the meadows in the sun (Lambertian, L ≈ 0.7–1.2) to about
+/// 0.2 (0.5 sRGB), the clear sky away from the sun (L ≈ 0.6) to a deep
+/// blue. benches/pathtraced.py reads the scene's k from the export sidecar.
+pub const TONE_EXPOSURE: f32 = 0.25;
 
 /// Render settings and feature switches (the `[render]` table).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -225,7 +226,7 @@ pub(crate) fn check(name: &str, value: f32, ok: bool, allowed: &str) -> Result<(
 }
 
 impl RenderConfig {
-    /// Scale of linear radiance in the tone curve 1 − exp(−k·L) (common.wgsl
+    /// Scale k of linear radiance before the filmic tone curve (common.wgsl
     /// `tone_map`): the base exposure times 2^`exposure_ev`.
     pub fn tone_exposure(&self) -> f32 {
         TONE_EXPOSURE * self.exposure_ev.exp2()

@@ -49,8 +49,8 @@ pub struct FrameUniform {
     pub camera_pos: [f32; 4],
     /// xyz: unit vector toward the sun; w: unused.
     pub sun_dir: [f32; 4],
-    /// rgb: sun irradiance scale; w: display exposure k of the tone curve
-    /// 1 − exp(−k·L) (`RenderConfig::tone_exposure`).
+    /// rgb: sun irradiance scale; w: display exposure k, the scale of L
+    /// before the filmic tone curve (`RenderConfig::tone_exposure`).
     pub sun_color: [f32; 4],
     /// step (m), max steps, light steps, light step (m).
     pub march: [f32; 4],

@@ -154,13 +154,13 @@ impl Pass {
     }
 
     fn needs_density(self) -> bool {
-        matches!(self, Pass::Shadow | Pass::Clouds)
+        matches!(self, Pass::Shadow | Pass::Clouds | Pass::Terrain)
     }
 
     /// Whether the pass exists for `method`: the bake only for `baked`;
     /// the cloud march only for the ray-marching methods; the shadow map
-    /// for `exact` (the `baked` terrain reads the light volume) and for
-    /// `slices` (from its implicit field, see field_slices.wgsl); the
+    /// for those (density.wgsl `ground_sun_depth`) and for `slices` (from
+    /// its implicit field, see field_slices.wgsl); the
     /// slicing planes and their vertex-field compute only for `slices`;
     /// the composite for the
     /// compute march and the slices' target; sprites (scene layers) for
@@ -169,7 +169,7 @@ impl Pass {
         let slices = method == RenderMethod::Slices;
         match self {
             Pass::Bake => method == RenderMethod::Baked,
-            Pass::Shadow => method == RenderMethod::Exact || slices,
+            Pass::Shadow => method.ray_marches() || slices,
             Pass::Clouds | Pass::Temporal => method.ray_marches(),
             Pass::Slices | Pass::SliceField => slices,
             Pass::Composite => method.ray_marches() || slices,
@@ -189,11 +189,17 @@ impl Pass {
             Pass::Shadow if exact => &["ENCODE_SRGB", "GRID_CULLING"],
             Pass::Shadow => &["ENCODE_SRGB"],
             Pass::Sky => &["ENCODE_SRGB"],
+            Pass::Terrain if exact => &[
+                "ENCODE_SRGB",
+                "HAS_SHADOWS",
+                "SHADOW_IN_REGION",
+                "HAS_WATER",
+                "GRID_CULLING",
+            ],
             Pass::Terrain => &[
                 "ENCODE_SRGB",
                 "HAS_SHADOWS",
-                "SHADOW_FROM_VOLUME",
-                "SHADOW_FROM_MAP",
+                "SHADOW_IN_REGION",
                 "HAS_WATER",
             ],
             Pass::Sprites => &[
@@ -240,12 +246,6 @@ impl Pass {
         }
         if self == Pass::Clouds {
             s.push_str(LIGHTING_WGSL);
-        }
-        // The terrain reads the baked light volume's sun depth for its
-        // shadows (SHADOW_FROM_VOLUME), or the shadow map under `exact`;
-        // the bindings exist in group 0 under every method.
-        if self == Pass::Terrain {
-            s.push_str(FIELD_BAKED_WGSL);
         }
         s.push_str(self.file());
         s

@@ -92,7 +92,11 @@ impl Renderer {
         }
         let passes: Vec<Pass> = Pass::ALL
             .into_iter()
-            .filter(|p| self.needed(*p) && (*p != Pass::Bake || self.baked.dirty()))
+            .filter(|p| match p {
+                Pass::Bake => self.baked.dirty(),
+                Pass::Shadow => !self.shadow_reusable(),
+                _ => true,
+            } && self.needed(*p))
             .collect();
         let names: Vec<&'static str> = passes.iter().map(|p| p.name()).collect();
         let mode = self.timing_mode();
@@ -285,8 +289,9 @@ impl Renderer {
                 self.draw_sprites(&mut rp, pipeline);
             }
             Pass::Shadow => {
-                // The march of the `exact` clouds, or of the slices'
-                // implicit field (group 2, see field_slices.wgsl).
+                self.shadow_fresh = true;
+                // The march of the ray-marched clouds' parcels, or of the
+                // slices' implicit field (group 2, see field_slices.wgsl).
                 match (pipeline.is_some(), slices) {
                     (true, false) => rp.draw(0..3, 0..1),
                     (true, true) => {

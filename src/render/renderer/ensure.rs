@@ -63,6 +63,7 @@ impl Renderer {
                     wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
                 );
                 self.shadow_view = Some((shadow_n, tex.create_view(&Default::default())));
+                self.shadow_fresh = false;
                 self.bind_terrain = None;
             }
         } else if self.shadow_view.take().is_some() {

@@ -2,7 +2,7 @@
 //! method's cloud field ([`crate::render::raymarch`]) and the pipelines,
 //! and draws a frame into any texture view (window surface or offscreen).
 //! Pass order: bake (baked method, only when the parcels moved) → shadow
-//! map → sky → terrain → sprites → clouds (fragment, or compute +
+//! map (under `baked` also only then) → sky → terrain → sprites → clouds (fragment, or compute +
 //! composite), or, for the `slices` method, slicing planes into the float
 //! cloud target + composite ([`crate::render::slices`]) → tonemap. Sky,
 //! terrain and clouds write linear radiance into one HDR scene target
@@ -88,6 +88,9 @@ pub struct Renderer {
     depth_view: Option<wgpu::TextureView>,
     dummy_depth_view: wgpu::TextureView,
     shadow_view: Option<(u32, wgpu::TextureView)>,
+    /// The shadow map holds the `baked` clouds of the last bake under the
+    /// current settings (see [`Renderer::shadow_reusable`]).
+    shadow_fresh: bool,
     white_view: wgpu::TextureView,
     terrain: Option<TerrainGpu>,
 
@@ -280,6 +283,7 @@ impl Renderer {
             timestamps,
             timing: TimingMode::GpuBlocking,
             always_bake: false,
+            shadow_fresh: false,
             cloud_target: None,
             dummy_cloud_depth_view,
             bind_sprites: None,
@@ -348,7 +352,8 @@ impl Renderer {
     }
 
     /// Names of the passes that exist for the current features, in
-    /// execution order (the bake runs only in frames whose parcels moved).
+    /// execution order (the bake, and under `baked` the shadow map, run
+    /// only in frames whose parcels or sun moved).
     pub fn pass_names(&self) -> Vec<&'static str> {
         Pass::ALL
             .into_iter()
@@ -423,6 +428,7 @@ impl Renderer {
             self.rebind_common(ctx);
         }
         self.cfg = cfg.clone();
+        self.shadow_fresh = false;
         self.features = self.features_for(self.any_clouds, self.features.sprites);
         // Another march (step, noise, light…) gives other images: the
         // temporal history starts again.

@@ -21,17 +21,21 @@ impl Renderer {
         f
     }
 
-    /// Whether the shadow pass marches a field into the map: the `exact`
-    /// clouds or the slicing planes' implicit field (the `baked` terrain
-    /// reads the light volume for its clouds instead).
+    /// Whether the shadow pass marches a field into the map: the
+    /// ray-marched clouds' parcels or the slicing planes' implicit field.
     pub(super) fn map_marches(&self, f: Features) -> bool {
-        (f.clouds && self.cfg.method == RenderMethod::Exact) || f.slices
+        f.clouds || f.slices
     }
 
-    /// Whether the terrain reads the ray-marched clouds' shadows from the
-    /// baked light volume.
-    pub(super) fn volume_shadows(&self) -> bool {
-        self.features.clouds && self.cfg.method == RenderMethod::Baked
+    /// Whether this frame may keep the shadow map of an earlier one: the
+    /// `baked` clouds were not re-baked since it was drawn (the bake runs
+    /// when the parcels, the shell or the sun moved) and no sprite splats
+    /// into it. A paused scene then neither bakes nor marches its shadows.
+    pub(super) fn shadow_reusable(&self) -> bool {
+        self.shadow_fresh
+            && self.cfg.method == RenderMethod::Baked
+            && !self.features.sprites
+            && !self.baked.dirty()
     }
 
     /// Whether sprites and ray-marched clouds both draw: the march then
@@ -86,8 +90,7 @@ impl Renderer {
             | Pass::Temporal => vec![],
             Pass::Terrain => vec![
                 ("HAS_SHADOWS", b(f.shadows)),
-                ("SHADOW_FROM_VOLUME", b(f.shadows && self.volume_shadows())),
-                ("SHADOW_FROM_MAP", b(f.shadow_map)),
+                ("SHADOW_IN_REGION", b(f.shadows && f.clouds)),
                 ("HAS_WATER", b(self.cfg.terrain.water_level_m.is_some())),
             ],
             Pass::Sprites => vec![
@@ -97,7 +100,7 @@ impl Renderer {
             Pass::Clouds => vec![("USE_NORMALS", b(f.normals)), ("HAS_TERRAIN", b(f.terrain))],
             Pass::Slices => vec![("HAS_TERRAIN", b(f.terrain))],
         };
-        if exact && matches!(pass, Pass::Shadow | Pass::Clouds) {
+        if exact && matches!(pass, Pass::Shadow | Pass::Clouds | Pass::Terrain) {
             c.push(("GRID_CULLING", b(self.cfg.grid_culling)));
         }
         c
