@@ -7,9 +7,11 @@
 //! [`BAKE_BLOCK`]³ voxels) lets the march skip empty space. A light volume,
 //! its own 3D texture ([`LIGHT_FORMAT`]) with one texel per coarse cell,
 //! holds the optical depth of the parcels toward the sun and straight up
-//! over the region's whole height (bake.wgsl `light`); the march and the
-//! terrain's ground shadows sample it with the filtering sampler, so a
-//! sample's shadowing and sky visibility cost one hardware-trilinear fetch.
+//! over the region's whole height (bake.wgsl `light`); the march samples it
+//! with the filtering sampler, so a sample's shadowing and sky visibility
+//! cost one hardware-trilinear fetch. (The ground's shadows march the baked
+//! field itself, density.wgsl `ground_sun_depth`: the volume's coarse cells
+//! widened them by about a cell.)
 //! The bake runs only when the parcels, the shell or the sun changed since
 //! the last one: a paused scene never re-bakes.
 //!
