@@ -2,7 +2,9 @@
 // ground plane z = 0, the rectangle whose sun rays can meet the cloud grid's
 // box (frame.shadow_rect, from src/render/renderer.rs), march toward the sun
 // through the cloud layer's box and store the sun's transmittance
-// exp(−∫σ ds). The terrain looks it up where its own sun ray meets z = 0,
+// exp(−∫σ ds): `ground_sun_depth`, the ray-marching methods' one routine
+// (density.wgsl, the parcels of their field) or the slices' implicit field
+// (field_slices.wgsl). The terrain looks it up where its own sun ray meets z = 0,
 // so hills (a few hundred metres) under clouds (1–3 km) get the right shadow.
 // Texel row 0 is the rectangle's north edge (max y), like an image.
 
