@@ -95,9 +95,8 @@ fn a_tall_cloud_lit_from_above_has_a_dark_base() {
     // darker (a factor of about 3 to 20 in luminance), so base/top must lie
     // between 0.05 and 0.35: above, the tower does not shadow its own base
     // (a light march that stops short of the top); below, the base gets
-    // neither sky nor multiply scattered light. Measured 0.254 (llvmpipe;
-    // 0.201 before the ground's Lambertian light reached the base, 0.166
-    // while the ground was lit 4× too dark; 0.112 before the
+    // neither sky nor multiply scattered light. Measured 0.201 (llvmpipe;
+    // 0.166 while the ground was lit 4× too dark; 0.112 before the
     // atmosphere model's sky and the 0.8/−0.3 phase).
     assert!(
         (0.05..=0.35).contains(&ratio),

@@ -26,7 +26,7 @@ use glam::Vec3;
 /// shade with a sun march over the whole cloud height (the light volume;
 /// exact's grid-culled far march) and march their ground shadows by the
 /// same routine (density.wgsl `ground_sun_depth`): measured 0.012 (towers)
-/// and 0.013 (mixed) on llvmpipe with the filmic tone curve and the
+/// and 0.015 (mixed) on llvmpipe with the filmic tone curve and the
 /// Lambertian ground. With the ground shadows from the light volume (baked)
 /// against the map (exact) the towers measured 0.025: the volume's coarse
 /// cells widened every shadow by about a cell.
