@@ -3,8 +3,9 @@
 //! and draws a frame into any texture view (window surface or offscreen).
 //! Pass order: bake (baked method, only when the parcels moved) → shadow
 //! map (under `baked` also only then) → sky → terrain → sprites → clouds
-//! (fragment, or compute + composite), or, for the `slices` method, slicing planes into the float
-//! cloud target + composite ([`crate::render::slices`]) → tonemap. Sky,
+//! (fragment, or compute + composite), or, for the `slices` method,
+//! slicing planes into the float cloud target + composite
+//! ([`crate::render::slices`]) → tonemap. Sky,
 //! terrain and clouds write linear radiance into one HDR scene target
 //! ([`SCENE_FORMAT`]) and composite there in linear light; the tone-map
 //! pass alone writes the output (window surface or headless texture, the
