@@ -85,12 +85,14 @@ def find_cumulus(given):
 
 
 def scene_text(base_scene, overrides, terrain):
-    """The scene TOML with `[render]` keys replaced by `overrides` and the
-    terrain switched on or off."""
+    """The scene TOML with `[render]` keys replaced by `overrides`, the
+    terrain switched on or off, and no aerial perspective: Mitsuba's scene
+    has no air between the eye and the clouds (only the sky's radiance at
+    infinity), so ours leaves it out too."""
     with open(base_scene, encoding="utf-8") as f:
         lines = f.read().splitlines()
     out, table = [], None
-    extra = dict(overrides)
+    extra = {"aerial_perspective": "false", **overrides}
     for line in lines:
         m = re.match(r"^\s*\[([^\]]+)\]\s*$", line)
         if m:

@@ -146,14 +146,16 @@ fn march(pix: vec2<f32>, ndc: vec2<f32>, jitter: f32) -> MarchOut {
     if first_hit < 0.0 {
         return out;
     }
-    // Aerial perspective, as on the terrain.
-    let haze = 1.0 - exp(-first_hit / 60000.0);
-    radiance = mix(radiance, haze_color(rd) * (1.0 - trans), haze);
+    // Σ w = 1 − T exactly (the weights telescope).
+    out.depth = depth_sum / max(1.0 - trans, 1e-6);
+    // The air between the eye and the cloud (air.wgsl), as on the terrain,
+    // up to the opacity-weighted depth where the cloud's light comes from
+    // (smooth across the cloud, unlike its faint first sample); what lies
+    // behind the cloud has its own.
+    radiance = through_air(radiance, 1.0 - trans, rd, out.depth);
     // Premultiplied linear radiance, blended in linear light over the
     // sky/terrain in the HDR scene target (tone-mapped once, at the end).
     out.color = vec4<f32>(output_color(radiance), 1.0 - trans);
-    // Σ w = 1 − T exactly (the weights telescope).
-    out.depth = depth_sum / max(1.0 - trans, 1e-6);
     return out;
 }
 

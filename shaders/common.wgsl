@@ -2,7 +2,8 @@
 //
 // Keep in sync with src/render/pack.rs (FrameUniform, GpuParcel,
 // ParcelsUniform, GridUniform). The array sizes MAX_PARCELS,
-// GRID_CELL_PAIRS, GRID_ENTRY_QUADS, SKY_AZIMUTHS and SKY_ELEVATIONS are prepended by
+// GRID_CELL_PAIRS, GRID_ENTRY_QUADS, SKY_AZIMUTHS, SKY_ELEVATIONS, AIR_HEIGHTS,
+// AIR_TOP_M and AIR_STEPS are prepended by
 // src/render/shaders.rs from the Rust constants, so they cannot drift.
 // naga has no #include: src/render/shaders.rs concatenates
 // prelude + common.wgsl (+ density.wgsl) + the pass file.
@@ -12,7 +13,7 @@
 // Encode sRGB in the tone-map pass (its target format is not sRGB).
 override ENCODE_SRGB: bool = false;
 
-// 304 + 48·SKY_AZIMUTHS·SKY_ELEVATIONS bytes; keep in sync with FrameUniform in src/render/pack.rs.
+// 304 + 48·SKY_AZIMUTHS·SKY_ELEVATIONS + 64·AIR_HEIGHTS bytes; keep in sync with FrameUniform in src/render/pack.rs.
 struct Frame {
     clip_from_world: mat4x4<f32>,
     world_from_clip: mat4x4<f32>,
@@ -30,6 +31,10 @@ struct Frame {
     // Sky-view table of src/sky/view.rs, texel k = elevation·SKY_AZIMUTHS + azimuth:
     // [3k] Rayleigh per unit phase, [3k + 1] Mie per unit phase, [3k + 2] multiple (rgb).
     sky_view: array<vec4<f32>, 3u * SKY_AZIMUTHS * SKY_ELEVATIONS>,
+    // Air table of src/sky/air.rs, node k at height AIR_TOP_M·(k/(AIR_HEIGHTS−1))²:
+    // [4k] Rayleigh per unit phase, [4k + 1] Mie per unit phase, [4k + 2] multiple
+    // (scattered per metre), [4k + 3] extinction (1/m) (rgb); read by air.wgsl.
+    air: array<vec4<f32>, 4u * AIR_HEIGHTS>,
 }
 
 // 32 bytes; keep in sync with GpuParcel in src/render/pack.rs.
@@ -188,11 +193,6 @@ fn sky_color(dir: vec3<f32>) -> vec3<f32> {
 // the same sky (src/sky/view.rs).
 fn sky_ambient() -> vec3<f32> {
     return frame.sky_ambient.rgb;
-}
-
-// Colour of the haze that distant objects fade into.
-fn haze_color(dir: vec3<f32>) -> vec3<f32> {
-    return sky_color(normalize(vec3<f32>(dir.xy, 0.02)));
 }
 
 // The one display transform, applied once per frame by tonemap.wgsl to the

@@ -4,7 +4,7 @@
 // locked corners, colour levels × time-of-day ambient + biased directional
 // sun, × formation alpha) and sorted back to front. The fragment multiplies
 // the atlas texel in (eq. 3), hides what lies behind the terrain depth,
-// fades into the haze like the ray-marched clouds and writes premultiplied
+// is seen through the air like the ray-marched clouds and writes premultiplied
 // colour, blended with (ONE, ONE_MINUS_SRC_ALPHA) as the cloud pass does.
 // Depth against ray-marched clouds in the same frame: the march runs first
 // and leaves its cloud depth per pixel (clouds.wgsl, the opacity-weighted
@@ -138,9 +138,10 @@ fn fs_main(in: SpriteOut) -> @location(0) vec4<f32> {
     if alpha < 1e-3 {
         discard;
     }
-    var rgb = in.color.rgb * tex.rgb * ARTIST_EXPOSURE;
-    // Aerial perspective, as on the ray-marched clouds and the terrain.
-    let haze = 1.0 - exp(-length(to_eye) / 60000.0);
-    rgb = mix(rgb, haze_color(normalize(to_eye)), haze);
-    return vec4<f32>(output_color(rgb) * alpha, alpha);
+    let rgb = in.color.rgb * tex.rgb * ARTIST_EXPOSURE;
+    // The air between the eye and the sprite (air.wgsl), as on the
+    // ray-marched clouds and the terrain.
+    let dist = length(to_eye);
+    let seen = through_air(rgb * alpha, alpha, to_eye / max(dist, 1e-3), dist);
+    return vec4<f32>(output_color(seen), alpha);
 }

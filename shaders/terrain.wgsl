@@ -2,7 +2,7 @@
 // built on the CPU by src/render/terrain.rs) with depth, lit as a
 // Lambertian surface by the sun, darkened by the clouds' transmittance (the
 // cloud-shadow map every method's clouds are marched or splatted into,
-// shadow.wgsl), and by the sky, fading into haze.
+// shadow.wgsl), and by the sky, seen through the air (air.wgsl).
 
 // Darken the sun by the clouds (false: no cloud shadows this frame).
 override HAS_SHADOWS: bool = true;
@@ -118,10 +118,9 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     if HAS_WATER && in.normal.z < 0.0 {
         c = water(in.world);
     }
-    // Aerial perspective: fade into haze over ~60 km.
-    let to_eye = in.world - frame.camera_pos.xyz;
-    let dist = length(to_eye);
-    let haze = 1.0 - exp(-dist / 60000.0);
-    c = mix(c, haze_color(to_eye / dist), haze);
+    // The air between the eye and the ground (air.wgsl).
+    let from_eye = in.world - frame.camera_pos.xyz;
+    let dist = length(from_eye);
+    c = through_air(c, 1.0, from_eye / dist, dist);
     return vec4<f32>(output_color(c), 1.0);
 }

@@ -119,6 +119,11 @@ pub struct RenderConfig {
     pub clouds: bool,
     /// Cloud shadows on the terrain (needs terrain and clouds).
     pub shadows: bool,
+    /// Aerial perspective: the air between the eye and the terrain,
+    /// clouds and sprites dims them and adds its own light, from the sky's
+    /// atmosphere model (src/sky/air.rs). Off only for comparisons with
+    /// renderers that have no air (benches/pathtraced.py).
+    pub aerial_perspective: bool,
     /// Finite-difference normals of the density for extra shading (paper
     /// "with FDM normals"; slower).
     pub normals: bool,
@@ -190,6 +195,7 @@ impl Default for RenderConfig {
             march: MarchPath::default(),
             clouds: true,
             shadows: true,
+            aerial_perspective: true,
             normals: false,
             temporal: None,
             grid_culling: true,

@@ -21,7 +21,7 @@ use glam::Vec3;
 
 use crate::error::{Error, Result};
 use crate::physics::CloudParcel;
-use crate::sky::SKY_TEXELS;
+use crate::sky::{AIR_HEIGHTS, SKY_TEXELS};
 
 /// Most condensed parcels one frame can draw (uniform array length; the
 /// physics emits at most `emission.max_parcels`, 1024 by default).
@@ -75,6 +75,11 @@ pub struct FrameUniform {
     /// radiance per unit phase, [3k + 1] Mie per unit phase, [3k + 2]
     /// multiple-scattered (rgb; w unused).
     pub sky_view: [[f32; 4]; 3 * SKY_TEXELS],
+    /// The air table (src/sky/air.rs `AirTable`), four vec4 per height
+    /// node k: [4k] Rayleigh scattered per metre per unit phase, [4k + 1]
+    /// Mie per unit phase, [4k + 2] multiple, [4k + 3] extinction (1/m)
+    /// (rgb; w unused).
+    pub air: [[f32; 4]; 4 * AIR_HEIGHTS],
 }
 
 /// One parcel. Keep in sync with `struct Parcel` in shaders/common.wgsl.
@@ -104,7 +109,8 @@ pub struct GridUniform {
     pub entries: [[u32; 4]; MAX_GRID_ENTRIES / 4],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniform>() == 304 + 48 * SKY_TEXELS);
+const _: () =
+    assert!(std::mem::size_of::<FrameUniform>() == 304 + 48 * SKY_TEXELS + 64 * AIR_HEIGHTS);
 const _: () = assert!(std::mem::size_of::<GpuParcel>() == 32);
 const _: () = assert!(std::mem::size_of::<ParcelsUniform>() == 32 * MAX_PARCELS);
 const _: () =

@@ -4,16 +4,19 @@
 //! evaluate clouds, `parcel.wgsl` (the parcel part of eq. 18), the macro
 //! field of the render method (`field_exact.wgsl` or `field_baked.wgsl`,
 //! same functions), `density.wgsl` and, for the cloud pass, `lighting.wgsl`;
-//! then the pass's own file. Variants are WGSL `override` constants set at
+//! `air.wgsl` for the passes that draw objects (aerial perspective); then
+//! the pass's own file. Variants are WGSL `override` constants set at
 //! pipeline creation, so code that a scene does not need (normals, shadow
 //! lookups, brute-force loops) is removed then.
 
 use crate::render::method::RenderMethod;
 use crate::render::pack::{MAX_GRID_CELLS, MAX_GRID_ENTRIES, MAX_PARCELS};
-use crate::sky::{SKY_AZIMUTHS, SKY_ELEVATIONS};
+use crate::sky::{AIR_HEIGHTS, AIR_STEPS, AIR_TOP_M, SKY_AZIMUTHS, SKY_ELEVATIONS};
 
 /// Shared uniforms, camera, noise, sun and sky.
 pub const COMMON_WGSL: &str = include_str!("../../shaders/common.wgsl");
+/// Aerial perspective (the passes that draw objects: terrain, clouds, sprites).
+pub const AIR_WGSL: &str = include_str!("../../shaders/air.wgsl");
 /// One parcel's part of eq. 18 (exact field and bake).
 pub const PARCEL_WGSL: &str = include_str!("../../shaders/parcel.wgsl");
 /// Macro field of the `exact` method (per-sample union from the grid lists).
@@ -55,6 +58,7 @@ pub const FIELD_SLICES_WGSL: &str = include_str!("../../shaders/field_slices.wgs
 /// Every file in `shaders/`, by name (the shader test checks none is missing).
 pub const FILES: &[(&str, &str)] = &[
     ("common.wgsl", COMMON_WGSL),
+    ("air.wgsl", AIR_WGSL),
     ("parcel.wgsl", PARCEL_WGSL),
     ("field_exact.wgsl", FIELD_EXACT_WGSL),
     ("field_baked.wgsl", FIELD_BAKED_WGSL),
@@ -153,6 +157,11 @@ impl Pass {
         }
     }
 
+    /// Whether the pass draws objects seen through the air (air.wgsl).
+    fn sees_air(self) -> bool {
+        matches!(self, Pass::Terrain | Pass::Clouds | Pass::Sprites)
+    }
+
     fn needs_density(self) -> bool {
         matches!(self, Pass::Shadow | Pass::Clouds | Pass::Terrain)
     }
@@ -191,6 +200,7 @@ impl Pass {
             Pass::Sky => &["ENCODE_SRGB"],
             Pass::Terrain if exact => &[
                 "ENCODE_SRGB",
+                "AERIAL_PERSPECTIVE",
                 "HAS_SHADOWS",
                 "SHADOW_IN_REGION",
                 "HAS_WATER",
@@ -198,19 +208,32 @@ impl Pass {
             ],
             Pass::Terrain => &[
                 "ENCODE_SRGB",
+                "AERIAL_PERSPECTIVE",
                 "HAS_SHADOWS",
                 "SHADOW_IN_REGION",
                 "HAS_WATER",
             ],
             Pass::Sprites => &[
                 "ENCODE_SRGB",
+                "AERIAL_PERSPECTIVE",
                 "HAS_TERRAIN",
                 "IMPOSTOR_QUAD",
                 "CLOUD_DEPTH",
                 "SHADOW_SPLAT",
             ],
-            Pass::Clouds if exact => &["ENCODE_SRGB", "GRID_CULLING", "USE_NORMALS", "HAS_TERRAIN"],
-            Pass::Clouds => &["ENCODE_SRGB", "USE_NORMALS", "HAS_TERRAIN"],
+            Pass::Clouds if exact => &[
+                "ENCODE_SRGB",
+                "GRID_CULLING",
+                "USE_NORMALS",
+                "AERIAL_PERSPECTIVE",
+                "HAS_TERRAIN",
+            ],
+            Pass::Clouds => &[
+                "ENCODE_SRGB",
+                "USE_NORMALS",
+                "AERIAL_PERSPECTIVE",
+                "HAS_TERRAIN",
+            ],
             Pass::Slices => &["ENCODE_SRGB", "HAS_TERRAIN"],
         }
     }
@@ -247,6 +270,9 @@ impl Pass {
         if self == Pass::Clouds {
             s.push_str(LIGHTING_WGSL);
         }
+        if self.sees_air() {
+            s.push_str(AIR_WGSL);
+        }
         s.push_str(self.file());
         s
     }
@@ -260,7 +286,10 @@ pub fn prelude() -> String {
          const GRID_CELL_PAIRS: u32 = {}u;\n\
          const GRID_ENTRY_QUADS: u32 = {}u;\n\
          const SKY_AZIMUTHS: u32 = {SKY_AZIMUTHS}u;\n\
-         const SKY_ELEVATIONS: u32 = {SKY_ELEVATIONS}u;\n\n",
+         const SKY_ELEVATIONS: u32 = {SKY_ELEVATIONS}u;\n\
+         const AIR_HEIGHTS: u32 = {AIR_HEIGHTS}u;\n\
+         const AIR_TOP_M: f32 = {AIR_TOP_M:.1};\n\
+         const AIR_STEPS: u32 = {AIR_STEPS}u;\n\n",
         MAX_GRID_CELLS / 2,
         MAX_GRID_ENTRIES / 4
     )

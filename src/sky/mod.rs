@@ -21,15 +21,19 @@
 //!   sun moves, [`view`].
 //!
 //! The first two depend only on the atmosphere and are built once
-//! ([`SkyLuts::new`]); the third is cheap. Not modelled: the sun's spectrum
+//! ([`SkyLuts::new`]); the third is cheap. With the sky view comes the air
+//! table of the aerial perspective ([`air`]): the same source term over
+//! height, for what the air adds between the eye and a hill or a cloud. Not modelled: the sun's spectrum
 //! (the sun above the air is white), the ground's single-scattered
 //! reflection in the sky view (the terrain is drawn by the renderer).
 
+mod air;
 mod luts;
 mod view;
 
 use glam::DVec3;
 
+pub use air::{AIR_HEIGHTS, AIR_STEPS, AIR_TOP_M, Air, AirTable, ray_height_m};
 pub use luts::{
     MULTIPLE_SCATTERING_SIZE, MultipleScatteringLut, SkyLuts, TRANSMITTANCE_SIZE, TransmittanceLut,
 };
@@ -234,22 +238,41 @@ impl Atmosphere {
         to_sun: impl Fn(f64, f64) -> DVec3,
         psi: impl Fn(f64, f64) -> DVec3,
     ) -> [DVec3; 3] {
-        let origin = DVec3::new(0.0, 0.0, self.ground_radius_m + EYE_HEIGHT_M);
-        let Some(length) = self.distance_to_top(origin.z, view.z) else {
+        let r = self.ground_radius_m + EYE_HEIGHT_M;
+        let Some(length) = self.distance_to_top(r, view.z) else {
             return [DVec3::ZERO; 3];
         };
+        let (light, _) =
+            self.scattered_segment(EYE_HEIGHT_M, view, length, VIEW_STEPS, sun, to_sun, psi);
+        light
+    }
+
+    /// Light scattered toward an eye at height `eye_m` along unit `view`
+    /// by the air of the first `length_m` of the ray (parts as in
+    /// [`Self::scattered_along`]), and that stretch's transmittance;
+    /// `steps` samples, the Earth's curvature exact.
+    #[allow(clippy::too_many_arguments)]
+    fn scattered_segment(
+        &self,
+        eye_m: f64,
+        view: DVec3,
+        length_m: f64,
+        steps: u32,
+        sun: DVec3,
+        to_sun: impl Fn(f64, f64) -> DVec3,
+        psi: impl Fn(f64, f64) -> DVec3,
+    ) -> ([DVec3; 3], DVec3) {
+        let origin = DVec3::new(0.0, 0.0, self.ground_radius_m + eye_m);
         let mut out = [DVec3::ZERO; 3];
-        self.march(origin, view, length, VIEW_STEPS, |p, medium, dt, seen| {
+        self.march(origin, view, length_m, steps, |p, medium, dt, seen| {
             let r = p.length();
-            let mu_sun = p.dot(sun) / r;
-            let (rayleigh, mie) = (medium.rayleigh, medium.mie);
-            let w = seen * dt;
-            let lit = to_sun(r, mu_sun) * w;
-            out[0] += rayleigh * lit;
-            out[1] += mie * lit;
-            out[2] += (rayleigh + mie) * psi(r, mu_sun) * w;
+            let source = medium.source(r, p.dot(sun) / r, &to_sun, &psi);
+            for (o, s) in out.iter_mut().zip(source) {
+                *o += s * seen * dt;
+            }
         });
-        out
+        let depth = self.column(origin.z, view.z, length_m, steps);
+        (out, (-depth).exp())
     }
 }
 
@@ -260,6 +283,29 @@ struct Medium {
     rayleigh: DVec3,
     /// Mie scattering.
     mie: DVec3,
+}
+
+impl Medium {
+    /// What this air scatters per metre toward any direction, per unit
+    /// irradiance of a sun at cosine `mu_sun` to the vertical at radius
+    /// `r_m`: [Rayleigh, Mie] per unit phase (the sun's transmittance
+    /// `to_sun(r, mu)` times the scattering) and the multiple-scattered
+    /// part (the scattering times Ψ_ms, `psi(r, mu)`, isotropic). The one
+    /// source term of the sky view and of the aerial perspective.
+    fn source(
+        &self,
+        r_m: f64,
+        mu_sun: f64,
+        to_sun: impl Fn(f64, f64) -> DVec3,
+        psi: impl Fn(f64, f64) -> DVec3,
+    ) -> [DVec3; 3] {
+        let lit = to_sun(r_m, mu_sun);
+        [
+            self.rayleigh * lit,
+            self.mie * lit,
+            (self.rayleigh + self.mie) * psi(r_m, mu_sun),
+        ]
+    }
 }
 
 /// Height of the eye above the ground for the sky (1 m: on the ground).

@@ -14,7 +14,7 @@
 
 use glam::{DVec3, Vec3};
 
-use super::{Atmosphere, SUN_ABOVE_AIR, SkyLuts};
+use super::{AirTable, Atmosphere, SUN_ABOVE_AIR, SkyLuts};
 
 /// Azimuths of the sky-view table, 0 to π from the sun (12° apart).
 /// Keep in sync with the WGSL prelude (src/render/shaders.rs).
@@ -42,6 +42,8 @@ pub struct SkyLight {
     pub ambient: Vec3,
     /// Asymmetry of the Mie phase.
     pub mie_g: f32,
+    /// The air over height, for the aerial perspective (src/sky/air.rs).
+    pub air: AirTable,
 }
 
 /// Direction of texel (azimuth `a`, elevation `e`), azimuth from +y.
@@ -68,6 +70,7 @@ impl SkyLuts {
             multiple: [Vec3::ZERO; SKY_TEXELS],
             ambient: Vec3::ZERO,
             mie_g: a.mie_g as f32,
+            air: self.air_table(sun.z, scale),
         };
         for e in 0..SKY_ELEVATIONS {
             for az in 0..SKY_AZIMUTHS {

@@ -52,6 +52,7 @@ impl Renderer {
             shadow_rect: self.shadow_rect(input.sun.direction),
             sky_ambient: input.sun.sky.ambient.extend(input.sun.sky.mie_g).to_array(),
             sky_view: sky_view(&input.sun.sky),
+            air: air_table(&input.sun.sky.air),
         }
     }
 
@@ -366,6 +367,18 @@ fn sky_view(sky: &crate::sky::SkyLight) -> [[f32; 4]; 3 * crate::sky::SKY_TEXELS
         texel[0] = sky.rayleigh[k].extend(0.0).to_array();
         texel[1] = sky.mie[k].extend(0.0).to_array();
         texel[2] = sky.multiple[k].extend(0.0).to_array();
+    }
+    out
+}
+
+/// The air table as the frame uniform lays it out (`air` in
+/// src/render/pack.rs).
+fn air_table(air: &crate::sky::AirTable) -> [[f32; 4]; 4 * crate::sky::AIR_HEIGHTS] {
+    let mut out = [[0.0; 4]; 4 * crate::sky::AIR_HEIGHTS];
+    for (node, parts) in out.chunks_exact_mut(4).zip(&air.nodes) {
+        for (o, p) in node.iter_mut().zip(parts) {
+            *o = p.extend(0.0).to_array();
+        }
     }
     out
 }

@@ -100,6 +100,9 @@ impl Renderer {
             Pass::Clouds => vec![("USE_NORMALS", b(f.normals)), ("HAS_TERRAIN", b(f.terrain))],
             Pass::Slices => vec![("HAS_TERRAIN", b(f.terrain))],
         };
+        if matches!(pass, Pass::Terrain | Pass::Clouds | Pass::Sprites) {
+            c.push(("AERIAL_PERSPECTIVE", b(self.cfg.aerial_perspective)));
+        }
         if exact && matches!(pass, Pass::Shadow | Pass::Clouds | Pass::Terrain) {
             c.push(("GRID_CULLING", b(self.cfg.grid_culling)));
         }
