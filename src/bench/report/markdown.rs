@@ -407,13 +407,14 @@ fn pathtraced_md(rows: Option<&[PathTracedRow]>) -> String {
     s.push_str(
         "From error_vs_pathtraced.csv (benches/pathtraced.py): the same frame exported with \
          `cumulus export` and path-traced with Mitsuba 3 `volpath` (multiple scattering, our \
-         phase function, sun and sky, terrain off in both), shown through our tone curve; our \
-         renders at each setting against it (mean FLIP, RMSE of display sRGB on 0..1). Our \
-         picture differs by design where the real-time lighting approximates light transport: \
-         multiple scattering by three octaves instead of all paths, a constant sky ambient \
-         instead of the sky's light, a 2.5× denser medium toward the sun, the clouds \
-         tone-mapped before they are blended over the sky; and the grid's voxels smooth \
-         the finest noise octave. Second panel of error_vs_runtime.png.\n\n\
+         phase function, sun and sky, terrain and aerial perspective off in both: Mitsuba's \
+         scene has no ground and no air), shown through our tone curve; our renders at each \
+         setting against it (mean FLIP, RMSE of display sRGB on 0..1). Our picture differs \
+         by design where the real-time lighting approximates light transport: the multiply \
+         scattered sun as a two-stream diffusion term with a fitted gain and powder instead \
+         of all paths, the skylight as the sky's irradiance shaded by one look up through \
+         the light volume, a short light march with growing steps; and the baked voxels \
+         smooth the finest noise octave. Second panel of error_vs_runtime.png.\n\n\
          | setting | time ms | mean FLIP | RMSE |\n|---|---|---|---|\n",
     );
     for r in rows {
@@ -436,7 +437,11 @@ pub fn scaling_targets(rows: &[ScalingRow]) -> String {
             .find(|r| r.method == "baked" && r.parcels == n)
             .map(|r| r.frame_ms)
     };
-    let mut s = String::from("Targets (baked, ratios within this run):\n");
+    let mut s = format!(
+        "Targets (baked, ratios within this run; each frame the median of {} rounds taken \
+         in turn over the counts):\n",
+        crate::bench::perf::BAKED_ROUNDS
+    );
     for (n, goal) in [(1024, 1.5), (4096, 2.0)] {
         let line = match frame(n).zip(frame(85)) {
             Some((a, b)) => {
