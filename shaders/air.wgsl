@@ -8,7 +8,8 @@
 // integrated exactly (a homogeneous slab). Far hills fade toward the
 // horizon sky's colour, blue at noon, red-grey at a low sun. CPU twin:
 // SkyLight::aerial in src/sky/air.rs (keep in sync).
-// Included by the passes that draw objects (terrain, clouds, sprites).
+// Included by the passes that draw objects (terrain, clouds, sprites,
+// slices).
 
 // Off (`[render] aerial_perspective = false`): objects keep their own
 // light; this code is removed at pipeline creation.
@@ -54,12 +55,25 @@ fn aerial_perspective(dir: vec3<f32>, dist: f32) -> Air {
     return air;
 }
 
+// Premultiplied radiance `c` of coverage `alpha` (1: opaque) seen through
+// `air`: its own light dimmed, the air's added where it covers.
+fn seen_through(air: Air, c: vec3<f32>, alpha: f32) -> vec3<f32> {
+    return c * air.transmittance + air.light * alpha;
+}
+
+// What `aerial_perspective` gives, or clear air when it is off.
+fn air_toward(dir: vec3<f32>, dist: f32) -> Air {
+    if AERIAL_PERSPECTIVE {
+        return aerial_perspective(dir, dist);
+    }
+    return Air(vec3<f32>(0.0), vec3<f32>(1.0));
+}
+
 // Premultiplied radiance `c` of coverage `alpha` (1: opaque) at `dist` (m)
 // along unit `dir`, as the eye sees it through the air.
 fn through_air(c: vec3<f32>, alpha: f32, dir: vec3<f32>, dist: f32) -> vec3<f32> {
     if !AERIAL_PERSPECTIVE {
         return c;
     }
-    let air = aerial_perspective(dir, dist);
-    return c * air.transmittance + air.light * alpha;
+    return seen_through(aerial_perspective(dir, dist), c, alpha);
 }

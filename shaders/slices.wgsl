@@ -17,7 +17,8 @@
 //              exp(−shadow) (the shadow is an optical depth toward the sun).
 // Plane opacity and shadow come scaled for a cloudscape (one stack of
 // planes over many clouds): see CloudscapeScale in src/render/slices/mod.rs.
-// Output is premultiplied, through output_color() like every pass.
+// Seen through the air per vertex (air.wgsl). Output is premultiplied,
+// through output_color() like every pass.
 
 // Read the terrain depth (false: no terrain pass, nothing hides the planes).
 override HAS_TERRAIN: bool = true;
@@ -38,6 +39,10 @@ struct SliceOut {
     @location(0) world: vec3<f32>,
     @location(1) density: f32,
     @location(2) shadow: f32,
+    // The air between the eye and the vertex (air.wgsl), interpolated: it
+    // changes over kilometres, the planes' vertices over a few hundred metres.
+    @location(3) air_light: vec3<f32>,
+    @location(4) air_transmittance: vec3<f32>,
 }
 
 @vertex
@@ -47,6 +52,11 @@ fn vs_main(v: SliceIn) -> SliceOut {
     o.world = v.position_m;
     o.density = v.density;
     o.shadow = v.shadow;
+    let from_eye = v.position_m - frame.camera_pos.xyz;
+    let dist = length(from_eye);
+    let air = air_toward(from_eye / max(dist, 1e-3), dist);
+    o.air_light = air.light;
+    o.air_transmittance = air.transmittance;
     return o;
 }
 
@@ -67,5 +77,6 @@ fn fs_main(in: SliceOut) -> @location(0) vec4<f32> {
     let lit = exp(-in.shadow * params.opacity.w);
     let c = mix(params.shadow_colour.rgb, params.cloud_colour.rgb, lit)
         * frame.sun_color.rgb * params.opacity.z;
-    return vec4<f32>(output_color(c) * alpha, alpha);
+    let seen = seen_through(Air(in.air_light, in.air_transmittance), c * alpha, alpha);
+    return vec4<f32>(output_color(seen), alpha);
 }

@@ -15,7 +15,8 @@ use crate::sky::{AIR_HEIGHTS, AIR_STEPS, AIR_TOP_M, SKY_AZIMUTHS, SKY_ELEVATIONS
 
 /// Shared uniforms, camera, noise, sun and sky.
 pub const COMMON_WGSL: &str = include_str!("../../shaders/common.wgsl");
-/// Aerial perspective (the passes that draw objects: terrain, clouds, sprites).
+/// Aerial perspective (the passes that draw objects: terrain, clouds,
+/// sprites, slices).
 pub const AIR_WGSL: &str = include_str!("../../shaders/air.wgsl");
 /// One parcel's part of eq. 18 (exact field and bake).
 pub const PARCEL_WGSL: &str = include_str!("../../shaders/parcel.wgsl");
@@ -159,7 +160,10 @@ impl Pass {
 
     /// Whether the pass draws objects seen through the air (air.wgsl).
     fn sees_air(self) -> bool {
-        matches!(self, Pass::Terrain | Pass::Clouds | Pass::Sprites)
+        matches!(
+            self,
+            Pass::Terrain | Pass::Clouds | Pass::Sprites | Pass::Slices
+        )
     }
 
     fn needs_density(self) -> bool {
@@ -234,7 +238,7 @@ impl Pass {
                 "AERIAL_PERSPECTIVE",
                 "HAS_TERRAIN",
             ],
-            Pass::Slices => &["ENCODE_SRGB", "HAS_TERRAIN"],
+            Pass::Slices => &["ENCODE_SRGB", "AERIAL_PERSPECTIVE", "HAS_TERRAIN"],
         }
     }
 
@@ -249,6 +253,9 @@ impl Pass {
             s.push_str(IMPLICIT_WGSL);
             if self == Pass::Shadow {
                 s.push_str(FIELD_SLICES_WGSL);
+            }
+            if self.sees_air() {
+                s.push_str(AIR_WGSL);
             }
             s.push_str(self.file());
             return s;

@@ -100,7 +100,10 @@ impl Renderer {
             Pass::Clouds => vec![("USE_NORMALS", b(f.normals)), ("HAS_TERRAIN", b(f.terrain))],
             Pass::Slices => vec![("HAS_TERRAIN", b(f.terrain))],
         };
-        if matches!(pass, Pass::Terrain | Pass::Clouds | Pass::Sprites) {
+        if matches!(
+            pass,
+            Pass::Terrain | Pass::Clouds | Pass::Sprites | Pass::Slices
+        ) {
             c.push(("AERIAL_PERSPECTIVE", b(self.cfg.aerial_perspective)));
         }
         if exact && matches!(pass, Pass::Shadow | Pass::Clouds | Pass::Terrain) {
