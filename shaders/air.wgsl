@@ -13,6 +13,12 @@
 
 // Off (`[render] aerial_perspective = false`): objects keep their own
 // light; this code is removed at pipeline creation.
+//
+// Every pass that includes this file defines `air_sunlit(p) -> f32`: the
+// share of the sun's light that reaches the air at p past the clouds (the
+// terrain reads its cloud-shadow map, so air under an overcast or a cloud
+// shadow scatters no sunlight; the other passes have no map and return 1).
+// The multiply scattered part is left as it is.
 override AERIAL_PERSPECTIVE: bool = true;
 
 // Radius of the Earth (the sky model's). units: m
@@ -46,7 +52,8 @@ fn aerial_perspective(dir: vec3<f32>, dist: f32) -> Air {
         // Height above the ground, to second order in t/R (< 10 m off at 200 km).
         let h = eye + dir.z * t + t * t * (1.0 - dir.z * dir.z) / (2.0 * (AIR_EARTH_RADIUS_M + eye));
         let x = sqrt(clamp(h / AIR_TOP_M, 0.0, 1.0)) * f32(AIR_HEIGHTS - 1u);
-        let source = air_part(x, 0u) * pr + air_part(x, 1u) * pm + air_part(x, 2u);
+        let sunlit = air_sunlit(frame.camera_pos.xyz + dir * t);
+        let source = (air_part(x, 0u) * pr + air_part(x, 1u) * pm) * sunlit + air_part(x, 2u);
         let ext = air_part(x, 3u);
         let step = exp(-ext * dt);
         air.light += air.transmittance * source * (1.0 - step) / max(ext, vec3<f32>(1e-12));

@@ -224,3 +224,8 @@ fn cs_temporal(@builtin(global_invocation_id) gid: vec3<u32>) {
     textureStore(cloud_out, gid.xy, m.color);
     textureStore(cloud_depth_out, gid.xy, vec4<f32>(m.depth, 0.0, 0.0, 0.0));
 }
+
+// The air's share of the sun (air.wgsl): no cloud-shadow map in this pass.
+fn air_sunlit(p: vec3<f32>) -> f32 {
+    return 1.0;
+}

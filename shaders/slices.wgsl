@@ -80,3 +80,8 @@ fn fs_main(in: SliceOut) -> @location(0) vec4<f32> {
     let seen = seen_through(Air(in.air_light, in.air_transmittance), c * alpha, alpha);
     return vec4<f32>(output_color(seen), alpha);
 }
+
+// The air's share of the sun (air.wgsl): no cloud-shadow map in this pass.
+fn air_sunlit(p: vec3<f32>) -> f32 {
+    return 1.0;
+}

@@ -145,3 +145,8 @@ fn fs_main(in: SpriteOut) -> @location(0) vec4<f32> {
     let seen = through_air(rgb * alpha, alpha, to_eye / max(dist, 1e-3), dist);
     return vec4<f32>(output_color(seen), alpha);
 }
+
+// The air's share of the sun (air.wgsl): no cloud-shadow map in this pass.
+fn air_sunlit(p: vec3<f32>) -> f32 {
+    return 1.0;
+}

@@ -52,6 +52,16 @@ fn cloud_shadow(p: vec3<f32>) -> f32 {
     return map_shadow(p, frame.sun_dir.xyz);
 }
 
+// The air's share of the sun (air.wgsl): the clouds shadow it like the
+// ground below it (the map), except within the ray-marched clouds' region
+// and above it, where it counts as sunlit.
+fn air_sunlit(p: vec3<f32>) -> f32 {
+    if !HAS_SHADOWS || (SHADOW_IN_REGION && p.z > frame.grid_min.z) {
+        return 1.0;
+    }
+    return map_shadow(p, frame.sun_dir.xyz);
+}
+
 // Transmittance over p from the cloud-shadow map.
 fn map_shadow(p: vec3<f32>, sun: vec3<f32>) -> f32 {
     let g = p.xy - p.z * sun.xy / max(sun.z, 0.03);

@@ -199,3 +199,29 @@ fn terrain_pass_applies_the_air_of_the_cpu_twin() {
     // formula otherwise.
     assert!(worst < 0.01, "terrain vs CPU twin: {worst:.4}");
 }
+
+#[test]
+fn air_in_a_cloud_shadow_scatters_no_sunlight() {
+    let luts = earth();
+    let sun = direction(40.0, 0.0).as_vec3();
+    let sky = luts.sky_light(40f64.to_radians(), 1.0);
+    let dir = direction(0.0, 60.0).as_vec3();
+    let lit = sky.aerial(2.0, dir, 20_000.0, sun);
+    let shaded = sky.aerial_shadowed(2.0, dir, 20_000.0, sun, |_| 0.0);
+    // Half the path in shadow: between the two.
+    let half = sky.aerial_shadowed(2.0, dir, 20_000.0, sun, |t| f32::from(t > 10_000.0));
+    // The air's own transmittance does not change with the light in it.
+    assert_eq!(lit.transmittance, shaded.transmittance);
+    // In full shadow only the multiply scattered light is left: a
+    // fraction of the sunlit air's, more of it in blue (Ψ_ms is bluest).
+    let share = shaded.light / lit.light;
+    eprintln!(
+        "shadowed/sunlit air light {share}; half {}",
+        half.light / lit.light
+    );
+    assert!(
+        share.cmpgt(Vec3::ZERO).all() && share.cmplt(Vec3::splat(0.6)).all(),
+        "{share}"
+    );
+    assert!(half.light.cmpgt(shaded.light).all() && half.light.cmplt(lit.light).all());
+}

@@ -16,7 +16,10 @@
 //! (shaders/air.wgsl `aerial_perspective`, CPU twin [`SkyLight::aerial`]),
 //! each step's medium constant and integrated exactly (the in-scattering of
 //! a homogeneous slab), the ray's height following the Earth's curve.
-//! tests/aerial.rs holds it against direct integration of the sky model.
+//! The clouds' shadow reaches the air where a pass has the cloud-shadow
+//! map (the terrain): shadowed air scatters no sunlight, only its share of
+//! the multiply scattered light. tests/aerial.rs holds it against direct
+//! integration of the sky model.
 
 use glam::{DVec3, Vec3};
 
@@ -136,6 +139,21 @@ impl SkyLight {
     /// height `eye_m`, the sun toward unit `sun`: the CPU twin of
     /// `aerial_perspective` in shaders/air.wgsl (keep in sync).
     pub fn aerial(&self, eye_m: f32, dir: Vec3, dist_m: f32, sun: Vec3) -> Air {
+        self.aerial_shadowed(eye_m, dir, dist_m, sun, |_| 1.0)
+    }
+
+    /// [`SkyLight::aerial`] with the clouds' shadow in the air:
+    /// `sunlit(t)` is the share of the sun's light reaching the air `t`
+    /// metres from the eye (`air_sunlit` in shaders/air.wgsl); it scales
+    /// the single-scattered parts.
+    pub fn aerial_shadowed(
+        &self,
+        eye_m: f32,
+        dir: Vec3,
+        dist_m: f32,
+        sun: Vec3,
+        sunlit: impl Fn(f32) -> f32,
+    ) -> Air {
         let mu = dir.dot(sun);
         let (pr, pm) = (rayleigh_phase(mu), mie_phase(mu, self.mie_g));
         let dt = dist_m / AIR_STEPS as f32;
@@ -145,9 +163,9 @@ impl SkyLight {
             transmittance: Vec3::ONE,
         };
         for i in 0..AIR_STEPS {
-            let h = ray_height_m(eye, dir.z, (i as f32 + 0.5) * dt);
-            let [r, m, ms, ext] = self.air.at(h);
-            let source = r * pr + m * pm + ms;
+            let t = (i as f32 + 0.5) * dt;
+            let [r, m, ms, ext] = self.air.at(ray_height_m(eye, dir.z, t));
+            let source = (r * pr + m * pm) * sunlit(t) + ms;
             let step = (-ext * dt).exp();
             // A homogeneous slab: ∫₀^dt σ_s e^{−σ_t s} ds = σ_s (1 − e^{−σ_t dt}) / σ_t.
             air.light +=
