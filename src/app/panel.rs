@@ -482,6 +482,10 @@ fn render_section(ui: &mut egui::Ui, m: &mut Model) -> bool {
             r.temporal = Some(temporal);
         }
     });
+    ui.checkbox(&mut r.aerial_perspective, "aerial perspective")
+        .on_hover_text(
+            "the air between the eye and the ground and clouds (the sky's atmosphere model)",
+        );
     if ui.button("Reset view").clicked() {
         m.camera = m.default_camera;
     }
