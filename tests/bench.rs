@@ -165,7 +165,8 @@ fn check_outputs(dir: &Path) {
     }
 
     let (h, rows) = read_csv(&dir.join("pruning.csv"));
-    assert_eq!(rows.len(), 4);
+    // all, then terrain, shadows, normals and the aerial perspective left out.
+    assert_eq!(rows.len(), 5);
     check_positive("pruning.csv", &h, &rows, "frame_ms");
 
     // methods.csv: exactly these columns, one row per case; FLIP against

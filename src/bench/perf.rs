@@ -237,7 +237,8 @@ pub fn scaling(
 /// One row of the pruning table.
 #[derive(Debug, Clone)]
 pub struct PruningRow {
-    /// "all" or "no terrain" / "no shadows" / "no normals".
+    /// "all" or "no terrain" / "no shadows" / "no normals" / "no aerial
+    /// perspective".
     pub variant: &'static str,
     /// Passes that ran, space-separated.
     pub passes: String,
@@ -247,8 +248,9 @@ pub struct PruningRow {
     pub frames: usize,
 }
 
-/// A scene with terrain, shadows and normals against the same scene with
-/// each left out (leaving out the terrain also leaves out its shadows).
+/// A scene with terrain, shadows, normals and the aerial perspective
+/// against the same scene with each left out (leaving out the terrain also
+/// leaves out its shadows).
 pub fn pruning(
     ctx: &GpuContext,
     size: (u32, u32),
@@ -258,7 +260,7 @@ pub fn pruning(
     mut tick: impl FnMut(&str),
 ) -> Result<Vec<PruningRow>> {
     let all = variant_config(true, true, method);
-    let variants: [(&'static str, RenderConfig); 4] = [
+    let variants: [(&'static str, RenderConfig); 5] = [
         ("all", all.clone()),
         (
             "no terrain",
@@ -281,6 +283,13 @@ pub fn pruning(
             "no normals",
             RenderConfig {
                 normals: false,
+                ..all.clone()
+            },
+        ),
+        (
+            "no aerial perspective",
+            RenderConfig {
+                aerial_perspective: false,
                 ..all.clone()
             },
         ),
