@@ -44,6 +44,11 @@ ROOT = os.path.dirname(HERE)
 # Growth of the light-march steps (shaders/lighting.wgsl LIGHT_GROWTH).
 LIGHT_GROWTH = 1.6
 
+# Albedo of the `--ground` plane: the mean of the terrain's meadow (0.06,
+# 0.10, 0.035) and field (0.10, 0.13, 0.05) albedos (shaders/terrain.wgsl
+# `ground`), which its noise mixes about half and half.
+GROUND_ALBEDO = [0.08, 0.115, 0.0425]
+
 
 def sweep_settings(scene_path):
     """The error sweep's settings as `[render]` overrides of the scene: the
@@ -86,13 +91,18 @@ def find_cumulus(given):
 
 def scene_text(base_scene, overrides, terrain):
     """The scene TOML with `[render]` keys replaced by `overrides`, the
-    terrain switched on or off, and no aerial perspective: Mitsuba's scene
-    has no air between the eye and the clouds (only the sky's radiance at
-    infinity), so ours leaves it out too."""
+    terrain switched on or off ("flat": on, flat at z = 0, no lake), and no
+    aerial perspective: Mitsuba's scene has no air between the eye and the
+    clouds (only the sky's radiance at infinity), so ours leaves it out too."""
     with open(base_scene, encoding="utf-8") as f:
         lines = f.read().splitlines()
     out, table = [], None
     extra = {"aerial_perspective": "false", **overrides}
+    ground = {"enabled": str(bool(terrain)).lower()}
+    if terrain == "flat":
+        ground["height_scale_m"] = "0.0"
+    dropped = set(ground) | ({"water_level_m"} if terrain == "flat" else set())
+    ground_lines = "".join(f"\n{k} = {v}" for k, v in ground.items())
     for line in lines:
         m = re.match(r"^\s*\[([^\]]+)\]\s*$", line)
         if m:
@@ -104,14 +114,14 @@ def scene_text(base_scene, overrides, terrain):
         key = line.split("=")[0].strip() if "=" in line else None
         if table == "render" and key in extra:
             continue
-        if table == "render.terrain" and key == "enabled":
+        if table == "render.terrain" and key in dropped:
             continue
         out.append(line)
     text = "\n".join(out) + "\n"
     if "[render.terrain]" in text:
-        text = text.replace("[render.terrain]", f"[render.terrain]\nenabled = {str(terrain).lower()}", 1)
+        text = text.replace("[render.terrain]", "[render.terrain]" + ground_lines, 1)
     else:
-        text += f"\n[render.terrain]\nenabled = {str(terrain).lower()}\n"
+        text += "\n[render.terrain]" + ground_lines + "\n"
     return text
 
 
@@ -200,7 +210,7 @@ def sky_envmap(sun, sky, width=512):
     return sky_color(world, np.asarray(sun), sky).astype(np.float32)
 
 
-def path_trace(side, vol_path, size, spp, variant, max_depth):
+def path_trace(side, vol_path, size, spp, variant, max_depth, ground_extent=None):
     import mitsuba as mi
 
     mi.set_variant(variant)
@@ -261,8 +271,31 @@ def path_trace(side, vol_path, size, spp, variant, max_depth):
             "interior": medium,
         },
     }
+    if ground_extent:
+        # The flat terrain: a Lambertian square at z = 0, as large as ours.
+        half = ground_extent / 2.0
+        scene["ground"] = {
+            "type": "rectangle",
+            "to_world": T().scale([half, half, 1.0]),
+            "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": GROUND_ALBEDO}},
+        }
     img = mi.render(mi.load_dict(scene))
     return np.array(img, dtype=np.float64)[..., :3]
+
+
+def above_horizon(cam, size):
+    """Pixels (height, width) whose camera ray points above the horizon."""
+    w, h = size
+    pos, tgt, up = (np.asarray(cam[k], dtype=float) for k in ("position_m", "target_m", "up"))
+    f = (tgt - pos) / np.linalg.norm(tgt - pos)
+    r = np.cross(f, up)
+    r /= np.linalg.norm(r)
+    u = np.cross(r, f)
+    t = math.tan(math.radians(cam["vfov_deg"]) / 2.0)
+    y = (1.0 - 2.0 * (np.arange(h) + 0.5) / h) * t
+    x = (2.0 * (np.arange(w) + 0.5) / w - 1.0) * t * w / h
+    dz = f[2] + x[None, :] * r[2] + y[:, None] * u[2]
+    return dz > 0.0
 
 
 def flip(ref, test):
@@ -307,6 +340,13 @@ def main():
     ap.add_argument("--max-depth", type=int, default=256, help="most scattering events per path")
     ap.add_argument("--variant", help="Mitsuba variant (default: scalar_rgb with --quick, else cuda_ad_rgb if it loads, else scalar_rgb)")
     ap.add_argument("--settings", default="all", help="'all' or 'default' (only the default setting)")
+    ap.add_argument(
+        "--ground",
+        action="store_true",
+        help="a flat Lambertian ground on both sides (Mitsuba: a square of the terrain's extent and "
+        "GROUND_ALBEDO at z = 0; ours: the terrain flat), so both light the cloud bases from the same "
+        "lower hemisphere; the errors are then taken over the pixels above the horizon only",
+    )
     a = ap.parse_args()
 
     import mitsuba as mi
@@ -335,7 +375,8 @@ def main():
     os.makedirs(a.out, exist_ok=True)
 
     common = ["--time", str(a.time)] + (["--stand-in"] if a.stand_in else [])
-    base = scene_text(a.scene, {}, terrain=False)
+    terrain = "flat" if a.ground else False
+    base = scene_text(a.scene, {}, terrain=terrain)
     scene_path = os.path.join(a.out, "scene.toml")
     with open(scene_path, "w", encoding="utf-8") as f:
         f.write(base)
@@ -349,7 +390,16 @@ def main():
         side = json.load(f)
 
     t0 = time.time()
-    hdr = path_trace(side, vol, (width, height), spp, variant, a.max_depth)
+    extent = None
+    if a.ground:
+        import tomllib
+
+        with open(a.scene, "rb") as f:
+            extent = tomllib.load(f).get("render", {}).get("terrain", {}).get("extent_m", 40000.0)
+    hdr = path_trace(side, vol, (width, height), spp, variant, a.max_depth, extent)
+    # Where the error is taken: everywhere, or above the horizon with a ground
+    # (the two grounds' textures differ; the clouds are above it).
+    sky = above_horizon(side["camera"], (width, height)) if a.ground else np.ones((height, width), bool)
     pt_ms = (time.time() - t0) * 1e3
     exposure = side["light"]["tone_exposure"]
     pt = tone_map(hdr, exposure)
@@ -365,14 +415,18 @@ def main():
             label = name if method is None else f"{name} method={method}"
             path = os.path.join(a.out, "scene_" + re.sub(r"[^a-z0-9_.=-]", "_", label) + ".toml")
             with open(path, "w", encoding="utf-8") as f:
-                f.write(scene_text(a.scene, overrides, terrain=False))
+                f.write(scene_text(a.scene, overrides, terrain=terrain))
             png = path[:-5] + ".png"
             cmd = [cumulus, "render", path, "--width", str(width), "--height", str(height), "--out", png]
             cmd += common + ([] if method is None else ["--method", method])
             ms = frame_ms(run(cmd))
             ours = load_png(png)
+            # Outside the measured pixels ours takes the path tracer's values
+            # (no error there); the mean is over the measured pixels.
+            ours = np.where(sky[..., None], ours, pt)
             err_map, mean = flip(pt, ours)
-            rmse = float(np.sqrt(np.mean((ours - pt) ** 2)))
+            mean *= sky.size / max(int(sky.sum()), 1)
+            rmse = float(np.sqrt(np.mean(((ours - pt) ** 2)[sky])))
             rows.append((label, ms, mean, rmse))
             print(f"{label}: {ms:.1f} ms, mean FLIP {mean:.4f}, RMSE {rmse:.4f}", file=sys.stderr)
             if name == "default" and (method is None or len(rows) == 2):
