@@ -195,6 +195,26 @@ fn sky_ambient() -> vec3<f32> {
     return frame.sky_ambient.rgb;
 }
 
+// Radiance of a Lambertian surface of `albedo` with normal n, in the
+// clouds' units: the sun's irradiance is 4π·sun_color (the march's source
+// is sun_color·4π·phase, src/export/sidecar.rs), so the sunlit part is
+// albedo/π · 4π·sun_color·cos = 4·albedo·sun_color·cos, darkened by the
+// clouds' shadow; the sky's part is albedo/π times its irradiance (π·
+// sky_ambient on an up-facing surface, less on a slope that sees less of
+// the sky).
+fn lambert(albedo: vec3<f32>, n: vec3<f32>, shadow: f32) -> vec3<f32> {
+    let sun = frame.sun_dir.xyz;
+    let direct = 4.0 * frame.sun_color.rgb * max(dot(n, sun), 0.0) * shadow;
+    return albedo * (direct + sky_ambient() * (0.6 + 0.4 * n.z));
+}
+
+// Albedo of the ground's meadows and of its fields, which terrain.wgsl
+// mixes by a large-scale noise (about half and half); the clouds' ground
+// bounce (lighting.wgsl) sees their mean. Green grass and crops reflect
+// 0.05–0.15 of visible light, most in green.
+const MEADOW_ALBEDO: vec3<f32> = vec3<f32>(0.06, 0.10, 0.035);
+const FIELD_ALBEDO: vec3<f32> = vec3<f32>(0.10, 0.13, 0.05);
+
 // The one display transform, applied once per frame by tonemap.wgsl to the
 // HDR scene target: exposure k (`RenderConfig::tone_exposure` in
 // src/render/mod.rs, also written to the export sidecar), then a filmic

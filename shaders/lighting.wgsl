@@ -5,8 +5,9 @@
 // scattered once with a two-lobe Henyey–Greenstein phase and many times
 // with a diffusion-like falloff (`sun_scattering`); plus sky
 // ambient shaded by the light volume's look upward and, with the multiple scattering,
-// darkened toward the sample's condensation plane (the flat base); plus a
-// little ground bounce. Kept apart from the march (clouds.wgsl) so that a
+// darkened toward the sample's condensation plane (the flat base); plus the
+// sunlit ground's light from below, at the base. Kept apart from the march
+// (clouds.wgsl) so that a
 // lighting model (e.g. a light volume) can replace it: the march calls only
 // `ray_lighting` and `sample_source`.
 
@@ -153,7 +154,21 @@ fn ray_lighting(rd: vec3<f32>) -> RayLight {
     var l: RayLight;
     l.phase_weights = sun_phase_weights(dot(rd, frame.sun_dir.xyz));
     l.sky_base = 0.8 * sky_ambient();
-    l.bounce = vec3<f32>(0.03, 0.033, 0.024) * frame.sun_dir.z * frame.sun_color.rgb;
+    // Over terrain: the sunlit ground's radiance (the terrain's own
+    // Lambert), seen by a cloud base over its lower hemisphere and
+    // scattered like the sky's light (0.8 of the mean radiance, as
+    // sky_base). The ground taken as sunlit: a cloud's own shadow falls
+    // beside its base unless the sun is high, and the wider ground a base
+    // sees is mostly in the sun. Against Mitsuba with the same flat ground
+    // (benches/pathtraced.py --ground), whose clouds take a green tint on
+    // their shaded sides too, mean FLIP above the horizon 0.107 → 0.100.
+    // Without terrain: a small fixed term.
+    if HAS_TERRAIN {
+        let ground_albedo = 0.5 * (MEADOW_ALBEDO + FIELD_ALBEDO);
+        l.bounce = 0.8 * lambert(ground_albedo, vec3<f32>(0.0, 0.0, 1.0), 1.0);
+    } else {
+        l.bounce = vec3<f32>(0.03, 0.033, 0.024) * frame.sun_dir.z * frame.sun_color.rgb;
+    }
     return l;
 }
 
@@ -170,8 +185,9 @@ fn sample_source(l: RayLight, p: vec3<f32>, plane_z: f32) -> vec3<f32> {
     // Diffuse light (skylight and the multiply scattered part of the sun)
     // is weaker the deeper the sample sits toward its cloud's flat base:
     // little of it finds its way down through the cloud above. The
-    // skylight is also shaded by a direct look upward. A little light
-    // bounced off the sunlit ground reaches the bases from below.
+    // skylight is also shaded by a direct look upward. Light bounced off
+    // the sunlit ground lights the bases from below, fading over the same
+    // BASE_FADE_M as the cloud above shuts the ground out.
     let above_base = clamp((p.z - plane_z) / BASE_FADE_M, 0.0, 1.0);
     // The multiply scattered sun fades more than the skylight, which also
     // reaches the base sideways from the horizon: bases turn blue-grey
@@ -179,5 +195,5 @@ fn sample_source(l: RayLight, p: vec3<f32>, plane_z: f32) -> vec3<f32> {
     let a2 = above_base * above_base;
     let sky = l.sky_base * mix(0.5, 1.0, a2) * mix(0.5, 1.0, sky_visibility(p));
     let multiple = sun_light.y * mix(BASE_MS_FLOOR, 1.0, a2);
-    return frame.sun_color.rgb * (sun_light.x + multiple) + sky + l.bounce;
+    return frame.sun_color.rgb * (sun_light.x + multiple) + sky + l.bounce * (1.0 - a2);
 }

@@ -73,19 +73,6 @@ fn map_shadow(p: vec3<f32>, sun: vec3<f32>) -> f32 {
     return textureSampleLevel(shadow_tex, clamp_sampler, uv, 0.0).r;
 }
 
-// Radiance of a Lambertian surface of `albedo` with normal n, in the
-// clouds' units: the sun's irradiance is 4π·sun_color (the march's source
-// is sun_color·4π·phase, src/export/sidecar.rs), so the sunlit part is
-// albedo/π · 4π·sun_color·cos = 4·albedo·sun_color·cos, darkened by the
-// clouds' shadow; the sky's part is albedo/π times its irradiance (π·
-// sky_ambient on an up-facing surface, less on a slope that sees less of
-// the sky).
-fn lambert(albedo: vec3<f32>, n: vec3<f32>, shadow: f32) -> vec3<f32> {
-    let sun = frame.sun_dir.xyz;
-    let direct = 4.0 * frame.sun_color.rgb * max(dot(n, sun), 0.0) * shadow;
-    return albedo * (direct + sky_ambient() * (0.6 + 0.4 * n.z));
-}
-
 // A lake's surface: dark water (little light comes back up out of it)
 // that mirrors the sky by Fresnel's law (Schlick, water's reflectance 0.02
 // at normal incidence, all of it at grazing angles), and the sun's glint,
@@ -113,7 +100,7 @@ fn ground(in: VertexOut) -> vec3<f32> {
     let octaves = textureSample(noise_tex, repeat_sampler, vec3<f32>(in.world.xy * 1.1e-3, 0.37));
     let patchiness = dot(octaves, vec4<f32>(8.0, 4.0, 2.0, 1.0) / 15.0);
     let fields = smoothstep(0.35, 0.65, patchiness);
-    let meadow = mix(vec3<f32>(0.06, 0.10, 0.035), vec3<f32>(0.10, 0.13, 0.05), fields);
+    let meadow = mix(MEADOW_ALBEDO, FIELD_ALBEDO, fields);
     let rock = vec3<f32>(0.22, 0.2, 0.18);
     let steep = smoothstep(0.75, 0.55, n.z);
     let albedo = mix(meadow, rock, steep);
