@@ -32,6 +32,33 @@ fn pixel_ray(camera: &Camera, (w, h): (u32, u32), x: u32, y: u32) -> Vec3 {
     (p.xyz() / p.w - camera.position).normalize()
 }
 
+/// Linear HDR frames of `parcels` under `cfg`, with the aerial perspective
+/// on and off: (on, off).
+fn with_and_without_air(
+    ctx: &cumulus::render::GpuContext,
+    cfg: &RenderConfig,
+    camera: Camera,
+    parcels: &[cumulus::physics::CloudParcel],
+    (w, h): (u32, u32),
+) -> (Vec<f32>, Vec<f32>) {
+    let render = |cfg: &RenderConfig| {
+        let mut hl = Headless::new(ctx, cfg, w, h).unwrap();
+        let input = FrameInput {
+            camera,
+            parcels,
+            sun: cfg.sun(),
+            time_s: 0.0,
+        };
+        hl.render(ctx, &input).unwrap();
+        hl.read_hdr(ctx).unwrap()
+    };
+    let off = RenderConfig {
+        aerial_perspective: false,
+        ..cfg.clone()
+    };
+    (render(cfg), render(&off))
+}
+
 /// Largest relative difference of `a` from `b` over the channels.
 fn relative(a: Vec3, b: Vec3) -> f32 {
     ((a - b).abs() / b.abs().max(Vec3::splat(1e-9))).max_element()
@@ -151,22 +178,7 @@ fn terrain_pass_applies_the_air_of_the_cpu_twin() {
         far_m: 300_000.0,
         ..CameraConfig::default()
     });
-    let render = |cfg: &RenderConfig| {
-        let mut hl = Headless::new(&ctx, cfg, w, h).unwrap();
-        let input = FrameInput {
-            camera,
-            parcels: &[],
-            sun: cfg.sun(),
-            time_s: 0.0,
-        };
-        hl.render(&ctx, &input).unwrap();
-        hl.read_hdr(&ctx).unwrap()
-    };
-    let on = render(&base);
-    let off = render(&RenderConfig {
-        aerial_perspective: false,
-        ..base.clone()
-    });
+    let (on, off) = with_and_without_air(&ctx, &base, camera, &[], (w, h));
     let sun = base.sun();
     let mut checked = 0;
     let mut worst = 0.0f32;
@@ -268,22 +280,7 @@ fn terrain_rays_see_the_cloud_shadow_in_the_air() {
         ..CameraConfig::default()
     });
     let (w, h) = (96, 64);
-    let render = |cfg: &RenderConfig| {
-        let mut hl = Headless::new(&ctx, cfg, w, h).unwrap();
-        let input = FrameInput {
-            camera,
-            parcels: std::slice::from_ref(&cloud),
-            sun,
-            time_s: 0.0,
-        };
-        hl.render(&ctx, &input).unwrap();
-        hl.read_hdr(&ctx).unwrap()
-    };
-    let on = render(&base);
-    let off = render(&RenderConfig {
-        aerial_perspective: false,
-        ..base.clone()
-    });
+    let (on, off) = with_and_without_air(&ctx, &base, camera, std::slice::from_ref(&cloud), (w, h));
     // The air's light at the ground point p, measured (what the pass added
     // over the bare ground dimmed by the air) over the CPU twin's for
     // sunlit air all along.
