@@ -333,6 +333,7 @@ def main():
     ap.add_argument("--scene", default=os.path.join(ROOT, "profiles", "fair_weather.toml"))
     ap.add_argument("--time", type=float, default=1800.0, help="simulated time of the frame (s)")
     ap.add_argument("--stand-in", action="store_true", help="the stand-in cloud field (no physics)")
+    ap.add_argument("--parcels", help="a cloud-field CSV (cumulus render --save-parcels) instead of simulating")
     ap.add_argument("--width", type=int)
     ap.add_argument("--height", type=int)
     ap.add_argument("--spp", type=int, help="path-traced samples per pixel")
@@ -375,6 +376,7 @@ def main():
     os.makedirs(a.out, exist_ok=True)
 
     common = ["--time", str(a.time)] + (["--stand-in"] if a.stand_in else [])
+    common += ["--parcels", os.path.abspath(a.parcels)] if a.parcels else []
     terrain = "flat" if a.ground else False
     base = scene_text(a.scene, {}, terrain=terrain)
     scene_path = os.path.join(a.out, "scene.toml")

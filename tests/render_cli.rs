@@ -195,3 +195,68 @@ fn exr_is_the_linear_scene_the_png_tone_maps() {
         "exposure −1.5 EV did not darken the PNG"
     );
 }
+
+/// `render --save-parcels` writes the drawn field; `--parcels` draws it
+/// back without simulating, to the same picture (bit-identical: the file
+/// keeps every f32 exactly); a broken field file is an error naming it.
+#[test]
+fn a_saved_cloud_field_renders_back_to_the_same_picture() {
+    if common::context("GPU render test").is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b, csv) = (
+        dir.path().join("a.png"),
+        dir.path().join("b.png"),
+        dir.path().join("field.csv"),
+    );
+    let render = |extra: &[&std::ffi::OsStr], out: &std::path::Path| {
+        let o = cumulus()
+            .args(["render", "--width", "64", "--height", "48", "--time", "900"])
+            .args(extra)
+            .arg("--out")
+            .arg(out)
+            .output()
+            .unwrap();
+        (
+            o.status.success(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    let (ok, err) = render(&["--save-parcels".as_ref(), csv.as_os_str()], &a);
+    assert!(ok, "{err}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    // By 15 minutes the embedded scene has condensed: the file holds them.
+    assert!(
+        text.lines().filter(|l| !l.starts_with('#')).count() > 2,
+        "{text}"
+    );
+    let (ok, err) = render(&["--parcels".as_ref(), csv.as_os_str()], &b);
+    assert!(ok, "{err}");
+    assert!(
+        !err.contains("simulat"),
+        "--parcels must not simulate: {err}"
+    );
+    let (ia, ib) = (image::open(&a).unwrap(), image::open(&b).unwrap());
+    assert_eq!(
+        ia.as_bytes(),
+        ib.as_bytes(),
+        "the saved field draws another picture"
+    );
+
+    // A broken row: the error names the file, line and column, and no image.
+    let bad = dir.path().join("bad.csv");
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    let last = lines.len() - 1;
+    let id = lines[last].split(',').next().unwrap().to_string();
+    lines[last] = format!("{id},NaN,0,1500,500,1,1100");
+    std::fs::write(&bad, lines.join("\n")).unwrap();
+    let c = dir.path().join("c.png");
+    let (ok, err) = render(&["--parcels".as_ref(), bad.as_os_str()], &c);
+    assert!(!ok, "a NaN in the field file was accepted");
+    assert!(
+        err.contains(&format!("bad.csv:{}:", last + 1)) && err.contains("finite number"),
+        "{err}"
+    );
+    assert!(!c.exists(), "a failed render left an image");
+}

@@ -118,7 +118,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .validate()
         .with_context(|| format!("{scene_name}: checking [camera]"))?;
 
-    if !args.clouds.stand_in {
+    if !args.clouds.stand_in && args.clouds.parcels.is_none() {
         eprintln!("simulating {:.0} s …", args.time);
     }
     let mut clouds = Clouds::new(&args.clouds, &scene, &source.base_dir())?;

@@ -76,6 +76,10 @@ pub struct Args {
     pub no_labels: bool,
     #[command(flatten)]
     pub clouds: CloudArgs,
+    /// Also write the drawn cloud parcels (of the first frame) to this CSV
+    /// file, which `--parcels` reads back.
+    #[arg(long, value_name = "FILE.csv")]
+    pub save_parcels: Option<PathBuf>,
     /// Part of the GPU adapter's name to use (e.g. llvmpipe).
     #[arg(long)]
     pub adapter: Option<String>,
@@ -111,8 +115,13 @@ pub struct CloudArgs {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Use the deterministic stand-in cloud field instead of simulating.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "parcels")]
     pub stand_in: bool,
+    /// Draw the cloud parcels of this file instead of simulating (CSV with
+    /// the header `id,x_m,y_m,z_m,radius_m,fill,cond_plane_z_m`, as
+    /// `render --save-parcels` writes it); the field does not change with time.
+    #[arg(long, value_name = "FILE.csv")]
+    pub parcels: Option<PathBuf>,
 }
 
 impl CloudArgs {
@@ -126,14 +135,17 @@ impl CloudArgs {
     }
 }
 
-/// Where the clouds come from: the parcel physics, or the stand-in field.
+/// Where the clouds come from: the parcel physics, the stand-in field or a
+/// cloud-field file.
 pub(crate) enum Clouds {
     World { world: Box<ParcelWorld>, dt: f64 },
     StandIn,
+    File(Vec<CloudParcel>),
 }
 
 impl Clouds {
-    /// The stand-in field, or `scene`'s world at t = 0 with `args`' seed.
+    /// The stand-in field, the parcels of `--parcels`, or `scene`'s world at
+    /// t = 0 with `args`' seed.
     pub(crate) fn new(
         args: &CloudArgs,
         scene: &cumulus::scene::SceneProfile,
@@ -141,6 +153,9 @@ impl Clouds {
     ) -> anyhow::Result<Self> {
         if args.stand_in {
             return Ok(Clouds::StandIn);
+        }
+        if let Some(path) = &args.parcels {
+            return Ok(Clouds::File(cumulus::physics::cloud_file::read(path)?));
         }
         let env = scene
             .atmosphere
@@ -163,6 +178,7 @@ impl Clouds {
     ) -> anyhow::Result<()> {
         match self {
             Clouds::StandIn => *out = cumulus::render::standin::default_field(time_s as f32),
+            Clouds::File(parcels) => out.clone_from(parcels),
             Clouds::World { world, dt } => {
                 // Frames of `dt`, the last one shortened to land on `time_s`.
                 while world.time_s() < time_s - 1e-9 {
@@ -259,7 +275,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .set_authored(&scene.ellipsoids, &scene.particles);
 
     let mut parcels = Vec::new();
-    let warm = (!args.clouds.stand_in).then(|| {
+    let warm = (!args.clouds.stand_in && args.clouds.parcels.is_none()).then(|| {
         let b = indicatif::ProgressBar::new(time.ceil() as u64);
         b.set_style(
             indicatif::ProgressStyle::with_template(
@@ -276,6 +292,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             "simulated {time:.0} s in {:.1} s",
             b.elapsed().as_secs_f64()
         );
+    }
+    if let Some(path) = &args.save_parcels {
+        let comment = format!("{scene_name}, {} parcels at t = {time} s", parcels.len());
+        cumulus::physics::cloud_file::write(path, &parcels, &comment)
+            .context("writing --save-parcels")?;
     }
     let bar = (args.frames > 1).then(|| {
         let b = indicatif::ProgressBar::new(args.frames as u64);

@@ -37,6 +37,7 @@
 //!   its plane; centre sinking below the ground; older than `max_age_s`.
 //!   Leaving the sides or the top (domain or profile) is an escape.
 
+pub mod cloud_file;
 pub mod config;
 pub mod ground;
 pub mod parcel;
