@@ -15,10 +15,11 @@
 //    the complemented bit pattern of plane + PLANE_OFFSET_M; 0 = none).
 //    Cost ∝ parcels × voxels each, not pixels × parcels.
 // 2. `light`, one thread per coarse cell: the light volume. From the
-//    cell's centre it marches toward the sun, and straight up, through the
-//    splatted macro field (parcels only, no noise) to the region's edge and
-//    stores both optical depths (density × m; × extinction gives the
-//    exponent) in the R and G of its texel of `light_out`, a 3D texture of
+//    cell's centre it marches toward the sun, straight up and away from the
+//    sun, through the splatted macro field (parcels only, no noise) to the
+//    region's edge and stores the three optical depths (density × m; ×
+//    extinction gives the exponent) in the R, G and B of its texel of
+//    `light_out`, a 3D texture of
 //    one texel per coarse cell that the march samples with the filtering
 //    sampler (hardware trilinear between the cells' centres). Over the
 //    region's whole height: a tower's top shadows its base and its
@@ -139,7 +140,8 @@ fn light(@builtin(global_invocation_id) gid: vec3<u32>) {
     let centre = frame.grid_min.xyz + (vec3<f32>(gid) + 0.5) * frame.grid_cell.xyz;
     let sun = splatted_depth(centre, frame.sun_dir.xyz);
     let up = splatted_depth(centre, vec3<f32>(0.0, 0.0, 1.0));
-    textureStore(light_out, gid, vec4<f32>(sun, up, 0.0, 0.0));
+    let behind = splatted_depth(centre, -frame.sun_dir.xyz);
+    textureStore(light_out, gid, vec4<f32>(sun, up, behind, 0.0));
 }
 
 @compute @workgroup_size(4, 4, 4)

@@ -2,7 +2,8 @@
 // parcels, baked by bake.wgsl into a 3D texture over the cloud region
 // (R: v, G: condensation plane (m)), read with one trilinear fetch, so a
 // sample costs the same whatever the parcel count. The light volume
-// (`light_tex`, R and G: optical depths toward the sun and straight up) is
+// (`light_tex`, R, G and B: optical depths toward the sun, straight up and
+// away from the sun) is
 // a second 3D texture over the same region, one texel per coarse cell, so
 // the same coordinates address both and the sampler interpolates between
 // the cells' centres. The frame's grid (grid_min, grid_cell, grid_dims) is
@@ -35,6 +36,10 @@ fn far_light_depth(p: vec3<f32>) -> vec2<f32> {
     // Clamped at the region's edge to the outermost cells, as the bake's
     // own upsampling did.
     return textureSampleLevel(light_tex, clamp_sampler, field_uvw(p), 0.0).rg;
+}
+
+fn far_behind_depth(p: vec3<f32>) -> f32 {
+    return textureSampleLevel(light_tex, clamp_sampler, field_uvw(p), 0.0).b;
 }
 
 fn empty_skip(p: vec3<f32>, rd: vec3<f32>) -> f32 {

@@ -2,12 +2,13 @@
 // over parcels of parcel_value (parcel.wgsl), evaluated per sample from the
 // parcels listed in the sample's cell of the CPU-built grid (uniform
 // buffers). Cost per sample ∝ the cell's list length. The other method,
-// field_baked.wgsl, provides the same four functions from a baked texture:
+// field_baked.wgsl, provides the same five functions from a baked texture:
 //   field_value(p)          v(P) ∈ [−1, 1]
 //   field_sample(p)         (v(P), condensation plane under P (m))
 //   far_light_depth(p)      optical depth ∫ρ ds of the parcels alone (no
 //                           noise; density × m) from P to the cloud
 //                           region's edge toward the sun (x) and up (y)
+//   far_behind_depth(p)     the same away from the sun
 //   empty_skip(p, rd)       > 0: distance along rd over which v + k/2 ≤ 0
 //                           (no density can appear); 0: p may be cloudy.
 
@@ -24,6 +25,11 @@ fn far_step() -> f32 {
 fn far_light_depth(p: vec3<f32>) -> vec2<f32> {
     let ds = far_step();
     return vec2<f32>(far_depth_along(p, frame.sun_dir.xyz, ds), far_depth_along(p, vec3<f32>(0.0, 0.0, 1.0), ds));
+}
+
+// The same away from the sun.
+fn far_behind_depth(p: vec3<f32>) -> f32 {
+    return far_depth_along(p, -frame.sun_dir.xyz, far_step());
 }
 
 // Evaluate only the parcels listed in the sample's grid cell (paper §6.2).

@@ -226,7 +226,13 @@ fn a_tower_is_shaded_like_the_path_traced_one() {
     std::fs::write(&tower, tower_csv(false)).unwrap();
     std::fs::write(&empty, tower_csv(true)).unwrap();
     let (w, h) = (64u32, 96u32);
-    for (name, azimuth, elevation) in [("overhead", 180.0, 90.0), ("low sun", 90.0, 10.0)] {
+    // (view, sun azimuth, sun elevation, most ours/path tracer contrast
+    // ratio either way; see the bounds' reasons below).
+    let views = [
+        ("overhead", 180.0, 90.0, 2.0),
+        ("low sun", 90.0, 10.0, 1.25),
+    ];
+    for (name, azimuth, elevation, max_factor) in views {
         let scene = dir.path().join("tower.toml");
         std::fs::write(&scene, tower_scene(azimuth, elevation)).unwrap();
         let out = dir.path().join(name.replace(' ', "_"));
@@ -268,19 +274,23 @@ fn a_tower_is_shaded_like_the_path_traced_one() {
         eprintln!(
             "{name}: dark/lit ours {ours_ratio:.3} ({od:.2}/{ol:.2}), path tracer {pt_ratio:.3} ({pd:.2}/{pl:.2})"
         );
-        // A factor of 2 either way. Measured at 128×192 (64 spp, 32 s of
-        // path tracing per view): overhead base/top 0.18 ours against the
-        // path tracer's 0.30 (the multiple scattering ours adds to the
-        // sunlit top is 1.5× the path tracer's, in the narrow column light
-        // leaks out sideways), under the low sun shaded/sunlit 0.52
-        // against 0.41 (at this size 0.18/0.29 and 0.51/0.40). A tower that
-        // did not shadow itself (its light march switched off) measures
-        // 0.79 and 0.98, 2.6 and 2.4 times the path tracer's; the path
-        // tracer's noise at 64 samples over these bands is a few per cent.
+        // Measured at 128×192 (64 spp, 32 s of path tracing per view) and
+        // at this size alike:
+        // - overhead, base/top 0.17 ours against the path tracer's 0.29:
+        //   ours adds 1.5× the path tracer's multiply scattered light to
+        //   the sunlit top of this narrow column, out of which light leaks
+        //   sideways. A factor of 2 either way;
+        // - low sun, shaded/sunlit 0.38 against 0.40. Within 1.25× either
+        //   way: the path tracer's noise at 64 samples over these halves is
+        //   a few per cent, and without the multiple scattering's dimming
+        //   where the cloud ends behind a sample (EXIT_DIP in
+        //   shaders/lighting.wgsl) the shaded side measured 0.51, 1.27×.
+        // A tower that did not shadow itself (its light march switched off)
+        // measures 0.79 and 0.98, 2.6 and 2.4 times the path tracer's.
         let factor = ours_ratio / pt_ratio;
         assert!(
-            (0.5..=2.0).contains(&factor),
-            "{name}: dark/lit {ours_ratio:.3} against the path tracer's {pt_ratio:.3}"
+            (1.0 / max_factor..=max_factor).contains(&factor),
+            "{name}: dark/lit {ours_ratio:.3} against the path tracer's {pt_ratio:.3} (at most {max_factor}× either way)"
         );
     }
 }
