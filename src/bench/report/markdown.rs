@@ -412,8 +412,8 @@ fn pathtraced_md(rows: Option<&[PathTracedRow]>) -> String {
          scene has no ground and no air), shown through our tone curve; our renders at each \
          setting against it (mean FLIP, RMSE of display sRGB on 0..1). Our picture differs \
          by design where the real-time lighting approximates light transport: the multiply \
-         scattered sun as a two-stream diffusion term with a fitted gain and powder instead \
-         of all paths, the skylight as the sky's irradiance shaded by one look up through \
+         scattered sun as a two-stream diffusion term with a fitted gain and powder, dimmed \
+         where the cloud ends behind the sample, instead of all paths, the skylight as the sky's irradiance shaded by one look up through \
          the light volume, a short light march with growing steps; and the baked voxels \
          smooth the finest noise octave. Second panel of error_vs_runtime.png.\n\n\
          | setting | time ms | mean FLIP | RMSE |\n|---|---|---|---|\n",
