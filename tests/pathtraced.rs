@@ -5,6 +5,7 @@
 //! - the lighting tests' tower over a flat ground, overhead and under a low
 //!   sun: its base/top and shaded/sunlit contrasts must be the path
 //!   tracer's within a stated factor.
+//!
 //! Needs Python with the packages of benches/requirements.txt and a GPU
 //! adapter: without them the tests print a notice and pass, unless CI=true
 //! (.ci/run installs them).
