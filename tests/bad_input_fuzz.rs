@@ -1,5 +1,5 @@
-//! Fuzzing the sounding reader and the profile parser with mutated real
-//! inputs, all the way to the physics: byte flips (through the file reader,
+//! Fuzzing the sounding reader, the profile parser and the cloud-field
+//! reader with mutated real inputs, all the way to the physics: byte flips (through the file reader,
 //! so invalid UTF-8 is exercised), truncation, column shifts, inserted and
 //! substituted `nan`/`inf`/absurd numbers, duplicated, swapped and dropped
 //! lines. tests/atmosphere_sounding.rs already checks that character-level
@@ -314,8 +314,49 @@ fn profile_case(text_bytes: &[u8]) {
     }
 }
 
+/// A cloud-field file (`render --parcels`): mutated, it must read back as
+/// an error naming the file or as parcels the renderer can draw (finite,
+/// radius 1 m to 50 km, fill 0 to 1, ids unique).
+fn cloud_field_case(text_bytes: &[u8]) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("field.csv");
+    std::fs::write(&path, text_bytes).unwrap();
+    match cumulus::physics::cloud_file::read(&path) {
+        Err(e) => check_error(&e, &path),
+        Ok(parcels) => {
+            let mut ids = std::collections::HashSet::new();
+            for q in &parcels {
+                assert!(
+                    q.center_m.is_finite() && q.cond_plane_z_m.is_finite(),
+                    "{q:?}"
+                );
+                assert!((1.0..=50_000.0).contains(&q.radius_m), "{q:?}");
+                assert!((0.0..=1.0).contains(&q.fill), "{q:?}");
+                assert!(ids.insert(q.id), "id {} twice", q.id);
+            }
+        }
+    }
+}
+
+/// The seed cloud field: the lighting tests' tower, a comment line and a
+/// parcel of partial fill.
+fn seed_cloud_field() -> String {
+    let mut s = String::from("# a tower\nid,x_m,y_m,z_m,radius_m,fill,cond_plane_z_m\n");
+    for i in 0..6 {
+        s += &format!("{i},{},-250.5,{},500,1,1100\n", 40 * i, 1500 + 400 * i);
+    }
+    s + "17,3000.25,120,2200.5,312.5,0.35,1900.75\n"
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(cases()))]
+
+    #[test]
+    fn mutated_cloud_fields_fail_cleanly_or_read_drawable_parcels(
+        edits in prop::collection::vec(edit(), 1..6),
+    ) {
+        cloud_field_case(&apply(&seed_cloud_field(), &edits));
+    }
 
     #[test]
     fn mutated_soundings_fail_cleanly_or_simulate_finitely(
