@@ -74,8 +74,9 @@ pub const BYTES_PER_VOXEL: u64 = 16;
 /// sampler may filter without optional features: RG16F is neither
 /// storage-writable in core WebGPU nor RG32F filterable).
 pub const FIELD_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-/// Format of the light volume, one texel per coarse cell: R, G = optical
-/// depth (density × m) toward the sun and straight up; B, A unused. RGBA16F
+/// Format of the light volume, one texel per coarse cell: R, G, B = optical
+/// depth (density × m) toward the sun, straight up and away from the sun;
+/// A unused. RGBA16F
 /// for the same reason as [`FIELD_FORMAT`]; half floats hold depths up to
 /// 65504 (a 60 km path through solid cloud) to 3 significant digits.
 pub const LIGHT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
