@@ -28,6 +28,7 @@ struct Frame {
     grid_dims: vec4<u32>,  // nx, ny, nz, parcel count
     shadow_rect: vec4<f32>, // ground rectangle of the shadow map: min x, min y, max x, max y (m)
     sky_ambient: vec4<f32>, // rgb: sky irradiance on an up-facing surface / π; w: Mie phase g
+    sky_below: vec4<f32>,   // rgb: the sky's lower half on a down-facing surface / π
     // Sky-view table of src/sky/view.rs, texel k = elevation·SKY_AZIMUTHS + azimuth:
     // [3k] Rayleigh per unit phase, [3k + 1] Mie per unit phase, [3k + 2] multiple (rgb).
     sky_view: array<vec4<f32>, 3u * SKY_AZIMUTHS * SKY_ELEVATIONS>,

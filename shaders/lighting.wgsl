@@ -218,34 +218,20 @@ fn ray_lighting(rd: vec3<f32>) -> RayLight {
     // sees is mostly in the sun. Against Mitsuba with the same flat ground
     // (benches/pathtraced.py --ground), whose clouds take a green tint on
     // their shaded sides too, mean FLIP above the horizon 0.107 → 0.100.
-    // Without terrain: the sky pass's own lower half (lower_sky_radiance),
-    // scattered the same way.
+    // Without terrain, what a cloud sees below it is what the sky pass
+    // draws there (and what benches/pathtraced.py gives Mitsuba without
+    // --ground): the sky's lower half, the horizon's radiance darkening
+    // toward the ground haze (frame.sky_below, integrated on the CPU),
+    // scattered the same way. A fixed 0.03 × sun before, about a tenth of
+    // it: against Mitsuba, fair weather at 384×288 (64 spp) went from mean
+    // FLIP 0.075 to 0.047.
     if HAS_TERRAIN {
         let ground_albedo = 0.5 * (MEADOW_ALBEDO + FIELD_ALBEDO);
         l.bounce = 0.8 * lambert(ground_albedo, vec3<f32>(0.0, 0.0, 1.0), 1.0);
     } else {
-        l.bounce = 0.8 * lower_sky_radiance();
+        l.bounce = 0.8 * frame.sky_below.rgb;
     }
     return l;
-}
-
-// Without terrain, what a cloud sees below it is what the sky pass draws
-// there (and what benches/pathtraced.py gives Mitsuba without --ground):
-// the horizon's radiance darkened toward the ground haze, sky_color below
-// the horizon. Its mean over the lower hemisphere from eight azimuths 30°
-// down, where the darkening is complete; the band nearer the horizon is
-// brighter but holds a ninth of a downward-facing surface's view. A fixed
-// 0.03 × sun before, about a tenth of this: against Mitsuba, fair weather
-// at 384×288 (64 spp) went from mean FLIP 0.075 to 0.048.
-const LOWER_SKY_AZIMUTHS: u32 = 8u;
-
-fn lower_sky_radiance() -> vec3<f32> {
-    var sum = vec3<f32>(0.0);
-    for (var i = 0u; i < LOWER_SKY_AZIMUTHS; i++) {
-        let a = 2.0 * PI * f32(i) / f32(LOWER_SKY_AZIMUTHS);
-        sum += sky_color(vec3<f32>(0.866 * cos(a), 0.866 * sin(a), -0.5));
-    }
-    return sum / f32(LOWER_SKY_AZIMUTHS);
 }
 
 // Light scattered toward the eye per unit extinction at a cloudy sample p

@@ -95,7 +95,7 @@ fn a_tall_cloud_lit_from_above_has_a_dark_base() {
     // darker (a factor of about 3 to 20 in luminance), so base/top must lie
     // between 0.05 and 0.35: above, the tower does not shadow its own base
     // (a light march that stops short of the top); below, the base gets
-    // neither sky nor multiply scattered light. Measured 0.243 (llvmpipe;
+    // neither sky nor multiply scattered light. Measured 0.247 (llvmpipe;
     // without terrain the base is lit from below by the sky pass's own
     // lower half, the bright ground haze; 0.152 with a fixed 0.03 × sun
     // from below, 0.201 before the multiple scattering dimmed where the

@@ -192,7 +192,7 @@ fn multiple_scattering_adds_bounded_energy_most_at_low_sun() {
             }
         }
         // The ambient (irradiance) gains too.
-        assert!(sky.ambient.y > single.mean_cosine_radiance(sun).y);
+        assert!(sky.ambient.y > single.mean_cosine_radiance(sun, true).y);
     }
     // At low sun the single-scattered blue fades along the long sun path
     // while light scattered more often reaches the zenith from the whole

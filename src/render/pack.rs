@@ -70,6 +70,9 @@ pub struct FrameUniform {
     /// rgb: ambient light, the sky's irradiance on an up-facing surface
     /// over π; w: asymmetry g of the sky's Mie phase (src/sky/view.rs `SkyLight`).
     pub sky_ambient: [f32; 4],
+    /// rgb: the sky's lower half on a down-facing surface over π
+    /// (`SkyLight::below`); w unused.
+    pub sky_below: [f32; 4],
     /// The sky-view table (src/sky/view.rs `SkyLight`), three vec4 per
     /// texel (texel k = elevation·SKY_AZIMUTHS + azimuth): [3k] Rayleigh
     /// radiance per unit phase, [3k + 1] Mie per unit phase, [3k + 2]
@@ -110,7 +113,7 @@ pub struct GridUniform {
 }
 
 const _: () =
-    assert!(std::mem::size_of::<FrameUniform>() == 304 + 48 * SKY_TEXELS + 64 * AIR_HEIGHTS);
+    assert!(std::mem::size_of::<FrameUniform>() == 320 + 48 * SKY_TEXELS + 64 * AIR_HEIGHTS);
 const _: () = assert!(std::mem::size_of::<GpuParcel>() == 32);
 const _: () = assert!(std::mem::size_of::<ParcelsUniform>() == 32 * MAX_PARCELS);
 const _: () =

@@ -40,6 +40,10 @@ pub struct SkyLight {
     /// Irradiance of the sky on an up-facing surface over π (its
     /// cosine-weighted mean radiance): the ambient light.
     pub ambient: Vec3,
+    /// The same for a down-facing surface, from the sky's lower half as
+    /// the sky pass draws it (the horizon's radiance darkening toward the
+    /// ground haze): the light under clouds with no terrain below them.
+    pub below: Vec3,
     /// Asymmetry of the Mie phase.
     pub mie_g: f32,
     /// The air over height, for the aerial perspective (src/sky/air.rs).
@@ -69,6 +73,7 @@ impl SkyLuts {
             mie: [Vec3::ZERO; SKY_TEXELS],
             multiple: [Vec3::ZERO; SKY_TEXELS],
             ambient: Vec3::ZERO,
+            below: Vec3::ZERO,
             mie_g: a.mie_g as f32,
             air: self.air_table(sun.z, scale),
         };
@@ -81,7 +86,8 @@ impl SkyLuts {
                 light.multiple[k] = (ms * scale).as_vec3();
             }
         }
-        light.ambient = light.mean_cosine_radiance(sun.as_vec3());
+        light.ambient = light.mean_cosine_radiance(sun.as_vec3(), true);
+        light.below = light.mean_cosine_radiance(sun.as_vec3(), false);
         light
     }
 
@@ -141,8 +147,9 @@ impl SkyLight {
         c * (1.0 - 0.4 * (-3.0 * dir.z).clamp(0.0, 1.0))
     }
 
-    /// (1/π)∫ L cosθ dω over the upper hemisphere, by quadrature.
-    pub fn mean_cosine_radiance(&self, sun: Vec3) -> Vec3 {
+    /// (1/π)∫ L |cosθ| dω over the upper hemisphere (`up`) or the lower
+    /// one, by quadrature.
+    pub fn mean_cosine_radiance(&self, sun: Vec3, up: bool) -> Vec3 {
         const N_EL: u32 = 24;
         const N_AZ: u32 = 48;
         let mut sum = Vec3::ZERO;
@@ -152,7 +159,8 @@ impl SkyLight {
             let (sin_el, cos_el) = (u.sqrt(), (1.0 - u).sqrt());
             for j in 0..N_AZ {
                 let az = std::f32::consts::TAU * (j as f32 + 0.5) / N_AZ as f32;
-                let dir = Vec3::new(az.sin() * cos_el, az.cos() * cos_el, sin_el);
+                let z = if up { sin_el } else { -sin_el };
+                let dir = Vec3::new(az.sin() * cos_el, az.cos() * cos_el, z);
                 sum += self.radiance(dir, sun);
             }
         }

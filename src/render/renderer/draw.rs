@@ -51,6 +51,7 @@ impl Renderer {
             grid_dims: [g.dims[0], g.dims[1], g.dims[2], g.parcel_count],
             shadow_rect: self.shadow_rect(input.sun.direction),
             sky_ambient: input.sun.sky.ambient.extend(input.sun.sky.mie_g).to_array(),
+            sky_below: input.sun.sky.below.extend(0.0).to_array(),
             sky_view: sky_view(&input.sun.sky),
             air: air_table(&input.sun.sky.air),
         }
