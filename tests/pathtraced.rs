@@ -15,6 +15,7 @@ mod common;
 use std::path::Path;
 use std::process::Command;
 
+use common::hdr::{cloud_mask, luminance};
 use cumulus::bench::stats::mean_flip;
 
 /// Most mean FLIP of the default setting against the path tracer at this
@@ -173,15 +174,10 @@ fn tower_scene(azimuth: f32, elevation: f32) -> String {
     )
 }
 
-/// Linear luminance of an EXR written by `render` or pathtraced.py.
-fn exr_luminance(path: &Path) -> (Vec<f32>, Vec<[f32; 3]>, u32) {
-    let img = image::open(path).unwrap().to_rgb32f();
-    let rgb: Vec<[f32; 3]> = img.pixels().map(|p| p.0).collect();
-    let lum = rgb
-        .iter()
-        .map(|c| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2])
-        .collect();
-    (lum, rgb, img.width())
+/// Linear RGB (flat, 3 floats a pixel) of an EXR written by `render` or
+/// pathtraced.py.
+fn exr_rgb(path: &Path) -> Vec<f32> {
+    image::open(path).unwrap().to_rgb32f().into_raw()
 }
 
 /// (dark part, lit part) of the tower's cloud pixels `mask` in `lum`, as
@@ -262,16 +258,12 @@ fn a_tower_is_shaded_like_the_path_traced_one() {
                 .output()
                 .unwrap();
             assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-            exr_luminance(&exr)
+            exr_rgb(&exr)
         };
-        let (lum, rgb, _) = ours(&tower, "ours.exr");
-        let (_, sky, _) = ours(&empty, "sky.exr");
-        let mask: Vec<bool> = rgb
-            .iter()
-            .zip(&sky)
-            .map(|(c, s)| (0..3).any(|i| (c[i] - s[i]).abs() > 0.05))
-            .collect();
-        let (pt, _, _) = exr_luminance(&out.join("pathtraced.exr"));
+        let rgb = ours(&tower, "ours.exr");
+        let mask = cloud_mask(&rgb, &ours(&empty, "sky.exr"));
+        let lum = luminance(&rgb);
+        let pt = luminance(&exr_rgb(&out.join("pathtraced.exr")));
         let overhead = name == "overhead";
         let (od, ol) = dark_and_lit(&lum, &mask, w, overhead);
         let (pd, pl) = dark_and_lit(&pt, &mask, w, overhead);
