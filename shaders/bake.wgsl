@@ -9,10 +9,11 @@
 //    buffer bound at the chunk's dynamic offset): workgroup w takes parcel w
 //    of the chunk (every thread reads the same parcel: the broadcast access
 //    uniform buffers are made for) and its threads walk the voxels of the
-//    parcel's bounding box, folding v into the voxel with an atomic max on
-//    the bit pattern of v + 1 (≥ 0, so bit order is value order; 0 = none),
-//    and the parcel's condensation plane with an atomic min (as a max of
-//    the complemented bit pattern of plane + PLANE_OFFSET_M; 0 = none).
+//    parcel's bounding box, folding (v, height above the parcel's
+//    condensation plane) into the voxel with one atomic max on a key
+//    (`voxel_key`): the largest v wins, and among equal v (saturated
+//    parcels) the lowest plane, so the voxel keeps the plane of the parcel
+//    that gives its value, as field_exact.wgsl's field_sample does.
 //    Cost ∝ parcels × voxels each, not pixels × parcels.
 // 2. `light`, one thread per coarse cell: the light volume. From the
 //    cell's centre it marches toward the sun, straight up and away from the
@@ -33,20 +34,25 @@
 
 // Keep in sync with BAKE_BLOCK in src/render/raymarch/baked.rs.
 const BAKE_BLOCK: u32 = 4u;
-// Shifts condensation planes (m) to positive floats so their bits order
-// like their values (planes lie far above −PLANE_OFFSET_M).
-const PLANE_OFFSET_M: f32 = 100000.0;
+// A voxel's key: v + 1 ∈ [0, 2] in the high 16 bits (steps of 3·10⁻⁵,
+// finer than the field texture's half floats keep) and the voxel's height
+// above the parcel's condensation plane, clamped to ±PLANE_RANGE_M, in the
+// low 16 (steps of 6 cm). The plane matters to the lighting only within
+// BASE_FADE_M (500 m) above it, and a voxel more than a plane shell under
+// it gets no value from the parcel, so the clamp changes nothing it reads.
+// 0 = no parcel reaches the voxel.
+const KEY_LEVELS: f32 = 65535.0;
+const PLANE_RANGE_M: f32 = 2048.0;
 
 struct Chunk {
     p: array<Parcel, MAX_PARCELS>,
 }
 
 @group(1) @binding(0) var<uniform> chunk: Chunk;
-@group(1) @binding(1) var<storage, read_write> value_bits: array<atomic<u32>>;
-@group(1) @binding(2) var<storage, read_write> plane_bits: array<atomic<u32>>;
-@group(1) @binding(3) var<storage, read_write> occupancy_bits: array<atomic<u32>>;
-@group(1) @binding(4) var field_out: texture_storage_3d<rgba16float, write>;
-@group(1) @binding(5) var light_out: texture_storage_3d<rgba16float, write>;
+@group(1) @binding(1) var<storage, read_write> voxel_keys: array<atomic<u32>>;
+@group(1) @binding(2) var<storage, read_write> occupancy_bits: array<atomic<u32>>;
+@group(1) @binding(3) var field_out: texture_storage_3d<rgba16float, write>;
+@group(1) @binding(4) var light_out: texture_storage_3d<rgba16float, write>;
 
 // Light-march step of `light`, in voxels: two voxels (half a coarse cell)
 // resolve a cloud's body; the noise detail near each sample is added by
@@ -66,6 +72,26 @@ fn voxel_dims() -> vec3<u32> {
 
 fn voxel_index(v: vec3<u32>, dims: vec3<u32>) -> u32 {
     return v.x + dims.x * (v.y + dims.y * v.z);
+}
+
+// The key of value v at `above` metres above the parcel's plane (0: v
+// rounds to −1, nothing).
+fn voxel_key(v: f32, above: f32) -> u32 {
+    let qv = u32(round(0.5 * (v + 1.0) * KEY_LEVELS));
+    if qv == 0u {
+        return 0u;
+    }
+    let a = clamp(above, -PLANE_RANGE_M, PLANE_RANGE_M);
+    let qa = u32(round((a + PLANE_RANGE_M) / (2.0 * PLANE_RANGE_M) * KEY_LEVELS));
+    return (qv << 16u) | qa;
+}
+
+fn key_value(key: u32) -> f32 {
+    return f32(key >> 16u) / KEY_LEVELS * 2.0 - 1.0;
+}
+
+fn key_above(key: u32) -> f32 {
+    return f32(key & 0xffffu) / KEY_LEVELS * 2.0 * PLANE_RANGE_M - PLANE_RANGE_M;
 }
 
 fn voxel_centre(v: vec3<u32>) -> vec3<f32> {
@@ -89,14 +115,12 @@ fn splat(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_index) 
     let b = vec3<u32>(clamp(last, vec3<i32>(0), vec3<i32>(dims) - 1));
     let n = b - a + 1u;
     let count = n.x * n.y * n.z;
-    let plane_key = ~bitcast<u32>(q.fill_plane.y + PLANE_OFFSET_M);
     for (var j = li; j < count; j += 64u) {
         let v = a + vec3<u32>(j % n.x, (j / n.x) % n.y, j / (n.x * n.y));
-        let value = parcel_value(q, voxel_centre(v), shell);
-        if value > -1.0 {
-            let idx = voxel_index(v, dims);
-            atomicMax(&value_bits[idx], bitcast<u32>(value + 1.0));
-            atomicMax(&plane_bits[idx], plane_key);
+        let c = voxel_centre(v);
+        let key = voxel_key(parcel_value(q, c, shell), c.z - q.fill_plane.y);
+        if key != 0u {
+            atomicMax(&voxel_keys[voxel_index(v, dims)], key);
         }
     }
 }
@@ -110,11 +134,11 @@ fn splatted_density(p: vec3<f32>) -> f32 {
     if any(rel < vec3<f32>(0.0)) || any(rel >= vec3<f32>(dims)) {
         return 0.0;
     }
-    let bits = atomicLoad(&value_bits[voxel_index(vec3<u32>(rel), dims)]);
-    if bits == 0u {
+    let key = atomicLoad(&voxel_keys[voxel_index(vec3<u32>(rel), dims)]);
+    if key == 0u {
         return 0.0;
     }
-    return smoothstep(0.0, 1.0, bitcast<f32>(bits) - 1.0);
+    return smoothstep(0.0, 1.0, key_value(key));
 }
 
 // ∫ ρ ds from p along unit `dir` to the region's edge (density × m).
@@ -151,18 +175,22 @@ fn resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let idx = voxel_index(gid, dims);
-    let bits = atomicExchange(&value_bits[idx], 0u);
-    let plane_key = atomicExchange(&plane_bits[idx], 0u);
-    let value = select(-1.0, bitcast<f32>(bits) - 1.0, bits != 0u);
-    // No parcel reaches the voxel: its own height, as the exact field gives.
+    let key = atomicExchange(&voxel_keys[idx], 0u);
+    // No parcel reaches the voxel: v = −1 and its own height as the plane,
+    // as the exact field gives.
+    var value = -1.0;
     var plane = voxel_centre(gid).z;
-    if plane_key != 0u {
-        plane = bitcast<f32>(~plane_key) - PLANE_OFFSET_M;
+    if key != 0u {
+        value = key_value(key);
+        plane -= key_above(key);
     }
     textureStore(field_out, gid, vec4<f32>(value, plane, 0.0, 0.0));
-    if bits == 0u {
+    if key == 0u {
         return;
     }
+    // The occupancy holds the bit pattern of v + 1 (> 0 here, so bit order
+    // is value order; 0 = nothing).
+    let bits = bitcast<u32>(value + 1.0);
     // A trilinear fetch within one voxel of this one's centre can see it.
     let cells = frame.grid_dims.xyz;
     let c0 = (max(gid, vec3<u32>(1u)) - 1u) / BAKE_BLOCK;

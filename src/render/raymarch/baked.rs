@@ -47,8 +47,8 @@
 //! a power of 2^¼ so small radius changes do not reallocate the texture.
 //!
 //! Memory. The field costs [`BYTES_PER_VOXEL`] bytes a voxel (RGBA16F
-//! texture + two u32 accumulators; the light volume's 8 B a coarse cell,
-//! ⅛ B a voxel, are left out), at most [`MAX_BAKE_VOXELS`] voxels (128 MiB
+//! texture + one u32 key; the light volume's 8 B a coarse cell,
+//! ⅛ B a voxel, are left out), at most [`MAX_BAKE_VOXELS`] voxels (96 MiB
 //! of field): a larger region (a 40 km × 40 km × 12 km landscape
 //! needs ~2.4·10⁷ voxels at 84 m) gets coarser voxels, counted in
 //! [`BakeInfo::coarsened`] and shown by the front ends.
@@ -67,8 +67,8 @@ use crate::render::raymarch::region::{Region, region};
 pub const BAKE_BLOCK: u32 = 4;
 /// Most voxels of the baked field.
 pub const MAX_BAKE_VOXELS: u64 = 1 << 23;
-/// Field texture (RGBA16F, 8 B) + value and plane accumulators (4 B each).
-pub const BYTES_PER_VOXEL: u64 = 16;
+/// Field texture (RGBA16F, 8 B) + the splat's key (4 B).
+pub const BYTES_PER_VOXEL: u64 = 12;
 /// Format of the field texture: R = v, G = condensation plane (m); B and A
 /// are unused (the smallest format that compute shaders may write and the
 /// sampler may filter without optional features: RG16F is neither
@@ -104,9 +104,8 @@ pub struct BakeInfo {
 
 struct Store {
     dims: [u32; 3],
-    /// The accumulators, kept alive for the bind group.
-    _value: wgpu::Buffer,
-    _plane: wgpu::Buffer,
+    /// The splat's per-voxel keys, kept alive for the bind group.
+    _keys: wgpu::Buffer,
     occupancy: wgpu::Buffer,
     /// The light volume, one texel per coarse cell.
     light_view: wgpu::TextureView,
@@ -213,9 +212,8 @@ impl BakedField {
                 },
                 compute_storage_entry(1),
                 compute_storage_entry(2),
-                compute_storage_entry(3),
-                storage_texture_entry_of(4, FIELD_FORMAT, wgpu::TextureViewDimension::D3),
-                storage_texture_entry_of(5, LIGHT_FORMAT, wgpu::TextureViewDimension::D3),
+                storage_texture_entry_of(3, FIELD_FORMAT, wgpu::TextureViewDimension::D3),
+                storage_texture_entry_of(4, LIGHT_FORMAT, wgpu::TextureViewDimension::D3),
             ],
         });
         let bind_frame = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -414,16 +412,12 @@ impl BakedField {
 
     fn make_store(&self, device: &wgpu::Device, dims: [u32; 3], cells: [u32; 3]) -> Store {
         let voxels = dims.iter().map(|&d| d as u64).product::<u64>();
-        let accumulator = |label| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: 4 * voxels,
-                usage: wgpu::BufferUsages::STORAGE,
-                mapped_at_creation: false,
-            })
-        };
-        let value = accumulator("bake: value bits");
-        let plane = accumulator("bake: plane bits");
+        let keys = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("bake: voxel keys"),
+            size: 4 * voxels,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
         let n_cells: u64 = cells.iter().map(|&c| c as u64).product();
         let occupancy = occupancy_buffer(device, n_cells);
         let light_view = volume_texture(device, "bake: light volume", LIGHT_FORMAT, cells)
@@ -444,30 +438,25 @@ impl BakedField {
                 },
                 wgpu::BindGroupEntry {
                     binding: 1,
-                    resource: value.as_entire_binding(),
+                    resource: keys.as_entire_binding(),
                 },
                 wgpu::BindGroupEntry {
                     binding: 2,
-                    resource: plane.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
                     resource: occupancy.as_entire_binding(),
                 },
                 wgpu::BindGroupEntry {
-                    binding: 4,
+                    binding: 3,
                     resource: wgpu::BindingResource::TextureView(&view),
                 },
                 wgpu::BindGroupEntry {
-                    binding: 5,
+                    binding: 4,
                     resource: wgpu::BindingResource::TextureView(&light_view),
                 },
             ],
         });
         Store {
             dims,
-            _value: value,
-            _plane: plane,
+            _keys: keys,
             occupancy,
             light_view,
             view,
