@@ -12,6 +12,10 @@
 //! - [`render`]: wgpu renderer (headless or to a window surface);
 //! - front ends: [`app`] (window), [`bench`], [`stability`], and `cli` in the binary.
 
+// Input checks are written `!(x > 0.0)` on purpose: the negated comparison
+// is also true for NaN, which must be an error, never a silent pass.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod app;
 pub mod atmosphere;
 pub mod authored;

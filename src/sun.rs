@@ -102,8 +102,8 @@ pub fn solar_position(jd_ut: f64, latitude_deg: f64, longitude_deg: f64) -> (Sol
     let (sin, cos) = (|d: f64| d.to_radians().sin(), |d: f64| d.to_radians().cos());
     // Julian centuries from J2000.0.
     let t = (jd_ut - 2_451_545.0) / 36_525.0;
-    let l0 = (280.46646 + t * (36_000.76983 + t * 0.000_303_2)).rem_euclid(360.0);
-    let m = 357.52911 + t * (35_999.05029 - 0.000_153_7 * t);
+    let l0 = (280.46646 + t * (36_000.769_83 + t * 0.000_303_2)).rem_euclid(360.0);
+    let m = 357.52911 + t * (35_999.050_29 - 0.000_153_7 * t);
     let e = 0.016_708_634 - t * (0.000_042_037 + 0.000_000_126_7 * t);
     let centre = sin(m) * (1.914_602 - t * (0.004_817 + 0.000_014 * t))
         + sin(2.0 * m) * (0.019_993 - 0.000_101 * t)

@@ -18,8 +18,10 @@ use cumulus::atmosphere::{EnvLevel, Environment, PressureModel, Sounding};
 
 /// MetPy's parcels: (sounding, parcel, start hPa, start T °C, start Td °C,
 /// LCL hPa, CAPE J/kg, CIN J/kg), pasted from cape_reference.txt.
+type MetpyParcel = (&'static str, &'static str, f64, f64, f64, f64, f64, f64);
+
 #[rustfmt::skip]
-const METPY: &[(&str, &str, f64, f64, f64, f64, f64, f64)] = &[
+const METPY: &[MetpyParcel] = &[
     ("oun-2011-05-22-12z.txt", "sb", 966.00, 22.200, 21.000, 949.00, 3297.2, -128.6),
     ("oun-2011-05-22-12z.txt", "ml", 966.00, 25.501, 20.017, 891.12, 3463.7, -142.1),
     ("oun-2011-05-22-12z.txt", "mu", 886.00, 22.200, 19.000, 844.99, 4630.8, -30.7),

@@ -272,11 +272,10 @@ proptest! {
         edits in prop::collection::vec(edit(), 1..12),
     ) {
         let text = mutate(&shipped_text(), &edits);
-        if let Ok(s) = Sounding::parse(&text, Path::new("fuzz.txt")) {
-            if let Ok(env) = s.to_environment() {
+        if let Ok(s) = Sounding::parse(&text, Path::new("fuzz.txt"))
+            && let Ok(env) = s.to_environment() {
                 let _ = lift_surface_parcel(&env, &LiftOptions::default());
             }
-        }
     }
 
     #[test]
@@ -284,11 +283,10 @@ proptest! {
         edits in prop::collection::vec(edit(), 1..8),
     ) {
         let text = mutate(cumulus::scene::DEFAULT_SCENE_TOML, &edits);
-        if let Ok(scene) = SceneProfile::from_toml(&text, Path::new("fuzz.toml")) {
-            if let Ok(env) = scene.atmosphere.build(Path::new(".")) {
+        if let Ok(scene) = SceneProfile::from_toml(&text, Path::new("fuzz.toml"))
+            && let Ok(env) = scene.atmosphere.build(Path::new(".")) {
                 let _ = lift_surface_parcel(&env, &LiftOptions::default());
             }
-        }
     }
 }
 

@@ -61,7 +61,7 @@ fn a_tall_cloud_lit_from_above_has_a_dark_base() {
     let (w, h) = (128, 192);
     let frames = hdr_frames(&ctx, &cfg, camera, cfg.sun(), (w, h), &[&[], &tower()]);
     let (sky, cloud_rgb) = (&frames[0], &frames[1]);
-    let cloud = luminance(&cloud_rgb);
+    let cloud = luminance(cloud_rgb);
     // Rows where the central columns are all cloud pixels.
     let mask = cloud_mask(cloud_rgb, sky);
     let (x0, x1) = (w / 2 - 6, w / 2 + 6);

@@ -217,11 +217,11 @@ impl ProfileEditor {
 
 /// The environment of inline points (with `wind`), its surface parcel's
 /// ascent and that parcel's CAPE and CIN.
-fn build(
-    spec: &AtmosphereSpec,
-    lift: &LiftOptions,
-    wind: Option<WindProfile>,
-) -> Result<(Environment, ParcelAscent, [(f64, f64); 3])> {
+/// What [`build`] makes of a profile: the environment, the surface parcel's
+/// ascent and the three (CAPE, CIN) pairs.
+type Built = (Environment, ParcelAscent, [(f64, f64); 3]);
+
+fn build(spec: &AtmosphereSpec, lift: &LiftOptions, wind: Option<WindProfile>) -> Result<Built> {
     // Inline points read no file, so the base directory does not matter.
     let env = spec.build(Path::new("."))?.with_wind(wind);
     let curve = lift_curve(&env, lift)?;

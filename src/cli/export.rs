@@ -238,7 +238,8 @@ fn export_frame(
 /// for a scene with authored ellipsoids, what the slices method draws.
 enum Density {
     Parcels(CloudField),
-    Authored(AuthoredField),
+    /// Boxed: its octave table is ~2 KiB, the parcels' field ~150 B.
+    Authored(Box<AuthoredField>),
 }
 
 impl Density {
@@ -266,10 +267,10 @@ impl Density {
             camera.target - camera.position,
             None, // the primitives only: no vertex values
         )?;
-        Ok(Density::Authored(AuthoredField::new(
+        Ok(Density::Authored(Box::new(AuthoredField::new(
             &frame,
             cfg.noise_texels,
-        )))
+        ))))
     }
 
     fn bounds(&self) -> Option<(glam::Vec3, glam::Vec3)> {

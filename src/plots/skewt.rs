@@ -222,7 +222,7 @@ fn draw(
                     run,
                     6,
                     4,
-                    light(RGBColor(0, 130, 60)).into(),
+                    light(RGBColor(0, 130, 60)),
                 ))
                 .map_err(|x| e(&x))?;
         }
@@ -242,7 +242,7 @@ fn draw(
                     run,
                     2,
                     4,
-                    light(RGBColor(120, 0, 120)).into(),
+                    light(RGBColor(120, 0, 120)),
                 ))
                 .map_err(|x| e(&x))?;
             chart
@@ -312,7 +312,8 @@ fn draw(
             })
             .collect::<Vec<_>>()
     };
-    let series: [(&str, Vec<(f64, f64)>, RGBColor); 3] = [
+    type Series = (&'static str, Vec<(f64, f64)>, RGBColor);
+    let series: [Series; 3] = [
         (
             "environment temperature",
             env_pts(&|z| env.temperature_k(z)),

@@ -28,7 +28,7 @@ const BASE_PERIOD: u32 = 4;
 /// Octaves per fetch: the four channels.
 pub const CHANNELS: u32 = 4;
 /// Smallest texture side: two texels per lattice cell of the finest channel.
-pub const MIN_TEXELS: u32 = 2 * BASE_PERIOD << (CHANNELS - 1);
+pub const MIN_TEXELS: u32 = (2 * BASE_PERIOD) << (CHANNELS - 1);
 /// Lattice offset of channel c (in cells, times c): channels do not share
 /// lattice points, so the octaves' grids do not line up.
 const CHANNEL_OFFSET: f32 = 0.37;

@@ -173,7 +173,7 @@ impl Packed {
         let [nx, ny, _] = self.info.dims;
         let i = (ix + nx * (iy + ny * iz)) as usize;
         let c = self.grid.cells[i / 2];
-        let (start, count) = if i % 2 == 0 {
+        let (start, count) = if i.is_multiple_of(2) {
             (c[0], c[1])
         } else {
             (c[2], c[3])

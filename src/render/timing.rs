@@ -55,6 +55,10 @@ pub enum TimingMode {
 /// (pass names, whole frame ms) of one measured frame.
 type Measured = (Vec<(String, f64)>, f64);
 
+/// A lagged read-back under way: the passes it times and the flag its
+/// mapping sets when done (Err: mapping failed).
+type InFlight = (Vec<&'static str>, Arc<Mutex<Option<bool>>>);
+
 /// Timestamp queries: two per pass (begin, end).
 pub(crate) struct Timestamps {
     pub set: wgpu::QuerySet,
@@ -62,7 +66,7 @@ pub(crate) struct Timestamps {
     read: wgpu::Buffer,
     /// Lagged mode: the read buffer is being mapped for these passes;
     /// the flag turns true when the mapping is done (Err: mapping failed).
-    in_flight: Option<(Vec<&'static str>, Arc<Mutex<Option<bool>>>)>,
+    in_flight: Option<InFlight>,
     /// Lagged mode: the latest timings read back.
     last: Measured,
 }

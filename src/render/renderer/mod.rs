@@ -155,7 +155,7 @@ impl Renderer {
             ("parcel uniform", std::mem::size_of::<ParcelsUniform>()),
             ("grid uniform", std::mem::size_of::<GridUniform>()),
         ] {
-            if size as u64 > limits.max_uniform_buffer_binding_size as u64 {
+            if size as u64 > limits.max_uniform_buffer_binding_size {
                 return Err(Error::Gpu(format!(
                     "the {name} needs {size} bytes but this device binds at most {} bytes of uniforms; lower MAX_PARCELS/MAX_GRID_* in src/render/pack.rs",
                     limits.max_uniform_buffer_binding_size

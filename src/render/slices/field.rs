@@ -64,8 +64,7 @@ impl AuthoredField {
 pub fn tier_at(octaves: &OctaveUniform, z_m: f32) -> usize {
     let count = octaves.counts[0] as usize;
     (1..count)
-        .filter(|&i| z_m >= octaves.tiers[i].bottom_m[0])
-        .last()
+        .rfind(|&i| z_m >= octaves.tiers[i].bottom_m[0])
         .unwrap_or(0)
 }
 

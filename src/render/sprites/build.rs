@@ -355,8 +355,8 @@ impl SpriteScene {
         debug_assert!(k < SECTORS);
         let light = lighting(sun_dir);
         // Block → (its clouds with their formation, its reach).
-        let mut blocks: std::collections::BTreeMap<(i32, i32), (Vec<(&SpriteCloud, f32)>, f32)> =
-            Default::default();
+        type Block<'a> = (Vec<(&'a SpriteCloud, f32)>, f32);
+        let mut blocks: std::collections::BTreeMap<(i32, i32), Block> = Default::default();
         let scene = self
             .clouds
             .iter()

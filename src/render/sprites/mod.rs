@@ -81,12 +81,12 @@ impl SpritesGpu {
         let n = instances.len() as u64;
         let size = std::mem::size_of::<SpriteInstance>() as u64;
         if n > self.capacity {
-            let max = ctx.device.limits().max_storage_buffer_binding_size as u64 / size;
+            let max = ctx.device.limits().max_storage_buffer_binding_size / size;
             if n > max {
                 return Err(Error::Gpu(format!(
                     "{n} sprites need {} MiB of instances; this device binds at most {max} sprites ({} MiB)",
-                    n * size >> 20,
-                    max * size >> 20
+                    (n * size) >> 20,
+                    (max * size) >> 20
                 )));
             }
             self.capacity = n.next_power_of_two().min(max);
