@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::hdr::{cloud_mask, hdr_frames, luminance};
+use common::hdr::{base_and_top, cloud_mask, half_means, hdr_frames, luminance};
 
 use cumulus::physics::CloudParcel;
 use cumulus::render::headless::Headless;
@@ -61,31 +61,11 @@ fn a_tall_cloud_lit_from_above_has_a_dark_base() {
     let (w, h) = (128, 192);
     let frames = hdr_frames(&ctx, &cfg, camera, cfg.sun(), (w, h), &[&[], &tower()]);
     let (sky, cloud_rgb) = (&frames[0], &frames[1]);
-    let cloud = luminance(cloud_rgb);
-    // Rows where the central columns are all cloud pixels.
+    // The top and bottom eighths of the rows whose 12 central columns are
+    // all cloud.
     let mask = cloud_mask(cloud_rgb, sky);
-    let (x0, x1) = (w / 2 - 6, w / 2 + 6);
-    let rows: Vec<u32> = (0..h)
-        .filter(|&y| (x0..x1).all(|x| mask[(y * w + x) as usize]))
-        .collect();
-    assert!(
-        rows.len() > h as usize / 3,
-        "the tower covers {} rows",
-        rows.len()
-    );
-    let band = |ys: &[u32]| {
-        let mut s = 0.0;
-        for &y in ys {
-            for x in x0..x1 {
-                s += cloud[(y * w + x) as usize];
-            }
-        }
-        s / (ys.len() as u32 * (x1 - x0)) as f32
-    };
-    // Image rows grow downward: the first cloud rows are the top.
-    let n = rows.len() / 8;
-    let top = band(&rows[..n]);
-    let base = band(&rows[rows.len() - n..]);
+    let (base, top, rows) = base_and_top(&luminance(cloud_rgb), &mask, w, 6);
+    assert!(rows > h as usize / 3, "the tower covers {rows} rows");
     let ratio = base / top;
     eprintln!("tower luminance: top {top:.3}, base {base:.3}, base/top {ratio:.3}");
     // Overhead, the sun reaches the base only through the whole 4 km tower
@@ -110,21 +90,6 @@ fn a_tall_cloud_lit_from_above_has_a_dark_base() {
     );
 }
 
-/// Mean luminance of the cloud pixels left and right of the image's
-/// centre column: (left, right).
-fn half_means(lum: &[f32], mask: &[bool], w: u32) -> (f32, f32) {
-    let (mut sum, mut n) = ([0.0f32; 2], [0u32; 2]);
-    for (i, (&l, &m)) in lum.iter().zip(mask).enumerate() {
-        if m {
-            let side = usize::from(i as u32 % w >= w / 2);
-            sum[side] += l;
-            n[side] += 1;
-        }
-    }
-    assert!(n[0] > 50 && n[1] > 50, "cloud pixels per half: {n:?}");
-    (sum[0] / n[0] as f32, sum[1] / n[1] as f32)
-}
-
 #[test]
 fn a_tower_under_a_low_sun_has_a_shaded_side() {
     let Some(ctx) = common::context("GPU sunlit/shaded side test") else {
@@ -140,7 +105,8 @@ fn a_tower_under_a_low_sun_has_a_shaded_side() {
     let ratio = |cfg: &RenderConfig, mask: Option<&[bool]>| {
         let f = hdr_frames(&ctx, cfg, camera, cfg.sun(), size, &[&[], &tower()]);
         let mask = mask.map_or_else(|| cloud_mask(&f[1], &f[0]), <[bool]>::to_vec);
-        let (shaded, sunlit) = half_means(&luminance(&f[1]), &mask, size.0);
+        let (shaded, sunlit, n) = half_means(&luminance(&f[1]), &mask, size.0);
+        assert!(n[0] > 50 && n[1] > 50, "cloud pixels per half: {n:?}");
         (shaded / sunlit, shaded, sunlit, mask)
     };
     let (dense, shaded, sunlit, mask) = ratio(&cfg, None);

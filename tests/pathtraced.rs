@@ -15,7 +15,7 @@ mod common;
 use std::path::Path;
 use std::process::Command;
 
-use common::hdr::{cloud_mask, luminance};
+use common::hdr::{base_and_top, cloud_mask, half_means, luminance};
 use cumulus::bench::stats::mean_flip;
 
 /// Most mean FLIP of the default setting against the path tracer at this
@@ -180,43 +180,6 @@ fn exr_rgb(path: &Path) -> Vec<f32> {
     image::open(path).unwrap().to_rgb32f().into_raw()
 }
 
-/// (dark part, lit part) of the tower's cloud pixels `mask` in `lum`, as
-/// tests/lighting.rs takes them: overhead, the lowest and highest eighth of
-/// the rows where the central columns are all cloud; under the low sun in
-/// the east, the left (shaded) and right (sunlit) halves.
-fn dark_and_lit(lum: &[f32], mask: &[bool], w: u32, overhead: bool) -> (f32, f32) {
-    let h = lum.len() as u32 / w;
-    let mean = |px: &mut dyn Iterator<Item = u32>| {
-        let (s, n) = px.fold((0.0, 0u32), |(s, n), i| (s + lum[i as usize], n + 1));
-        assert!(n > 20, "{n} cloud pixels");
-        s / n as f32
-    };
-    if overhead {
-        let (x0, x1) = (w / 2 - 3, w / 2 + 3);
-        let rows: Vec<u32> = (0..h)
-            .filter(|&y| (x0..x1).all(|x| mask[(y * w + x) as usize]))
-            .collect();
-        let n = rows.len() / 8;
-        let band = |ys: &[u32]| {
-            ys.iter()
-                .flat_map(|y| (x0..x1).map(move |x| y * w + x))
-                .collect::<Vec<_>>()
-        };
-        let (base, top) = (band(&rows[rows.len() - n..]), band(&rows[..n]));
-        (mean(&mut base.into_iter()), mean(&mut top.into_iter()))
-    } else {
-        let side = |right: bool| {
-            (0..w * h)
-                .filter(|&i| mask[i as usize] && (i % w >= w / 2) == right)
-                .collect::<Vec<_>>()
-        };
-        (
-            mean(&mut side(false).into_iter()),
-            mean(&mut side(true).into_iter()),
-        )
-    }
-}
-
 #[test]
 fn a_tower_is_shaded_like_the_path_traced_one() {
     if !ready("path-traced tower") {
@@ -265,8 +228,21 @@ fn a_tower_is_shaded_like_the_path_traced_one() {
         let lum = luminance(&rgb);
         let pt = luminance(&exr_rgb(&out.join("pathtraced.exr")));
         let overhead = name == "overhead";
-        let (od, ol) = dark_and_lit(&lum, &mask, w, overhead);
-        let (pd, pl) = dark_and_lit(&pt, &mask, w, overhead);
+        // Overhead: the base and top eighths of the six central columns;
+        // under the low sun: the west (shaded) and east (sunlit) halves.
+        let dark_and_lit = |lum: &[f32]| {
+            let (dark, lit, n) = if overhead {
+                let (base, top, rows) = base_and_top(lum, &mask, w, 3);
+                (base, top, rows as u32 * 6 / 8)
+            } else {
+                let (left, right, n) = half_means(lum, &mask, w);
+                (left, right, n[0].min(n[1]))
+            };
+            assert!(n > 20, "{name}: {n} cloud pixels");
+            (dark, lit)
+        };
+        let (od, ol) = dark_and_lit(&lum);
+        let (pd, pl) = dark_and_lit(&pt);
         let (ours_ratio, pt_ratio) = (od / ol, pd / pl);
         eprintln!(
             "{name}: dark/lit ours {ours_ratio:.3} ({od:.2}/{ol:.2}), path tracer {pt_ratio:.3} ({pd:.2}/{pl:.2})"

@@ -1,5 +1,7 @@
 //! Linear HDR frames of the lighting and tower tests: one renderer for a
-//! few parcel sets, cloud masks against the empty sky, luminance.
+//! few parcel sets, cloud masks against the empty sky, luminance, and the
+//! two measurements on a tower (base against top, one side against the
+//! other).
 
 use cumulus::physics::CloudParcel;
 use cumulus::render::headless::Headless;
@@ -47,4 +49,40 @@ pub fn cloud_mask(cloud_rgb: &[f32], sky_rgb: &[f32]) -> Vec<bool> {
         .zip(sky_rgb.chunks_exact(3))
         .map(|(c, s)| (0..3).any(|i| (c[i] - s[i]).abs() > 0.05))
         .collect()
+}
+
+/// Mean luminance of the bottom and top eighths of the rows in which the
+/// 2·`half_width` central columns are all cloud (image rows grow downward:
+/// the first such rows are the top): (base, top, rows).
+pub fn base_and_top(lum: &[f32], mask: &[bool], w: u32, half_width: u32) -> (f32, f32, usize) {
+    let h = lum.len() as u32 / w;
+    let (x0, x1) = (w / 2 - half_width, w / 2 + half_width);
+    let rows: Vec<u32> = (0..h)
+        .filter(|&y| (x0..x1).all(|x| mask[(y * w + x) as usize]))
+        .collect();
+    let n = (rows.len() / 8).max(1);
+    let band = |ys: &[u32]| {
+        let sum: f32 = ys
+            .iter()
+            .flat_map(|y| (x0..x1).map(move |x| lum[(y * w + x) as usize]))
+            .sum();
+        sum / (ys.len() as u32 * (x1 - x0)).max(1) as f32
+    };
+    let top = band(&rows[..n.min(rows.len())]);
+    let base = band(&rows[rows.len().saturating_sub(n)..]);
+    (base, top, rows.len())
+}
+
+/// Mean luminance of the cloud pixels left and right of the image's
+/// centre column: (left, right, [pixels left, pixels right]).
+pub fn half_means(lum: &[f32], mask: &[bool], w: u32) -> (f32, f32, [u32; 2]) {
+    let (mut sum, mut n) = ([0.0f32; 2], [0u32; 2]);
+    for (i, (&l, &m)) in lum.iter().zip(mask).enumerate() {
+        if m {
+            let side = usize::from(i as u32 % w >= w / 2);
+            sum[side] += l;
+            n[side] += 1;
+        }
+    }
+    (sum[0] / n[0].max(1) as f32, sum[1] / n[1].max(1) as f32, n)
 }
