@@ -294,6 +294,25 @@ fn render_zero_or_huge_size() {
 }
 
 #[test]
+fn image_output_of_another_format() {
+    // Refused before anything runs: a frame used to be written as PNG
+    // bytes under any other name (x.bmp), and the window never opens.
+    let dir = tempfile::tempdir().unwrap();
+    let bmp = dir.path().join("x.bmp");
+    fails_cleanly(
+        &["render", "--out", bmp.to_str().unwrap()],
+        &["--out", "x.bmp", ".png", ".exr"],
+    );
+    assert!(!bmp.exists());
+    let jpg = dir.path().join("x.jpg");
+    fails_cleanly(
+        &["watch", "--screenshot", jpg.to_str().unwrap()],
+        &["--screenshot", "x.jpg", ".png"],
+    );
+    assert!(!jpg.exists());
+}
+
+#[test]
 fn simulate_absurd_duration_and_dt() {
     let dir = tempfile::tempdir().unwrap();
     let csv = dir.path().join("old.csv");
