@@ -110,7 +110,7 @@ pub fn render_sun(clock: Option<&SolarClock>, render: &RenderConfig, t_s: f64) -
         None => (render.sun(), false),
         Some(c) => {
             let (direction, strength, held) = crate::sun::light(c.position(t_s));
-            let sun = Sun::from_sky(direction, strength);
+            let sun = Sun::from_sky(direction, strength, render.visibility_km);
             (sun, held)
         }
     }

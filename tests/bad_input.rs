@@ -313,6 +313,20 @@ fn image_output_of_another_format() {
 }
 
 #[test]
+fn visibility_out_of_range() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("never.png");
+    for v in ["0", "0.5", "300", "nan"] {
+        let set = format!("render.visibility_km={v}");
+        fails_cleanly(
+            &["render", "--set", &set, "--out", out.to_str().unwrap()],
+            &["render.visibility_km", "1 to 280 km"],
+        );
+    }
+    assert!(!out.exists());
+}
+
+#[test]
 fn simulate_absurd_duration_and_dt() {
     let dir = tempfile::tempdir().unwrap();
     let csv = dir.path().join("old.csv");

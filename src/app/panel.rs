@@ -468,6 +468,15 @@ fn render_section(ui: &mut egui::Ui, m: &mut Model) -> bool {
             .text("exposure (EV)"),
     )
     .on_hover_text("exposure compensation of the tone curve, in stops");
+    let v = crate::sky::VISIBILITY_KM;
+    ui.add(
+        egui::Slider::new(&mut r.visibility_km, *v.start() as f32..=*v.end() as f32)
+            .logarithmic(true)
+            .text("visibility (km)"),
+    )
+    .on_hover_text(
+        "how far one sees through the haze near the ground: sets the aerosol of the sky and the air",
+    );
     ui.horizontal(|ui| {
         ui.checkbox(&mut r.normals, "normals");
         ui.checkbox(&mut r.shadows, "shadows");

@@ -102,6 +102,11 @@ impl Default for TerrainConfig {
 /// blue. benches/pathtraced.py reads the scene's k from the export sidecar.
 pub const TONE_EXPOSURE: f32 = 0.25;
 
+/// Visibility of [`crate::sky::Atmosphere::EARTH`]'s clean air, the
+/// default `[render] visibility_km` (217.4 km, rounded to the f32 the
+/// setting holds). units: km
+pub const DEFAULT_VISIBILITY_KM: f32 = 217.358_76;
+
 /// Render settings and feature switches (the `[render]` table).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -171,6 +176,15 @@ pub struct RenderConfig {
     /// comparison use; a scene of big sunlit towers is exposed lower so that
     /// their tops do not all sit on the curve's shoulder (README).
     pub exposure_ev: f32,
+    /// Meteorological visibility at the ground (the distance at which a
+    /// dark hill fades to 2 % contrast against the horizon): sets the
+    /// aerosol of the atmosphere model, and with it the sky's whiteness
+    /// near the horizon, the sun's colour and the haze over distant
+    /// ground and clouds ([`crate::sky::Atmosphere::with_visibility_km`]).
+    /// The default, [`DEFAULT_VISIBILITY_KM`], is the clean air of
+    /// Bruneton's and Hillaire's Earth; humid summer days with cumulus
+    /// see 20–50 km. units: km
+    pub visibility_km: f32,
     /// Sun azimuth, clockwise from +y (north) toward +x (east). units: degrees
     pub sun_azimuth_deg: f32,
     /// Sun elevation above the horizon. units: degrees
@@ -212,6 +226,7 @@ impl Default for RenderConfig {
             early_exit_transmittance: 0.02,
             phase_g: 0.8,
             exposure_ev: 0.0,
+            visibility_km: DEFAULT_VISIBILITY_KM,
             sun_azimuth_deg: 100.0,
             sun_elevation_deg: 30.0,
             noise_texels: 64,
@@ -313,6 +328,17 @@ impl RenderConfig {
             (-8.0..=8.0).contains(&r.exposure_ev),
             "-8 to 8 stops",
         )?;
+        let v = crate::sky::VISIBILITY_KM;
+        check(
+            "render.visibility_km",
+            r.visibility_km,
+            v.contains(&(r.visibility_km as f64)),
+            &format!(
+                "{} to {} km (mist and fog start under {0} km; the air alone sees about 288 km)",
+                v.start(),
+                v.end()
+            ),
+        )?;
         check(
             "render.sun_azimuth_deg",
             r.sun_azimuth_deg,
@@ -393,7 +419,7 @@ impl RenderConfig {
 
     /// The sun described by this configuration.
     pub fn sun(&self) -> Sun {
-        Sun::from_sky(self.sun_direction(), 1.0)
+        Sun::from_sky(self.sun_direction(), 1.0, self.visibility_km)
     }
 }
 

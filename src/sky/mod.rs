@@ -46,6 +46,14 @@ pub use view::{SKY_AZIMUTHS, SKY_ELEVATIONS, SKY_TEXELS, SkyLight};
 /// the sky model (2.2, 2.1, 2.0).
 pub const SUN_ABOVE_AIR: f64 = 2.5;
 
+/// ln 50: Koschmieder's visibility is where the contrast falls to 2 %.
+pub const KOSCHMIEDER: f64 = 3.912_023;
+
+/// The visibilities an atmosphere may be set to ([`Atmosphere::with_visibility_km`]):
+/// from a thick haze (under 1 km it is mist or fog, the cloud deck's
+/// business) to just short of what the air alone allows. units: km
+pub const VISIBILITY_KM: std::ops::RangeInclusive<f64> = 1.0..=280.0;
+
 /// A layered atmosphere over a spherical ground.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Atmosphere {
@@ -92,6 +100,37 @@ impl Atmosphere {
         ozone_half_width_m: 15_000.0,
         ground_albedo: 0.1,
     };
+
+    /// Meteorological visibility at sea level: the distance at which a
+    /// black object's contrast against the horizon sky falls to 2 %
+    /// (Koschmieder: ln 50 over the extinction, at 550 nm, the G channel).
+    /// About 217 km for [`Self::EARTH`]'s clean air. units: km
+    pub fn visibility_km(&self) -> f64 {
+        let (_, _, ozone) = self.densities(0.0);
+        let extinction = self.rayleigh_scattering_per_m.y
+            + self.mie_extinction_per_m
+            + self.ozone_absorption_per_m.y * ozone;
+        KOSCHMIEDER / extinction / 1000.0
+    }
+
+    /// The same atmosphere with as much aerosol at sea level as makes the
+    /// visibility `visibility_km` (see [`Self::visibility_km`]): the Mie
+    /// extinction is what the visibility leaves over the Rayleigh
+    /// scattering, and the aerosols keep their single-scattering albedo,
+    /// scale height and phase. `visibility_km` must lie in
+    /// [`VISIBILITY_KM`] (the air alone, with no aerosol, sees about 288
+    /// km); the renderer's settings check it.
+    pub fn with_visibility_km(&self, visibility_km: f64) -> Self {
+        let (_, _, ozone) = self.densities(0.0);
+        let air = self.rayleigh_scattering_per_m.y + self.ozone_absorption_per_m.y * ozone;
+        let extinction = (KOSCHMIEDER / (visibility_km * 1000.0) - air).max(0.0);
+        let albedo = self.mie_scattering_per_m / self.mie_extinction_per_m;
+        Self {
+            mie_extinction_per_m: extinction,
+            mie_scattering_per_m: extinction * albedo,
+            ..*self
+        }
+    }
 
     /// Relative densities (Rayleigh, Mie, ozone) at height `h_m`.
     fn densities(&self, h_m: f64) -> (f64, f64, f64) {
