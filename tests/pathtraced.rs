@@ -20,10 +20,11 @@ use cumulus::bench::stats::mean_flip;
 
 /// Most mean FLIP of the default setting against the path tracer at this
 /// size and sample count (the accuracy goal, ≤ 0.05, is for the full
-/// fair-weather frame: measured 0.047 with `pathtraced.py --quick`). The
+/// fair-weather frame: measured 0.045 with `pathtraced.py --quick`). The
 /// real-time lighting approximates multiple scattering and the ambient
-/// term, and 8 samples per pixel leave visible noise. Measured 0.035 on
-/// llvmpipe with the clouds lit from below by the sky's lower half (this
+/// term, and 8 samples per pixel leave visible noise. Measured 0.038 on
+/// llvmpipe under the scene's 40 km haze (both sides see its sky), 0.035
+/// in clean air with the clouds lit from below by the sky's lower half (this
 /// scene has no ground; Mitsuba sees the same sky there); 0.043 with a
 /// fixed 0.03 × sun from below and the multiple scattering dimmed where the
 /// cloud ends behind a sample, 0.039 before that, 0.030 with
