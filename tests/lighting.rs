@@ -16,15 +16,7 @@ use glam::Vec3;
 /// A 4 km tower: parcels of radius 500 m stacked every 400 m from 1.5 to
 /// 5.1 km, all on one condensation plane at 1.1 km.
 fn tower() -> Vec<CloudParcel> {
-    (0..10)
-        .map(|i| CloudParcel {
-            id: i as u64,
-            center_m: Vec3::new(0.0, 0.0, 1500.0 + 400.0 * i as f32),
-            radius_m: 500.0,
-            fill: 1.0,
-            cond_plane_z_m: 1100.0,
-        })
-        .collect()
+    common::render::column(10, (1500.0, 400.0), 500.0, |_| 1100.0)
 }
 
 /// The tower's drawn spheres at the parcels' own radius under the sun at

@@ -179,15 +179,7 @@ fn baked_matches_exact_with_mixed_fills_and_planes() {
 /// condensation plane 200 m under its centre, as a tower's successive
 /// bubbles condense: the lower parcel's soft shell reaches into the one above.
 fn stacked_parcels() -> Vec<CloudParcel> {
-    (0..4)
-        .map(|i| CloudParcel {
-            id: i as u64,
-            center_m: Vec3::new(0.0, 0.0, 1500.0 + 600.0 * i as f32),
-            radius_m: 180.0,
-            fill: 1.0,
-            cond_plane_z_m: 1300.0 + 600.0 * i as f32,
-        })
-        .collect()
+    common::render::column(4, (1500.0, 600.0), 180.0, |z| z - 200.0)
 }
 
 #[test]

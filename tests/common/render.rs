@@ -1,4 +1,5 @@
-//! Camera, configuration and one-frame helpers of the sprite render tests.
+//! Camera, configuration and one-frame helpers of the sprite render tests,
+//! and the parcel columns of the lighting and render-method tests.
 
 use cumulus::physics::CloudParcel;
 use cumulus::render::headless::Headless;
@@ -48,4 +49,26 @@ pub fn render(
         time_s: 0.0,
     };
     hl.render(ctx, &input).unwrap().0
+}
+
+/// `n` full parcels of `radius_m` stacked on the z axis every `spacing_m`
+/// from `base_m` up, each cut at the condensation plane `plane(centre z)`.
+pub fn column(
+    n: usize,
+    (base_m, spacing_m): (f32, f32),
+    radius_m: f32,
+    plane: impl Fn(f32) -> f32,
+) -> Vec<CloudParcel> {
+    (0..n)
+        .map(|i| {
+            let z = base_m + spacing_m * i as f32;
+            CloudParcel {
+                id: i as u64,
+                center_m: Vec3::new(0.0, 0.0, z),
+                radius_m,
+                fill: 1.0,
+                cond_plane_z_m: plane(z),
+            }
+        })
+        .collect()
 }
