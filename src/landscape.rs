@@ -40,7 +40,13 @@ fn value2(x: f32, y: f32, seed: u32) -> f32 {
 
 /// Procedural height at (x, y): fBm hills, low in the middle (a valley floor
 /// at most a fifth of the scale within 7 km of the origin) rising to full
-/// relief 18 km out, in [0, height_scale_m]. units: m
+/// relief 18 km out, in [0, height_scale_m]. The sum of six value-noise
+/// octaves stays within about ±0.2 of its mean, so it is stretched 2.5×
+/// about 0.5 and clipped: the relief fills the scale, valley floors and
+/// hilltops flatten where it clips. Unstretched, the landscape scene's
+/// hills spanned 27–574 m of its 700 at slopes of 2.8° (median) and 5.9°
+/// (p90) and read as a plain in its panorama; stretched, 0–700 m at 5.8°
+/// and 13.7° (max 33°). units: m
 pub fn procedural_height(x: f32, y: f32, seed: u32, height_scale_m: f32) -> f32 {
     let mut sum = 0.0;
     let mut amp = 1.0;
@@ -52,7 +58,7 @@ pub fn procedural_height(x: f32, y: f32, seed: u32, height_scale_m: f32) -> f32 
         amp *= 0.5;
         freq *= 2.1;
     }
-    let h = sum / norm;
+    let h = (0.5 + 2.5 * (sum / norm - 0.5)).clamp(0.0, 1.0);
     let r = (x * x + y * y).sqrt();
     let t = ((r - 7000.0) / 11000.0).clamp(0.0, 1.0);
     let envelope = 0.2 + 0.8 * t * t * (3.0 - 2.0 * t);
