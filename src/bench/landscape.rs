@@ -22,7 +22,7 @@ use super::stats::{mean_flip, rgb};
 pub const ACCUMULATED_FRAMES: u32 = 16;
 
 /// Frame size and simulated time of the landscape case in `mode`: full
-/// 1080p at the scene's start time (940 condensed parcels); quick a
+/// 1080p at the scene's start time (967 condensed parcels); quick a
 /// quarter of that; tiny a thumbnail at 300 s (the first few clouds), so
 /// the tiny run's test stays seconds long.
 pub fn plan(mode: Mode) -> ((u32, u32), Option<f64>) {
