@@ -15,16 +15,24 @@ struct Harness {
     ps: PanelState,
     m: Model,
     t: f64,
+    /// Screen height in points (tall enough to show the whole panel
+    /// without scrolling where a test needs a lower section).
+    height: f32,
 }
 
 impl Harness {
     fn new() -> Self {
+        Self::with_height(760.0)
+    }
+
+    fn with_height(height: f32) -> Self {
         let (profile, source) = cumulus::scene::load_scene(None).unwrap();
         let mut h = Self {
             ctx: panel::egui_context(),
             ps: PanelState::default(),
             m: Model::new(profile, source).unwrap(),
             t: 0.0,
+            height,
         };
         // Two frames to lay out (fonts, plot bounds).
         h.frame(vec![]);
@@ -35,7 +43,7 @@ impl Harness {
     fn frame(&mut self, events: Vec<Event>) {
         self.t += 0.05;
         let input = RawInput {
-            screen_rect: Some(Rect::from_min_size(Pos2::ZERO, vec2(1280.0, 760.0))),
+            screen_rect: Some(Rect::from_min_size(Pos2::ZERO, vec2(1280.0, self.height))),
             time: Some(self.t),
             events,
             ..Default::default()
@@ -264,4 +272,44 @@ fn skew_t_view_drags_points_and_updates_cape_live() {
         "{q:?} → {moved:?}"
     );
     assert!((moved.t_c - q.t_c).abs() < 0.2, "{q:?} → {moved:?}");
+}
+
+#[test]
+fn the_visibility_slider_applies_its_value_when_the_drag_ends() {
+    // Every new visibility rebuilds the sky's LUTs (25 ms), so a drag must
+    // not hand the renderer a new value each frame: only its last one.
+    let mut h = Harness::with_height(2400.0);
+    let rect = h.ps.visibility_slider().expect("slider drawn");
+    let v0 = h.m.render_cfg.visibility_km;
+    let mut changes = 0;
+    let mut seen = v0;
+    let button = |pos, pressed| Event::PointerButton {
+        pos,
+        button: PointerButton::Primary,
+        pressed,
+        modifiers: Modifiers::default(),
+    };
+    // Along the rail (the slider's first 100 points, egui's default width).
+    let from = pos2(rect.left() + 20.0, rect.center().y);
+    let to = pos2(rect.left() + 80.0, rect.center().y);
+    h.frame(vec![Event::PointerMoved(from)]);
+    h.frame(vec![button(from, true)]);
+    for i in 1..=8 {
+        h.frame(vec![Event::PointerMoved(
+            from + (to - from) * (i as f32 / 8.0),
+        )]);
+        let v = h.m.render_cfg.visibility_km;
+        changes += usize::from(v != seen);
+        seen = v;
+    }
+    assert_eq!(h.m.render_cfg.visibility_km, v0, "applied during the drag");
+    h.frame(vec![button(to, false)]);
+    h.frame(vec![]);
+    let v = h.m.render_cfg.visibility_km;
+    changes += usize::from(v != seen);
+    assert_ne!(v, v0, "the drag's value was applied on release");
+    assert_eq!(changes, 1, "one new value for the whole drag");
+    // The applied value is what the slider shows again next frame.
+    h.frame(vec![]);
+    assert_eq!(h.m.render_cfg.visibility_km, v);
 }

@@ -46,9 +46,17 @@ pub struct PanelState {
     view_env: Option<crate::atmosphere::Environment>,
     /// The authored ellipsoid the slices panel edits.
     pub selected_ellipsoid: usize,
+    /// Where the visibility slider was drawn last frame.
+    visibility_slider: Option<egui::Rect>,
 }
 
 impl PanelState {
+    /// Where the visibility slider was drawn last frame, in egui points
+    /// (for tests that drag it as a user would).
+    pub fn visibility_slider(&self) -> Option<egui::Rect> {
+        self.visibility_slider
+    }
+
     /// Where (temperature °C, height m) was drawn on the diagram last frame,
     /// in egui points: lets tests press and drag a profile point exactly as
     /// a user would.
@@ -105,7 +113,7 @@ pub fn show(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) -> PanelActio
                 ui.separator();
                 simulation_section(ui, m);
                 ui.separator();
-                actions.render_changed = render_section(ui, m);
+                actions.render_changed = render_section(ui, m, ps);
                 ui.separator();
                 if m.render_cfg.method == crate::render::RenderMethod::Slices {
                     actions.render_changed |=
@@ -446,7 +454,7 @@ fn simulation_section(ui: &mut egui::Ui, m: &mut Model) {
 }
 
 /// Returns whether a render setting changed.
-fn render_section(ui: &mut egui::Ui, m: &mut Model) -> bool {
+fn render_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) -> bool {
     ui.label(RichText::new("Rendering").strong());
     let before = m.render_cfg.clone();
     let r = &mut m.render_cfg;
@@ -468,15 +476,30 @@ fn render_section(ui: &mut egui::Ui, m: &mut Model) -> bool {
             .text("exposure (EV)"),
     )
     .on_hover_text("exposure compensation of the tone curve, in stops");
+    // Every new visibility rebuilds the sky's LUTs (25 ms on two cores), so
+    // a drag shows its value and applies it when the drag ends.
     let v = crate::sky::VISIBILITY_KM;
-    ui.add(
-        egui::Slider::new(&mut r.visibility_km, *v.start() as f32..=*v.end() as f32)
-            .logarithmic(true)
-            .text("visibility (km)"),
-    )
-    .on_hover_text(
-        "how far one sees through the haze near the ground: sets the aerosol of the sky and the air",
-    );
+    let pending_id = egui::Id::unique("visibility_km dragged");
+    let mut visibility = ui
+        .data(|d| d.get_temp::<f32>(pending_id))
+        .unwrap_or(r.visibility_km);
+    let slider = ui
+        .add(
+            egui::Slider::new(&mut visibility, *v.start() as f32..=*v.end() as f32)
+                .logarithmic(true)
+                .text("visibility (km)"),
+        )
+        .on_hover_text(
+            "how far one sees through the haze near the ground: sets the aerosol of the sky \
+             and the air (applied when the drag ends)",
+        );
+    ps.visibility_slider = Some(slider.rect);
+    if slider.dragged() {
+        ui.data_mut(|d| d.insert_temp(pending_id, visibility));
+    } else {
+        ui.data_mut(|d| d.remove::<f32>(pending_id));
+        r.visibility_km = visibility;
+    }
     ui.horizontal(|ui| {
         ui.checkbox(&mut r.normals, "normals");
         ui.checkbox(&mut r.shadows, "shadows");
