@@ -1,6 +1,7 @@
-//! `cumulus simulate`: runs a scene headless and writes one CSV row of
-//! diagnostics per frame (written atomically at the end), with a progress
-//! bar on stderr. Exits non-zero if the physics produced a NaN.
+//! `cumulus simulate`: runs a scene headless with a progress bar on stderr,
+//! prints a summary (first cloud, peak of the cloud field, wall time) and,
+//! with `--out`, writes one CSV row of diagnostics per frame (atomically, at
+//! the end). Exits non-zero if the physics produced a NaN.
 
 use std::path::PathBuf;
 
@@ -16,9 +17,10 @@ pub struct Args {
     /// Simulated time. units: s
     #[arg(long, allow_negative_numbers = true)]
     pub duration: f64,
-    /// Output CSV file.
+    /// Output CSV file (one row per frame). Without it only the summary is
+    /// printed.
     #[arg(long)]
-    pub out: PathBuf,
+    pub out: Option<PathBuf>,
     /// Frame step (the physics sub-steps it as needed). units: s
     #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
     pub dt: f64,
@@ -128,8 +130,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         )
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    let mut lines = Vec::with_capacity(frames as usize + 1);
-    lines.push(HEADER.to_string());
+    // Rows are kept only when they are written.
+    let mut lines = Vec::with_capacity(if args.out.is_some() { frames as usize + 1 } else { 0 });
+    if args.out.is_some() {
+        lines.push(HEADER.to_string());
+    }
     // When the first cloud forms and when the cloud field peaks: what a
     // scene's [simulation] start_s is chosen from.
     let mut first_cloud_s: Option<f64> = None;
@@ -149,7 +154,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 report.clamps.non_finite
             );
         }
-        lines.push(row(&d, &report));
+        if args.out.is_some() {
+            lines.push(row(&d, &report));
+        }
         if d.condensed_parcels > 0 && first_cloud_s.is_none() {
             first_cloud_s = Some(d.time_s);
         }
@@ -163,15 +170,19 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         bar.inc(1);
     }
     bar.finish();
-    let mut text = lines.join("\n");
-    text.push('\n');
-    cumulus::output::write_atomic(&args.out, text.as_bytes())?;
+    let written = match &args.out {
+        Some(out) => {
+            let mut text = lines.join("\n");
+            text.push('\n');
+            cumulus::output::write_atomic(out, text.as_bytes())?;
+            format!("wrote {} ({frames} frames)", out.display())
+        }
+        None => format!("{frames} frames (no --out: no CSV written)"),
+    };
     let d = world.diagnostics();
     let c = world.counters();
     eprintln!(
-        "wrote {} ({} frames); {} parcels, {} condensed, cloud base {} m, top {} m; {} sub-steps; clamps: {}",
-        args.out.display(),
-        frames,
+        "{written}; {} parcels, {} condensed, cloud base {} m, top {} m; {} sub-steps; clamps: {}",
         d.parcels,
         d.condensed_parcels,
         opt(d.cloud_base_m),
