@@ -564,6 +564,9 @@ fn stats_section(ui: &mut egui::Ui, m: &mut Model) {
         ui.small("(passes timed on the CPU with a queue sync: no GPU timestamps)");
     }
     ui.monospace(format!("cloud parcels drawn: {}", m.parcels.len()));
+    if let Some(note) = &s.bake_note {
+        ui.small(note);
+    }
 }
 
 /// Returns whether a scene was loaded.

@@ -100,6 +100,9 @@ pub struct FrameStats {
     /// GPU (or CPU-synchronised) time of each render pass.
     pub passes: Vec<(String, f64)>,
     pub gpu_timestamps: bool,
+    /// Set when the baked field's voxels had to be coarsened to fit memory
+    /// (`BakeInfo::coarsening_note`).
+    pub bake_note: Option<String>,
 }
 
 /// The window's model.

@@ -401,7 +401,7 @@ impl App {
             );
             let view = tex.create_view(&Default::default());
             let timings = draw_frame(g, &mut encoder, &tex, &view, &jobs, &screen);
-            record(&mut self.model, timings);
+            record(&mut self.model, timings, &g.renderer);
             let rgba = read_back(g, encoder, user_cmds, &tex)?;
             crate::output::write_png_atomic(&path, g.config.width, g.config.height, &rgba)?;
             // Where the 3D view is in the capture: tests compare it with
@@ -448,7 +448,7 @@ impl App {
             };
             let view = frame.texture.create_view(&Default::default());
             let timings = draw_frame(g, &mut encoder, &frame.texture, &view, &jobs, &screen);
-            record(&mut self.model, timings);
+            record(&mut self.model, timings, &g.renderer);
             g.ctx
                 .queue
                 .submit(user_cmds.into_iter().chain([encoder.finish()]));
@@ -471,10 +471,13 @@ impl App {
 }
 
 /// Keeps a frame's render timings for the panel.
-fn record(m: &mut Model, t: crate::render::FrameTimings) {
+fn record(m: &mut Model, t: crate::render::FrameTimings, renderer: &Renderer) {
     m.stats.upload_ms = t.upload_ms;
     m.stats.gpu_timestamps = t.gpu_timestamps;
     m.stats.passes = t.passes;
+    m.stats.bake_note = (renderer.config().method == crate::render::RenderMethod::Baked)
+        .then(|| renderer.bake_info().coarsening_note())
+        .flatten();
 }
 
 impl ApplicationHandler for App {

@@ -360,13 +360,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .map(|(n, ms)| format!("{n} {ms:.1} ms"))
             .collect();
         let bake = headless.renderer.bake_info();
-        if cfg.method == cumulus::render::RenderMethod::Baked && bake.coarsened > 0 {
-            eprintln!(
-                "note: the baked cloud field uses {:.0} m voxels instead of {:.0} m to stay within {} voxels (clouds cover a large region)",
-                bake.voxel_m,
-                bake.wanted_voxel_m,
-                cumulus::render::raymarch::baked::MAX_BAKE_VOXELS
-            );
+        if cfg.method == cumulus::render::RenderMethod::Baked
+            && let Some(note) = bake.coarsening_note()
+        {
+            eprintln!("note: {note}");
         }
         let st = headless.renderer.sprite_stats();
         let sprites = if st.sprites > 0 {

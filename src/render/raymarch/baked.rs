@@ -102,6 +102,20 @@ pub struct BakeInfo {
     pub bakes: u64,
 }
 
+impl BakeInfo {
+    /// What to tell the user when the memory cap made the voxels coarser
+    /// than the parcel radii asked for (the CLI prints it, the window's
+    /// panel shows it); None when it did not.
+    pub fn coarsening_note(&self) -> Option<String> {
+        (self.coarsened > 0).then(|| {
+            format!(
+                "the baked cloud field uses {:.0} m voxels instead of {:.0} m to stay within {} voxels (clouds cover a large region)",
+                self.voxel_m, self.wanted_voxel_m, MAX_BAKE_VOXELS
+            )
+        })
+    }
+}
+
 struct Store {
     dims: [u32; 3],
     /// The splat's per-voxel keys, kept alive for the bind group.
