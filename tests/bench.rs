@@ -112,6 +112,19 @@ fn check_outputs(dir: &Path) {
         rows.iter().any(|r| r[pareto] == "true"),
         "a non-empty sweep has a Pareto front"
     );
+    // Issue 9: each method and each march path against the reference.
+    let (parameter, value) = (col(&h, "parameter"), col(&h, "value"));
+    for (p, v) in [
+        ("method", "baked"),
+        ("method", "exact"),
+        ("march", "fragment"),
+        ("march", "compute"),
+    ] {
+        assert!(
+            rows.iter().any(|r| r[parameter] == p && r[value] == v),
+            "error_vs_runtime.csv lacks {p}={v}"
+        );
+    }
 
     let (h, rows) = read_csv(&dir.join("physics_error_vs_runtime.csv"));
     assert_eq!(rows.len(), plan.physics_dts.len());
@@ -235,13 +248,18 @@ fn check_outputs(dir: &Path) {
     ] {
         assert!(report.contains(section), "report.md lacks {section}");
     }
-    // Five targets (85/8 parcels with shadows on and off, normals, physics
-    // share, error at run time), each with a verdict or "not measured".
+    // Six targets (85/8 parcels with shadows on and off, normals, physics
+    // share, baked against exact, error at run time), each with a verdict
+    // or "not measured".
     let verdicts = report.matches("**pass**").count()
         + report.matches("**FAIL**").count()
         + report.matches("| not measured |").count();
-    assert_eq!(verdicts, 5, "{report}");
+    assert_eq!(verdicts, 6, "{report}");
+    assert!(report.contains("baked against exact at the same settings"));
+    // performance.md's frame columns say what they hold (issue 9).
     let perf = std::fs::read_to_string(dir.join("performance.md")).unwrap();
+    assert!(perf.contains("| GPU frame ms |"), "{perf}");
+    assert!(perf.contains("from its first to its last timestamp"), "{perf}");
     for key in [
         "adapter",
         "driver",
