@@ -161,5 +161,45 @@ fn every_shipped_scene_has_clouds_at_its_start_time() {
             "{name}: no cloud at its start {start} s"
         );
         assert_eq!(m.parcels.len(), d.condensed_parcels);
+        // And in view: some condensed parcel's centre lands inside the
+        // frame of the scene's camera (a 16:9 frame, narrower than the
+        // window's 3D view, so this is the stricter of the two), in front
+        // of it and nearer than its far plane.
+        let cam = m.render_camera();
+        let (w, h) = (1600, 900);
+        let in_view = m.parcels.iter().filter(|p| {
+            cam.position.distance(p.center_m) < cam.far_m
+                && cam.project_to_pixel(p.center_m, w, h).is_some_and(|(x, y)| {
+                    (0.0..w as f32).contains(&x) && (0.0..h as f32).contains(&y)
+                })
+        });
+        assert!(in_view.count() > 0, "{name}: no cloud in the camera's view at the start");
     }
+}
+
+#[test]
+fn the_live_window_shows_clouds_only_from_the_start_time() {
+    // The fair-weather scene at its own start time: clouds form during the
+    // pre-simulation, but the window draws none until the start is reached,
+    // so its first cloudy frame is the start state (issue 10, item 8).
+    let (profile, source) = shipped("fair_weather.toml");
+    let mut live = Model::new(profile, source).unwrap();
+    live.begin_warm_up();
+    let mut condensed_while_warming = false;
+    while live.warm_up_progress().is_some() {
+        live.advance(1.0 / 30.0);
+        if live.warm_up_progress().is_some() {
+            condensed_while_warming |= live.world.diagnostics().condensed_parcels > 0;
+            assert!(live.parcels.is_empty(), "clouds drawn before the start time");
+        }
+    }
+    assert!(
+        condensed_while_warming,
+        "no cloud formed before the start: the test shows nothing"
+    );
+    assert_eq!(live.world.time_s(), live.start_s);
+    let mut now = Vec::new();
+    live.world.cloud_parcels(&mut now);
+    assert!(!now.is_empty());
+    assert_eq!(live.parcels.len(), now.len(), "the start's clouds drawn");
 }

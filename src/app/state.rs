@@ -225,7 +225,14 @@ impl Model {
                     break;
                 }
             }
-            self.world.cloud_parcels(&mut self.parcels);
+            // Clouds appear once the start time is reached: the first frame
+            // that shows any is the scene's start state, not a cloud still
+            // forming in the pre-simulation.
+            if self.warming_to.is_some() {
+                self.parcels.clear();
+            } else {
+                self.world.cloud_parcels(&mut self.parcels);
+            }
             self.stats.physics_ms = t0.elapsed().as_secs_f64() * 1000.0;
             return;
         }

@@ -332,6 +332,7 @@ impl App {
         let out = self.egui_ctx.run_ui(raw, |ui| {
             actions = panel::show(ui, model, panel_state);
             ellipsoid_mouse::paint_outlines(ui.ctx(), model, rect, panel_state.selected_ellipsoid);
+            super::progress::warm_up_overlay(ui.ctx(), model, rect);
         });
         if actions.render_changed {
             // Only what the changed settings need is rebuilt (Renderer::set_config).
