@@ -412,3 +412,74 @@ fn compute_and_fragment_march_agree_and_auto_decides() {
     assert!(composite_seen, "auto never tried the compute path");
     assert!(hl.renderer.march_path().is_some(), "auto did not decide");
 }
+
+/// The window's "no stalls" for settings (issue 9): with the background
+/// builder on, every panel toggle in a row (normals, shadows, aerial
+/// perspective, temporal, terrain, each method, the march path) finds its
+/// pipelines built, so the frame after it compiles none on its own
+/// thread. The control shows the count can fail: without the builder the
+/// first normals toggle compiles on the frame's thread.
+#[test]
+fn toggling_a_setting_takes_pipelines_built_in_the_background() {
+    let Some(ctx) = context() else { return };
+    let parcels = standin::default_field(900.0);
+    // The window's settings: temporal on.
+    let base = RenderConfig {
+        temporal: Some(true),
+        ..RenderConfig::default()
+    };
+    let (w, h) = (64, 48);
+    let frame = |parcels| FrameInput {
+        camera: Camera::from(&CameraConfig::default()),
+        parcels,
+        sun: base.sun(),
+        time_s: 0.0,
+    };
+    let normals = RenderConfig {
+        normals: !base.normals,
+        ..base.clone()
+    };
+
+    let mut off = Headless::new(&ctx, &base, w, h).unwrap();
+    off.render(&ctx, &frame(&parcels)).unwrap();
+    let built = off.renderer.pipelines_built();
+    off.renderer.set_config(&ctx, &normals).unwrap();
+    off.render(&ctx, &frame(&parcels)).unwrap();
+    assert!(
+        off.renderer.pipelines_built() > built,
+        "the control toggle compiled nothing"
+    );
+
+    let mut hl = Headless::new(&ctx, &base, w, h).unwrap();
+    hl.renderer.set_prebuild(&ctx, true).unwrap();
+    hl.render(&ctx, &frame(&parcels)).unwrap();
+    type Toggle = (&'static str, fn(&mut RenderConfig));
+    let toggles: [Toggle; 10] = [
+        ("normals", |c| c.normals = !c.normals),
+        ("shadows", |c| c.shadows = !c.shadows),
+        ("aerial perspective", |c| c.aerial_perspective = !c.aerial_perspective),
+        ("temporal off", |c| c.temporal = Some(false)),
+        ("march compute", |c| c.march = cumulus::render::MarchPath::Compute),
+        ("terrain off", |c| c.terrain.enabled = false),
+        ("exact", |c| c.method = RenderMethod::Exact),
+        ("grid culling", |c| c.grid_culling = !c.grid_culling),
+        ("sprites", |c| c.method = RenderMethod::Sprites),
+        ("slices", |c| c.method = RenderMethod::Slices),
+    ];
+    let mut cfg = base.clone();
+    for (name, toggle) in toggles {
+        // The window draws frames while the builder works; here it is
+        // waited for, so the count does not depend on the machine's speed.
+        hl.renderer.wait_prebuilt();
+        let built = hl.renderer.pipelines_built();
+        toggle(&mut cfg);
+        hl.renderer.set_config(&ctx, &cfg).unwrap();
+        hl.render(&ctx, &frame(&parcels)).unwrap();
+        assert_eq!(
+            hl.renderer.pipelines_built(),
+            built,
+            "{name}: a pipeline was compiled on the frame's thread"
+        );
+    }
+    assert!(hl.renderer.pipelines_prebuilt() > 0);
+}

@@ -219,6 +219,10 @@ impl App {
             &ctx,
             crate::sprites_model::scene_clouds(&self.model.profile),
         )?;
+        // Live, the pipelines of every setting one click away are built in
+        // the background, so a toggle in the panel does not stop a frame for
+        // a compile; counted captures (`--frames`) change no setting.
+        renderer.set_prebuild(&ctx, self.opts.frames.is_none())?;
         let egui_state = egui_winit::State::new(
             self.egui_ctx.clone(),
             egui::ViewportId::ROOT,

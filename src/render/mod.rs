@@ -33,6 +33,7 @@ pub mod method;
 pub mod noise;
 pub mod pack;
 pub mod pipelines;
+mod prebuild;
 pub mod raymarch;
 pub mod renderer;
 pub mod shaders;

@@ -12,6 +12,7 @@ use crate::error::{Error, Result};
 use crate::render::gpu::GpuContext;
 use crate::render::method::RenderMethod;
 use crate::render::shaders::Pass;
+use crate::render::prebuild::Prebuilder;
 use crate::render::terrain::TerrainVertex;
 
 /// Format of the internal depth buffer (written by terrain, read by clouds).
@@ -123,7 +124,9 @@ pub(crate) fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
-/// The bind-group layouts every render pass shares.
+/// The bind-group layouts every render pass shares (cheap to clone: wgpu
+/// handles; the background builder holds a copy).
+#[derive(Clone)]
 pub struct PassLayouts {
     /// Group 0: frame, parcels, grid (exact), noise, samplers, baked field,
     /// occupancy and light volume (baked). Keep in sync with
@@ -331,10 +334,15 @@ pub enum Pipeline {
 /// Every pipeline built so far; see the module docs.
 #[derive(Default)]
 pub struct PipelineCache {
-    modules: HashMap<(Pass, RenderMethod), wgpu::ShaderModule>,
+    modules: ShaderModules,
     pipelines: HashMap<PipelineKey, Pipeline>,
-    /// Pipelines created so far.
+    /// Pipelines created on the calling thread (a frame waited for them).
     pub built: u32,
+    /// Pipelines the background builder created and handed over.
+    pub prebuilt: u32,
+    /// Builds pipelines the next settings may need on another thread
+    /// (None: off, every pipeline is built when first needed).
+    prebuilder: Option<Prebuilder>,
 }
 
 impl PipelineCache {
@@ -342,21 +350,34 @@ impl PipelineCache {
         self.pipelines.get(key)
     }
 
-    /// Builds the pipeline of `key` unless it exists. Shader or pipeline
-    /// errors become an Error, not wgpu's panic.
+    /// Builds the pipeline of `key` unless it exists: taken from the
+    /// background builder if it has it (waiting for it if it is building
+    /// it), else built here. Shader or pipeline errors become an Error, not
+    /// wgpu's panic.
     pub fn ensure(
         &mut self,
         ctx: &GpuContext,
         layouts: &PassLayouts,
         key: &PipelineKey,
     ) -> Result<()> {
+        self.collect();
         if self.pipelines.contains_key(key) {
             return Ok(());
         }
+        if let Some(pre) = self.prebuilder.as_mut()
+            && pre.is_pending(key)
+        {
+            let done = pre.wait_for(key);
+            self.take(done);
+            if self.pipelines.contains_key(key) {
+                return Ok(());
+            }
+            // It failed over there: build it here for the error message.
+        }
         let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let pipeline = self.create(ctx, layouts, key);
+        let pipeline = self.modules.build(&ctx.device, layouts, key);
         if let Some(e) = pollster::block_on(scope.pop()) {
-            self.modules.remove(&(key.pass, key.method));
+            self.modules.forget(key);
             return Err(Error::Gpu(format!(
                 "creating the {} pass ({} method): {e}",
                 key.pass.name(),
@@ -368,10 +389,75 @@ impl PipelineCache {
         Ok(())
     }
 
-    fn create(&mut self, ctx: &GpuContext, layouts: &PassLayouts, key: &PipelineKey) -> Pipeline {
-        let device = &ctx.device;
+    /// Starts or stops building ahead on a background thread.
+    pub fn set_prebuild(&mut self, device: Option<(&wgpu::Device, &PassLayouts)>) {
+        self.prebuilder = device.map(|(d, l)| Prebuilder::new(d.clone(), l.clone()));
+    }
+
+    /// Whether a background builder is on.
+    pub fn prebuilding(&self) -> bool {
+        self.prebuilder.is_some()
+    }
+
+    /// Asks the background builder for `key` unless it exists (nothing
+    /// without one).
+    pub fn request(&mut self, key: &PipelineKey) {
+        if !self.pipelines.contains_key(key)
+            && let Some(pre) = self.prebuilder.as_mut()
+        {
+            pre.request(key);
+        }
+    }
+
+    /// Takes what the background builder has finished (does not wait).
+    pub fn collect(&mut self) {
+        if let Some(pre) = self.prebuilder.as_mut() {
+            let done = pre.finished();
+            self.take(done);
+        }
+    }
+
+    /// Waits until the background builder has finished everything asked
+    /// of it, and takes it.
+    pub fn wait_prebuilt(&mut self) {
+        if let Some(pre) = self.prebuilder.as_mut() {
+            let done = pre.wait_all();
+            self.take(done);
+        }
+    }
+
+    fn take(&mut self, done: Vec<(PipelineKey, Option<Pipeline>)>) {
+        for (key, pipeline) in done {
+            if let Some(p) = pipeline
+                && !self.pipelines.contains_key(&key)
+            {
+                self.prebuilt += 1;
+                self.pipelines.insert(key, p);
+            }
+        }
+    }
+}
+
+/// Shader modules by (pass, method), compiled once each.
+#[derive(Default)]
+pub(crate) struct ShaderModules(HashMap<(Pass, RenderMethod), wgpu::ShaderModule>);
+
+impl ShaderModules {
+    /// Drops the module of `key` (after an error, so a retry recompiles).
+    pub(crate) fn forget(&mut self, key: &PipelineKey) {
+        self.0.remove(&(key.pass, key.method));
+    }
+
+    /// Creates the pipeline of `key` (errors go to the device's error
+    /// scope).
+    pub(crate) fn build(
+        &mut self,
+        device: &wgpu::Device,
+        layouts: &PassLayouts,
+        key: &PipelineKey,
+    ) -> Pipeline {
         let pass = key.pass;
-        let module = self.modules.entry((pass, key.method)).or_insert_with(|| {
+        let module = self.0.entry((pass, key.method)).or_insert_with(|| {
             device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(pass.name()),
                 source: wgpu::ShaderSource::Wgsl(pass.source(key.method).into()),

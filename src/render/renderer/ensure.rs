@@ -102,36 +102,11 @@ impl Renderer {
         // the frame with clouds and the one without as well as the current
         // one, so clouds appearing or vanishing never wait for a compile.
         let current = self.features;
-        let scene_sprites = !self.sprite_scene.is_empty();
-        for features in [
-            self.features_for(true, scene_sprites),
-            self.features_for(false, scene_sprites),
-            current,
-        ] {
-            self.features = features;
-            // The shadow pass marches only the `exact` clouds or the
-            // slices' field; the sprites splat into it with a pipeline of
-            // their own.
-            let mut keys: Vec<PipelineKey> = Pass::ALL
-                .into_iter()
-                .filter(|p| !matches!(p, Pass::Bake | Pass::SliceField) && self.needed(*p))
-                .filter(|p| *p != Pass::Shadow || self.map_marches(self.features))
-                .map(|p| self.key(p))
-                .collect();
-            if self.features.clouds {
-                keys.extend(self.cloud_keys());
-            }
-            if self.split() {
-                keys.push(self.sprites_front_key());
-            }
-            if self.features.sprites && self.features.shadows {
-                keys.push(self.sprite_shadow_key());
-            }
-            self.features = current;
-            for key in keys {
-                self.pipelines.ensure(ctx, &self.layouts, &key)?;
-            }
+        for key in self.settings_keys() {
+            self.pipelines.ensure(ctx, &self.layouts, &key)?;
         }
+        // And, in the background, those of every setting one click away.
+        self.request_neighbours();
         let target_needed =
             (current.clouds && !current.temporal && self.cfg.march != MarchPath::Fragment)
                 || current.slices
@@ -159,5 +134,83 @@ impl Renderer {
             self.sprites = Some(SpritesGpu::new(ctx, &self.layouts.sprites));
         }
         self.ensure_ring(ctx)
+    }
+
+    /// The pipelines the current settings use: the frame with clouds, the
+    /// one without, and the current features.
+    fn settings_keys(&mut self) -> Vec<PipelineKey> {
+        let current = self.features;
+        let scene_sprites = !self.sprite_scene.is_empty();
+        let mut keys = Vec::new();
+        for features in [
+            self.features_for(true, scene_sprites),
+            self.features_for(false, scene_sprites),
+            current,
+        ] {
+            self.features = features;
+            // The shadow pass marches only the `exact` clouds or the
+            // slices' field; the sprites splat into it with a pipeline of
+            // their own.
+            keys.extend(
+                Pass::ALL
+                    .into_iter()
+                    .filter(|p| !matches!(p, Pass::Bake | Pass::SliceField) && self.needed(*p))
+                    .filter(|p| *p != Pass::Shadow || self.map_marches(self.features))
+                    .map(|p| self.key(p)),
+            );
+            if self.features.clouds {
+                keys.extend(self.cloud_keys());
+            }
+            if self.split() {
+                keys.push(self.sprites_front_key());
+            }
+            if self.features.sprites && self.features.shadows {
+                keys.push(self.sprite_shadow_key());
+            }
+        }
+        self.features = current;
+        keys
+    }
+
+    /// Asks the background builder (when on: [`Renderer::set_prebuild`])
+    /// for the pipelines of every setting the panel changes in one click:
+    /// each method, each march path, and normals, shadows, terrain, the
+    /// aerial perspective, temporal amortisation and (under `exact`) grid
+    /// culling flipped.
+    pub(super) fn request_neighbours(&mut self) {
+        if !self.pipelines.prebuilding() {
+            return;
+        }
+        let (cfg, features) = (self.cfg.clone(), self.features);
+        let mut variants = Vec::new();
+        let mut with = |f: &dyn Fn(&mut RenderConfig)| {
+            let mut c = cfg.clone();
+            f(&mut c);
+            variants.push(c);
+        };
+        with(&|c| c.normals = !c.normals);
+        with(&|c| c.shadows = !c.shadows);
+        with(&|c| c.terrain.enabled = !c.terrain.enabled);
+        with(&|c| c.aerial_perspective = !c.aerial_perspective);
+        with(&|c| c.temporal = Some(c.temporal != Some(true)));
+        with(&|c| c.grid_culling = !c.grid_culling);
+        for m in RenderMethod::ALL {
+            with(&|c| c.method = m);
+        }
+        for m in [MarchPath::Fragment, MarchPath::Compute, MarchPath::Auto] {
+            with(&|c| c.march = m);
+        }
+        for v in variants {
+            if v == cfg {
+                continue;
+            }
+            self.cfg = v;
+            self.features = self.features_for(self.any_clouds, !self.sprite_scene.is_empty());
+            for key in self.settings_keys() {
+                self.pipelines.request(&key);
+            }
+        }
+        self.cfg = cfg;
+        self.features = features;
     }
 }

@@ -392,9 +392,39 @@ impl Renderer {
         self.always_bake = on;
     }
 
-    /// How many pipelines (render and compute) this renderer has created.
+    /// How many pipelines (render and compute) this renderer has created
+    /// on its own thread, where a frame waits for them (the background
+    /// builder's are counted apart: [`Renderer::pipelines_prebuilt`]).
     pub fn pipelines_built(&self) -> u32 {
-        self.pipelines.built + self.bake_pipelines
+        self.pipelines.built + self.bake_pipelines + self.slices.field_pipelines
+    }
+
+    /// Pipelines the background builder made and handed over so far.
+    pub fn pipelines_prebuilt(&self) -> u32 {
+        self.pipelines.prebuilt
+    }
+
+    /// Builds, on a background thread, the pipelines of every setting one
+    /// panel click away from the current one (and again after each change),
+    /// so toggling an option does not stop a frame for a shader compile. On
+    /// in the window; off by default (headless frames never change their
+    /// settings, and it would compile pipelines nobody uses).
+    /// The `slices` method's vertex-field compute pass is not in the
+    /// pipeline cache: it is made here, at once, when this turns on.
+    pub fn set_prebuild(&mut self, ctx: &GpuContext, on: bool) -> Result<()> {
+        self.pipelines
+            .set_prebuild(on.then_some((&ctx.device, &self.layouts)));
+        if on {
+            self.slices.make_field_pass(ctx, &self.layouts)?;
+        }
+        self.request_neighbours();
+        Ok(())
+    }
+
+    /// Waits for the background builder to finish what it was asked for
+    /// (tests; the window never waits).
+    pub fn wait_prebuilt(&mut self) {
+        self.pipelines.wait_prebuilt();
     }
 
     /// Frame size in pixels.
@@ -430,7 +460,10 @@ impl Renderer {
         }
         self.cfg = cfg.clone();
         self.shadow_fresh = false;
-        self.features = self.features_for(self.any_clouds, self.features.sprites);
+        // The method's own sprites come from the settings; besides them only
+        // the scene's sprite clouds (the last method's sprites, or its
+        // impostor ring, must not carry over into the next method).
+        self.features = self.features_for(self.any_clouds, !self.sprite_scene.is_empty());
         // Another march (step, noise, light…) gives other images: the
         // temporal history starts again.
         if let Some(t) = self.temporal.as_mut() {
@@ -468,6 +501,8 @@ impl Renderer {
     /// [`pack`]: crate::render::pack
     pub fn prepare(&mut self, ctx: &GpuContext, input: &FrameInput<'_>) -> Result<()> {
         let start = Instant::now();
+        // Pipelines the background builder finished since the last frame.
+        self.pipelines.collect();
         let (shell, scale) = (self.cfg.shell_m, self.cfg.radius_scale);
         let info = match self.cfg.method {
             RenderMethod::Exact => self.exact.upload(ctx, input.parcels, shell, scale)?,

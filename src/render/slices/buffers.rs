@@ -79,8 +79,11 @@ pub struct SlicesGpu {
     pub index_count: u32,
     /// Primitives (ellipsoids and parcel spheres) of the last frame.
     pub primitives_drawn: u32,
-    /// The compute pass of `vertex_field = "gpu"`, made at its first use.
+    /// The compute pass of `vertex_field = "gpu"`, made at its first use
+    /// (or ahead of it: [`SlicesGpu::make_field_pass`]).
     field: Option<FieldPass>,
+    /// Pipelines the field pass creations compiled (2 each).
+    pub field_pipelines: u32,
     /// The last frame's vertices await the compute pass.
     field_pending: bool,
 }
@@ -102,6 +105,7 @@ impl SlicesGpu {
             index_count: 0,
             primitives_drawn: 0,
             field: None,
+            field_pipelines: 0,
             field_pending: false,
         }
     }
@@ -162,14 +166,25 @@ impl SlicesGpu {
             "slices: indices",
         );
         if !frame.values_on_cpu && mode == VertexField::Gpu {
+            self.make_field_pass(ctx, layouts)?;
             let vertices = self.vertices.as_ref().expect("filled above");
-            let pass = match self.field.take() {
-                Some(p) => p,
-                None => FieldPass::new(ctx, layouts)?,
-            };
-            let pass = self.field.insert(pass);
+            let pass = self.field.as_mut().expect("made above");
             pass.prepare(ctx, frame, vertices, vertices_grown);
             self.field_pending = true;
+        }
+        Ok(())
+    }
+
+    /// Creates the vertex field's compute pass unless it exists: two
+    /// pipelines, compiled on the calling thread.
+    pub fn make_field_pass(
+        &mut self,
+        ctx: &GpuContext,
+        layouts: &crate::render::pipelines::PassLayouts,
+    ) -> Result<()> {
+        if self.field.is_none() {
+            self.field = Some(FieldPass::new(ctx, layouts)?);
+            self.field_pipelines += 2;
         }
         Ok(())
     }
