@@ -141,7 +141,10 @@ fn sky_visibility(p: vec3<f32>) -> f32 {
 // The phase depends only on the ray (mu): `sun_phase_weights` gives it once
 // per ray and `sun_scattering` only adds the per-sample attenuation.
 // Brightness of the multiply scattered sun over an isotropic single
-// scatter of the unattenuated sun (fitted, see above).
+// scatter of the unattenuated sun (fitted, see above). The albedo is 1 on
+// both sides: cloud droplets absorb about 1e-6 of what they scatter in
+// visible light (README, "Single-scattering albedo"), and the fit against
+// the conserving path tracer keeps the sum from making energy.
 const MS_GAIN: f32 = 3.5;
 // Share of the multiple scattering missing at the sunlit surface (od = 0),
 // recovering as 1 − POWDER·exp(−2·od).
