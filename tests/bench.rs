@@ -314,3 +314,20 @@ fn tiny_bench_binary() {
     assert!(status.success());
     check_outputs(&out);
 }
+
+/// The landscape case as the full bench runs it (1920×1080, temporal off
+/// and on), alone, for the README's figures on a CPU adapter where the
+/// whole full run would take too long: `cargo test --release --test bench
+/// -- --ignored --nocapture landscape_at_1080p`.
+#[test]
+#[ignore]
+fn landscape_at_1080p() {
+    let Some(ctx) = context() else { return };
+    let reps = cumulus::bench::measure::Repeats {
+        warmup: 1,
+        measured: 3,
+        budget_ms: 60_000.0,
+    };
+    let rows = cumulus::bench::landscape::landscape(&ctx, Mode::Full, reps, &[]).unwrap();
+    println!("{}", cumulus::bench::landscape::landscape_md(&rows));
+}
