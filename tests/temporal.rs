@@ -172,6 +172,22 @@ fn clouds_that_jump_away_leave_no_trail() {
     );
 }
 
+/// The stand-in field and a straight path through the middle of its first
+/// tower: (parcels, the tower's centroid, the flight direction).
+fn tower_path() -> (Vec<CloudParcel>, Vec3, Vec3) {
+    let parcels = standin::default_field(900.0);
+    // The tower of the first parcel: its parcels' centroid.
+    let first = parcels[0];
+    let tower: Vec<&CloudParcel> = parcels
+        .iter()
+        .filter(|p| p.cond_plane_z_m == first.cond_plane_z_m)
+        .filter(|p| (p.center_m - first.center_m).truncate().length() < 1500.0)
+        .collect();
+    let centre = tower.iter().map(|p| p.center_m).sum::<Vec3>() / tower.len() as f32;
+    let dir = Vec3::new(0.3, 1.0, 0.0).normalize();
+    (parcels, centre, dir)
+}
+
 /// Mean Rec. 709 luma of an sRGB-encoded RGBA8 image, 0..1.
 fn mean_luma(rgba: &[u8]) -> f64 {
     let n = rgba.len() / 4;
@@ -200,16 +216,7 @@ fn flying_through_a_cloud_does_not_pop() {
     let Some(ctx) = common::context("fly-through") else {
         return;
     };
-    let parcels = standin::default_field(900.0);
-    // The tower of the first parcel: its parcels' centroid.
-    let first = parcels[0];
-    let tower: Vec<&CloudParcel> = parcels
-        .iter()
-        .filter(|p| p.cond_plane_z_m == first.cond_plane_z_m)
-        .filter(|p| (p.center_m - first.center_m).truncate().length() < 1500.0)
-        .collect();
-    let centre = tower.iter().map(|p| p.center_m).sum::<Vec3>() / tower.len() as f32;
-    let dir = Vec3::new(0.3, 1.0, 0.0).normalize();
+    let (parcels, centre, dir) = tower_path();
     let (w, h) = (64, 48);
     let mut hl = Headless::new(&ctx, &cfg(false), w, h).unwrap();
     let mut luma_at = |along_m: f32| {
@@ -275,15 +282,7 @@ fn flying_through_a_cloud_with_temporal_on_leaves_no_ghost() {
     let Some(ctx) = common::context("temporal fly-through") else {
         return;
     };
-    let parcels = standin::default_field(900.0);
-    let first = parcels[0];
-    let tower: Vec<&CloudParcel> = parcels
-        .iter()
-        .filter(|p| p.cond_plane_z_m == first.cond_plane_z_m)
-        .filter(|p| (p.center_m - first.center_m).truncate().length() < 1500.0)
-        .collect();
-    let centre = tower.iter().map(|p| p.center_m).sum::<Vec3>() / tower.len() as f32;
-    let dir = Vec3::new(0.3, 1.0, 0.0).normalize();
+    let (parcels, centre, dir) = tower_path();
     let (w, h) = (96, 72);
     let camera_at = |k: usize| {
         let position = centre + dir * (-1500.0 + 25.0 * k as f32);

@@ -93,22 +93,19 @@ impl Prebuilder {
 
     /// Waits until `key` is done; returns everything finished meanwhile.
     pub fn wait_for(&mut self, key: &PipelineKey) -> Vec<Done> {
-        let mut out = Vec::new();
-        while self.pending.contains(key) {
-            let Ok(d) = self.done.recv() else {
-                self.pending.clear();
-                break;
-            };
-            self.pending.remove(&d.0);
-            out.push(d);
-        }
-        out
+        self.wait_while(|pending| pending.contains(key))
     }
 
     /// Waits until everything asked for is done.
     pub fn wait_all(&mut self) -> Vec<Done> {
+        self.wait_while(|pending| !pending.is_empty())
+    }
+
+    /// Receives finished builds while `waiting(pending)` holds (or the
+    /// worker is gone).
+    fn wait_while(&mut self, waiting: impl Fn(&HashSet<PipelineKey>) -> bool) -> Vec<Done> {
         let mut out = Vec::new();
-        while !self.pending.is_empty() {
+        while waiting(&self.pending) {
             let Ok(d) = self.done.recv() else {
                 self.pending.clear();
                 break;
