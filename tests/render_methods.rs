@@ -453,6 +453,13 @@ fn toggling_a_setting_takes_pipelines_built_in_the_background() {
     let mut hl = Headless::new(&ctx, &base, w, h).unwrap();
     hl.renderer.set_prebuild(&ctx, true).unwrap();
     hl.render(&ctx, &frame(&parcels)).unwrap();
+    let started = std::time::Instant::now();
+    hl.renderer.wait_prebuilt();
+    eprintln!(
+        "{} pipelines built ahead for the first settings in {:.1} s",
+        hl.renderer.pipelines_prebuilt(),
+        started.elapsed().as_secs_f64()
+    );
     type Toggle = (&'static str, fn(&mut RenderConfig));
     let toggles: [Toggle; 10] = [
         ("normals", |c| c.normals = !c.normals),
