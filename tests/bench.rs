@@ -259,7 +259,10 @@ fn check_outputs(dir: &Path) {
     // performance.md's frame columns say what they hold (issue 9).
     let perf = std::fs::read_to_string(dir.join("performance.md")).unwrap();
     assert!(perf.contains("| GPU frame ms |"), "{perf}");
-    assert!(perf.contains("from its first to its last timestamp"), "{perf}");
+    assert!(
+        perf.contains("from its first to its last timestamp"),
+        "{perf}"
+    );
     for key in [
         "adapter",
         "driver",

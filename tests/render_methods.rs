@@ -464,9 +464,13 @@ fn toggling_a_setting_takes_pipelines_built_in_the_background() {
     let toggles: [Toggle; 10] = [
         ("normals", |c| c.normals = !c.normals),
         ("shadows", |c| c.shadows = !c.shadows),
-        ("aerial perspective", |c| c.aerial_perspective = !c.aerial_perspective),
+        ("aerial perspective", |c| {
+            c.aerial_perspective = !c.aerial_perspective
+        }),
         ("temporal off", |c| c.temporal = Some(false)),
-        ("march compute", |c| c.march = cumulus::render::MarchPath::Compute),
+        ("march compute", |c| {
+            c.march = cumulus::render::MarchPath::Compute
+        }),
         ("terrain off", |c| c.terrain.enabled = false),
         ("exact", |c| c.method = RenderMethod::Exact),
         ("grid culling", |c| c.grid_culling = !c.grid_culling),

@@ -169,11 +169,16 @@ fn every_shipped_scene_has_clouds_at_its_start_time() {
         let (w, h) = (1600, 900);
         let in_view = m.parcels.iter().filter(|p| {
             cam.position.distance(p.center_m) < cam.far_m
-                && cam.project_to_pixel(p.center_m, w, h).is_some_and(|(x, y)| {
-                    (0.0..w as f32).contains(&x) && (0.0..h as f32).contains(&y)
-                })
+                && cam
+                    .project_to_pixel(p.center_m, w, h)
+                    .is_some_and(|(x, y)| {
+                        (0.0..w as f32).contains(&x) && (0.0..h as f32).contains(&y)
+                    })
         });
-        assert!(in_view.count() > 0, "{name}: no cloud in the camera's view at the start");
+        assert!(
+            in_view.count() > 0,
+            "{name}: no cloud in the camera's view at the start"
+        );
     }
 }
 
@@ -190,7 +195,10 @@ fn the_live_window_shows_clouds_only_from_the_start_time() {
         live.advance(1.0 / 30.0);
         if live.warm_up_progress().is_some() {
             condensed_while_warming |= live.world.diagnostics().condensed_parcels > 0;
-            assert!(live.parcels.is_empty(), "clouds drawn before the start time");
+            assert!(
+                live.parcels.is_empty(),
+                "clouds drawn before the start time"
+            );
         }
     }
     assert!(

@@ -303,17 +303,22 @@ fn flying_through_a_cloud_with_temporal_on_leaves_no_ghost() {
         let full_now = full(&ctx, camera_at(k), &parcels, w, h);
         let flip = mean_flip(&full_now, &rgb(&img), w, h);
         // What a ghost of 4 frames (100 m) back would cost here.
-        let stale = mean_flip(&full_now, &full(&ctx, camera_at(k - 4), &parcels, w, h), w, h);
+        let stale = mean_flip(
+            &full_now,
+            &full(&ctx, camera_at(k - 4), &parcels, w, h),
+            w,
+            h,
+        );
         report.push((k, flip, stale));
     }
     eprintln!("(frame, mean FLIP against the full march, a 4-frame-old view): {report:.4?}");
     for &(k, flip, _) in &report {
-        assert!(flip < 0.12, "frame {k}: mean FLIP {flip:.4} ≥ 0.12 against the full march");
+        assert!(
+            flip < 0.12,
+            "frame {k}: mean FLIP {flip:.4} ≥ 0.12 against the full march"
+        );
     }
-    let exit = report
-        .iter()
-        .max_by(|a, b| a.2.total_cmp(&b.2))
-        .unwrap();
+    let exit = report.iter().max_by(|a, b| a.2.total_cmp(&b.2)).unwrap();
     assert!(
         exit.2 > 0.3,
         "the path never left a cloud (largest stale-view FLIP {:.4})",

@@ -131,7 +131,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     // Rows are kept only when they are written.
-    let mut lines = Vec::with_capacity(if args.out.is_some() { frames as usize + 1 } else { 0 });
+    let mut lines = Vec::with_capacity(if args.out.is_some() {
+        frames as usize + 1
+    } else {
+        0
+    });
     if args.out.is_some() {
         lines.push(HEADER.to_string());
     }

@@ -11,8 +11,8 @@ use std::collections::HashMap;
 use crate::error::{Error, Result};
 use crate::render::gpu::GpuContext;
 use crate::render::method::RenderMethod;
-use crate::render::shaders::Pass;
 use crate::render::prebuild::Prebuilder;
+use crate::render::shaders::Pass;
 use crate::render::terrain::TerrainVertex;
 
 /// Format of the internal depth buffer (written by terrain, read by clouds).
