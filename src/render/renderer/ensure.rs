@@ -1,6 +1,7 @@
 //! Creating what the current features need and dropping what they do not:
 //! terrain mesh, depth, shadow map, cloud targets, bind groups and the
-//! pipelines (built ahead for the frame with and without clouds).
+//! pipelines (built ahead for the frame with and without clouds, and in the
+//! background for the settings one click away).
 
 use super::*;
 
@@ -212,5 +213,40 @@ impl Renderer {
         }
         self.cfg = cfg;
         self.features = features;
+    }
+
+    /// How many pipelines (render and compute) this renderer has created
+    /// on its own thread, where a frame waits for them (the background
+    /// builder's are counted apart: [`Renderer::pipelines_prebuilt`]).
+    pub fn pipelines_built(&self) -> u32 {
+        self.pipelines.built + self.bake_pipelines + self.slices.field_pipelines
+    }
+
+    /// Pipelines the background builder made and handed over so far.
+    pub fn pipelines_prebuilt(&self) -> u32 {
+        self.pipelines.prebuilt
+    }
+
+    /// Builds, on a background thread, the pipelines of every setting one
+    /// panel click away from the current one (and again after each change),
+    /// so toggling an option does not stop a frame for a shader compile. On
+    /// in the window; off by default (headless frames never change their
+    /// settings, and it would compile pipelines nobody uses).
+    /// The `slices` method's vertex-field compute pass is not in the
+    /// pipeline cache: it is made here, at once, when this turns on.
+    pub fn set_prebuild(&mut self, ctx: &GpuContext, on: bool) -> Result<()> {
+        self.pipelines
+            .set_prebuild(on.then_some((&ctx.device, &self.layouts)));
+        if on {
+            self.slices.make_field_pass(ctx, &self.layouts)?;
+        }
+        self.request_neighbours();
+        Ok(())
+    }
+
+    /// Waits for the background builder to finish what it was asked for
+    /// (tests; the window never waits).
+    pub fn wait_prebuilt(&mut self) {
+        self.pipelines.wait_prebuilt();
     }
 }
