@@ -4,7 +4,10 @@
 //! target format) and, once built, kept for the renderer's life, so clouds
 //! vanishing and reappearing, or an option toggled back, never compile a
 //! shader again; the renderer builds the cloud pipelines at creation, ahead
-//! of the first condensed parcel. `built` counts creations (tests check it).
+//! of the first condensed parcel, and (in the window) those of the settings
+//! one click away on a background thread (src/render/prebuild.rs). `built`
+//! counts creations on the calling thread, `prebuilt` the background's
+//! (tests check both).
 
 use std::collections::HashMap;
 
