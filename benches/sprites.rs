@@ -11,7 +11,7 @@ use cumulus::scene::SceneProfile;
 use cumulus::sprites_model::order::back_to_front;
 use cumulus::sprites_model::shading::Lighting;
 use cumulus::sprites_model::vertices::shade_cloud;
-use cumulus::sprites_model::{CloudType, Sprite, scene_clouds};
+use cumulus::sprites_model::{CloudType, Sprite};
 use glam::Vec3;
 
 fn sprites(c: &mut Criterion) {
@@ -23,10 +23,10 @@ fn sprites(c: &mut Criterion) {
     group.sample_size(10);
     group.bench_function("fill/cumulonimbus", |b| b.iter(|| black_box(cb.build())));
     group.bench_function("fill/overcast_200km", |b| {
-        b.iter(|| black_box(scene_clouds(black_box(&overcast))))
+        b.iter(|| black_box(black_box(&overcast).build_sprite_clouds()))
     });
 
-    let clouds = scene_clouds(&overcast);
+    let clouds = overcast.build_sprite_clouds();
     let all: Vec<Sprite> = clouds
         .iter()
         .flat_map(|c| c.sprites.iter().copied())

@@ -91,3 +91,16 @@ fn place(path: &std::path::Path, line: usize, column: usize) -> String {
 
 /// Result with the library's error.
 pub type Result<T> = std::result::Result<T, Error>;
+
+/// Byte offset → 1-based (line, column).
+pub fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let col = before
+        .rsplit('\n')
+        .next()
+        .map(|s| s.chars().count())
+        .unwrap_or(0)
+        + 1;
+    (line, col)
+}

@@ -1,16 +1,35 @@
 //! cumulus grows cumulus clouds from atmospheric parcel physics (Goswami &
-//! Neyret 2016) and renders them on the GPU.
+//! Neyret 2016) and renders them on the GPU, with Wang 2003's sprites and
+//! Schpok 2003's slices as further render methods of the same cloud field.
 //!
-//! Layers, bottom up (each only reads the ones below it):
-//! - [`atmosphere`]: thermodynamics, environment profiles, sounding reader;
-//! - [`physics`]: parcels, SPH, mixing, condensation, emission, integrator;
-//! - [`landscape`] (ground height), [`sun`] (solar position from the
-//!   clock) and [`sky`] (sun and sky colours from an atmosphere model):
-//!   pure CPU, read by the physics and the renderer alike;
-//! - [`scene`]: a scene profile (TOML) → validated configuration;
-//! - [`sprites_model`]: Wang 2003's sprite clouds, CPU side (reads the physics);
-//! - [`render`]: wgpu renderer (headless or to a window surface);
-//! - front ends: [`app`] (window), [`bench`], [`stability`], and `cli` in the binary.
+//! # Layers
+//!
+//! Each top-level module may import only the modules listed before it
+//! (the `layering` integration test reads this list and checks every
+//! `crate::` path in `src/` against it, so the import graph has no cycle):
+//!
+//! 1. [`error`]: the error type, and positions in text;
+//! 2. [`output`]: files written whole or not at all;
+//! 3. [`landscape`]: the ground's height and the terrain mesh (CPU);
+//! 4. [`noise`]: the tiling 3D noise of the hypertexture (CPU);
+//! 5. [`atmosphere`]: thermodynamics, environment profiles, soundings;
+//! 6. [`sun`]: the sun's position from a clock;
+//! 7. [`sky`]: sun and sky colours from an atmosphere model;
+//! 8. [`physics`]: parcels, SPH, mixing, condensation, emission;
+//! 9. [`authored`]: Schpok 2003's authored ellipsoids, keyframes and slicing (CPU);
+//! 10. [`sprites_model`]: Wang 2003's sprite clouds (CPU);
+//! 11. [`config`]: the `[render]` and `[camera]` tables, plain data;
+//! 12. [`scene`]: a scene profile (TOML) → validated configuration;
+//! 13. [`plots`]: diagrams and labels drawn on the CPU (Skew-T, hodograph);
+//! 14. [`render`]: the wgpu renderer (headless or to a window surface);
+//! 15. [`export`]: the cloud density for offline renderers;
+//! 16. [`stability`]: the matrix of stiff and extreme physics cases;
+//! 17. [`bench`]: performance and error tables;
+//! 18. [`app`]: the window.
+//!
+//! The CPU models (layers 3–10) import no configuration, scene, renderer
+//! or front end, so they build, run and test without a GPU. The command
+//! line (`src/cli`, in the binary) sits above everything.
 
 // Input checks are written `!(x > 0.0)` on purpose: the negated comparison
 // is also true for NaN, which must be an error, never a silent pass.
@@ -20,15 +39,16 @@ pub mod app;
 pub mod atmosphere;
 pub mod authored;
 pub mod bench;
+pub mod config;
 pub mod error;
 pub mod export;
 pub mod landscape;
+pub mod noise;
 pub mod output;
 pub mod physics;
 pub mod plots;
 pub mod render;
 pub mod scene;
-pub mod scene_set;
 pub mod sky;
 pub mod sprites_model;
 pub mod stability;

@@ -193,10 +193,7 @@ fn an_explicit_calm_wind_table_silences_the_soundings_wind() {
     let calm: cumulus::scene::SceneProfile =
         toml::from_str("[wind]\nsurface_m_s = [0.0, 0.0]\naloft_m_s = [0.0, 0.0]\n").unwrap();
     let none: cumulus::scene::SceneProfile = toml::from_str("").unwrap();
-    let (calm, none) = (
-        WorldConfig::from_scene(&calm),
-        WorldConfig::from_scene(&none),
-    );
+    let (calm, none) = (calm.world_tables(), none.world_tables());
     assert_eq!(calm.wind, Some(WindConfig::default()));
     assert_eq!(none.wind, None);
     let sounding_wind = [6.0, -3.0];

@@ -309,7 +309,7 @@ fn profile_case(text_bytes: &[u8]) {
         Err(e) => check_error(&e, path),
         Ok(env) => {
             check_environment(&env);
-            check_world(env, WorldConfig::from_scene(&scene));
+            check_world(env, scene.world_tables());
         }
     }
 }
@@ -419,7 +419,7 @@ proptest! {
             *slots[f] *= 10f64.powi(e);
         }
         let env = scene.atmosphere.build(Path::new(".")).unwrap();
-        check_world(env, WorldConfig::from_scene(&scene));
+        check_world(env, scene.world_tables());
     }
 }
 

@@ -1,10 +1,41 @@
-//! The layering of DESIGN.md §1: the atmosphere and the physics never import
-//! the GPU or the window, so they build, run and test without either, and the
-//! renderer reads only their output.
+//! The layering of `src/lib.rs`: every top-level module imports only the
+//! modules listed before it in the crate docs' layer list, so the import
+//! graph between top-level modules has no cycle, and the CPU models
+//! import no configuration, scene, renderer, front end or GPU crate. Every
+//! `crate::` path counts, in `use` lines and inline in code (comments and
+//! doc comments do not).
 
-use std::path::Path;
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
 
-fn rust_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
+/// The CPU models: atmosphere, physics, the authored ellipsoids, the
+/// sprite model, sun, sky, landscape and noise.
+const CPU_MODELS: [&str; 8] = [
+    "landscape",
+    "noise",
+    "atmosphere",
+    "sun",
+    "sky",
+    "physics",
+    "authored",
+    "sprites_model",
+];
+/// What a CPU model must not import.
+const NOT_FOR_MODELS: [&str; 9] = [
+    "config",
+    "scene",
+    "plots",
+    "render",
+    "export",
+    "stability",
+    "bench",
+    "app",
+    "cli",
+];
+/// External crates of the GPU and the window, which no CPU model names.
+const GPU_CRATES: [&str; 4] = ["wgpu", "naga", "winit", "egui"];
+
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     for e in std::fs::read_dir(dir).unwrap() {
         let p = e.unwrap().path();
         if p.is_dir() {
@@ -15,37 +46,270 @@ fn rust_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
     }
 }
 
-#[test]
-fn atmosphere_and_physics_import_no_gpu_or_window_code() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    let forbidden = [
-        "wgpu",
-        "naga",
-        "winit",
-        "egui",
-        "crate::render",
-        "crate::app",
-    ];
-    let mut files = Vec::new();
-    for layer in ["atmosphere", "physics", "authored"] {
-        rust_files(&root.join(layer), &mut files);
+/// The layer list of the crate docs: the module of each `//! N. [`name`]`
+/// line, in order.
+fn layer_order(lib_rs: &str) -> Vec<String> {
+    lib_rs
+        .lines()
+        .filter_map(|l| l.strip_prefix("//! "))
+        .filter(|l| {
+            l.split_once(". ")
+                .is_some_and(|(n, _)| n.parse::<u32>().is_ok())
+        })
+        .filter_map(|l| {
+            let rest = l.split_once("[`")?.1;
+            Some(rest.split_once('`')?.0.to_string())
+        })
+        .collect()
+}
+
+/// Code of a line without its `//` comment (doc comments included).
+fn code_of(line: &str) -> &str {
+    match line.find("//") {
+        Some(i) => &line[..i],
+        None => line,
     }
-    assert!(files.len() >= 8, "found only {files:?}");
-    let mut offences = Vec::new();
-    for f in &files {
-        let text = std::fs::read_to_string(f).unwrap();
+}
+
+/// Every top-level module a source text names through `crate::`, with the
+/// 1-based line: `crate::a::…` gives `a`, `crate::{a::x, b}` gives `a` and
+/// `b` (a group may span lines).
+fn crate_paths(text: &str) -> Vec<(usize, String)> {
+    let code: Vec<(usize, &str)> = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, code_of(l)))
+        .collect();
+    let joined: String = code.iter().map(|(_, l)| format!("{l}\n")).collect();
+    let line_at = |offset: usize| joined[..offset].matches('\n').count() + 1;
+    let mut out = Vec::new();
+    let mut from = 0;
+    while let Some(i) = joined[from..].find("crate::") {
+        let at = from + i;
+        from = at + "crate::".len();
+        // `cumulus::crate::` cannot occur; a preceding identifier character
+        // means another word (e.g. `subcrate::`).
+        if joined[..at]
+            .chars()
+            .last()
+            .is_some_and(|c| c.is_alphanumeric() || c == '_')
+        {
+            continue;
+        }
+        let rest = &joined[from..];
+        if let Some(group) = rest.strip_prefix('{') {
+            // Top-level names of the group: at brace depth 0 after `{`.
+            let mut depth = 0;
+            let mut word = String::new();
+            let mut expect_name = true;
+            for c in group.chars() {
+                match c {
+                    '{' => depth += 1,
+                    '}' if depth == 0 => break,
+                    '}' => depth -= 1,
+                    ',' if depth == 0 => expect_name = true,
+                    c if (c.is_alphanumeric() || c == '_') && depth == 0 && expect_name => {
+                        word.push(c)
+                    }
+                    _ => {
+                        if !word.is_empty() {
+                            out.push((line_at(at), std::mem::take(&mut word)));
+                            expect_name = false;
+                        }
+                    }
+                }
+            }
+        } else {
+            let name: String = rest
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect();
+            if !name.is_empty() {
+                out.push((line_at(at), name));
+            }
+        }
+    }
+    out
+}
+
+/// The top-level module a file under `src/` belongs to (None: the crate
+/// root `lib.rs`, the binary's `main.rs` and its `cli/`).
+fn top_module(src: &Path, file: &Path) -> Option<String> {
+    let rel = file.strip_prefix(src).unwrap();
+    let first = rel.components().next()?.as_os_str().to_str()?.to_string();
+    let name = first.strip_suffix(".rs").unwrap_or(&first).to_string();
+    (!matches!(name.as_str(), "lib" | "main" | "cli")).then_some(name)
+}
+
+/// Offences of `text` (the source of a file of module `module`) against
+/// the layer order and the CPU-model rule.
+fn offences(module: &str, order: &[String], file: &str, text: &str) -> Vec<String> {
+    let rank = |m: &str| order.iter().position(|o| o == m);
+    let mut out = Vec::new();
+    let Some(own) = rank(module) else {
+        return vec![format!(
+            "{file}: module `{module}` is not in lib.rs's layer list"
+        )];
+    };
+    for (line, target) in crate_paths(text) {
+        if target == module {
+            continue;
+        }
+        match rank(&target) {
+            // `crate::Error`, `crate::Result`: the root's re-exports.
+            None if target.chars().next().is_some_and(char::is_uppercase) => {}
+            None => out.push(format!(
+                "{file}:{line}: `crate::{target}` is not a module of the layer list"
+            )),
+            Some(r) if r > own => out.push(format!(
+                "{file}:{line}: `{module}` imports `{target}`, a layer above it"
+            )),
+            Some(_) => {}
+        }
+        if CPU_MODELS.contains(&module) && NOT_FOR_MODELS.contains(&target.as_str()) {
+            out.push(format!(
+                "{file}:{line}: the CPU model `{module}` imports `{target}`"
+            ));
+        }
+    }
+    if CPU_MODELS.contains(&module) {
         for (n, line) in text.lines().enumerate() {
-            let code = line.split("//").next().unwrap_or("");
-            for word in forbidden {
-                if code.contains(word) {
-                    offences.push(format!("{}:{}: {}", f.display(), n + 1, line.trim()));
+            let code = code_of(line);
+            for word in GPU_CRATES {
+                let named = code.match_indices(word).any(|(i, _)| {
+                    let before = code[..i].chars().last();
+                    let after = code[i + word.len()..].chars().next();
+                    !before.is_some_and(|c| c.is_alphanumeric() || c == '_')
+                        && !after.is_some_and(|c| c.is_alphanumeric() || c == '_')
+                });
+                if named {
+                    out.push(format!(
+                        "{file}:{}: the CPU model `{module}` names `{word}`",
+                        n + 1
+                    ));
                 }
             }
         }
     }
+    out
+}
+
+/// The import graph between top-level modules (edges in `src/`).
+fn graph(src: &Path) -> BTreeMap<String, BTreeSet<String>> {
+    let mut files = Vec::new();
+    rust_files(src, &mut files);
+    let mut g: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    for f in files {
+        let Some(m) = top_module(src, &f) else {
+            continue;
+        };
+        let text = std::fs::read_to_string(&f).unwrap();
+        let targets = g.entry(m.clone()).or_default();
+        for (_, t) in crate_paths(&text) {
+            if t != m && !t.chars().next().is_some_and(char::is_uppercase) {
+                targets.insert(t);
+            }
+        }
+    }
+    g
+}
+
+/// A cycle of `g`, if any (modules in order, the first repeated last).
+fn find_cycle(g: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>> {
+    fn visit(
+        n: &str,
+        g: &BTreeMap<String, BTreeSet<String>>,
+        stack: &mut Vec<String>,
+        done: &mut BTreeSet<String>,
+    ) -> Option<Vec<String>> {
+        if let Some(i) = stack.iter().position(|s| s == n) {
+            let mut c = stack[i..].to_vec();
+            c.push(n.to_string());
+            return Some(c);
+        }
+        if done.contains(n) {
+            return None;
+        }
+        stack.push(n.to_string());
+        for m in g.get(n).into_iter().flatten() {
+            if let Some(c) = visit(m, g, stack, done) {
+                return Some(c);
+            }
+        }
+        stack.pop();
+        done.insert(n.to_string());
+        None
+    }
+    let mut done = BTreeSet::new();
+    g.keys()
+        .find_map(|n| visit(n, g, &mut Vec::new(), &mut done))
+}
+
+fn src() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("src")
+}
+
+#[test]
+fn every_module_imports_only_the_layers_below_it() {
+    let src = src();
+    let lib = std::fs::read_to_string(src.join("lib.rs")).unwrap();
+    let order = layer_order(&lib);
     assert!(
-        offences.is_empty(),
-        "GPU/window code in a CPU layer:\n{}",
-        offences.join("\n")
+        order.len() >= 15,
+        "layer list not found in lib.rs: {order:?}"
     );
+    let declared: BTreeSet<String> = lib
+        .lines()
+        .filter_map(|l| l.strip_prefix("pub mod "))
+        .map(|l| l.trim_end_matches(';').to_string())
+        .collect();
+    let listed: BTreeSet<String> = order.iter().cloned().collect();
+    assert_eq!(
+        declared, listed,
+        "lib.rs's modules and its layer list differ"
+    );
+
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut all = Vec::new();
+    for f in &files {
+        if let Some(m) = top_module(&src, f) {
+            let text = std::fs::read_to_string(f).unwrap();
+            all.extend(offences(&m, &order, &f.display().to_string(), &text));
+        }
+    }
+    assert!(all.is_empty(), "layering offences:\n{}", all.join("\n"));
+}
+
+#[test]
+fn no_import_cycle_between_top_level_modules() {
+    let g = graph(&src());
+    assert!(g.len() >= 15, "found only {:?}", g.keys());
+    if let Some(c) = find_cycle(&g) {
+        panic!("import cycle: {}", c.join(" -> "));
+    }
+}
+
+#[test]
+fn the_checker_sees_paths_groups_and_cycles() {
+    // It must fail for the reasons the tests above name.
+    let order: Vec<String> = ["error", "physics", "render"].map(String::from).to_vec();
+    let upward = "use crate::{error::Result, render::{A, B}};\nfn f() { crate::render::x(); }\n";
+    let found = offences("physics", &order, "p.rs", upward);
+    assert_eq!(found.len(), 4, "{found:?}"); // two upward, two model rule
+    assert!(found[0].contains("p.rs:1") && found[0].contains("`render`"));
+    assert!(found.iter().any(|o| o.contains("p.rs:2")));
+    let commented =
+        "// use crate::render::X;\n/// [`crate::render::Y`]\nlet s = 1; // crate::render\n";
+    assert!(offences("physics", &order, "p.rs", commented).is_empty());
+    let gpu = "fn f(d: &wgpu::Device) {}\nlet wgpu_like = 1;\n";
+    assert_eq!(offences("physics", &order, "p.rs", gpu).len(), 1);
+    assert!(offences("render", &order, "r.rs", upward).is_empty());
+
+    let mut g: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    g.entry("a".into()).or_default().insert("b".into());
+    g.entry("b".into()).or_default().insert("c".into());
+    assert!(find_cycle(&g).is_none());
+    g.entry("c".into()).or_default().insert("a".into());
+    assert_eq!(find_cycle(&g).unwrap(), ["a", "b", "c", "a"]);
 }

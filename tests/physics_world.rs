@@ -272,7 +272,7 @@ fn fair_weather_clouds_sit_on_the_lifting_condensation_level() {
 fn ten_minutes_of_the_default_scene_stay_finite() {
     let (profile, source) = cumulus::scene::load_scene(None).unwrap();
     let env = profile.atmosphere.build(&source.base_dir()).unwrap();
-    let mut w = ParcelWorld::new(env, WorldConfig::from_scene(&profile), 1).unwrap();
+    let mut w = ParcelWorld::new(env, profile.world_tables(), 1).unwrap();
     for _ in 0..300 {
         let r = w.step(2.0);
         assert_eq!(r.clamps.non_finite, 0);

@@ -343,7 +343,7 @@ fn a_saved_scene_reloads_to_an_identical_render() {
     let scene = authored(&["render.slices.quality=48", "render.slices.detail=2.7"]);
     let text = scene.to_toml().unwrap();
     // Saved beside the original, so its relative sounding path resolves.
-    let saved = cumulus::scene_set::load_with_overrides(&text, &authored_path(), &[]).unwrap();
+    let saved = cumulus::scene::set::load_with_overrides(&text, &authored_path(), &[]).unwrap();
     assert_eq!(saved.render.slices, scene.render.slices);
     assert_eq!(saved.ellipsoids, scene.ellipsoids);
     assert_eq!(render(&ctx, &saved), render(&ctx, &scene));
@@ -385,7 +385,7 @@ fn the_background_colour_replaces_the_sky_when_the_sky_is_off() {
 fn cpu_frame(scene: &SceneProfile) -> cumulus::render::slices::SlicesFrame {
     let cfg = &scene.render;
     let camera = Camera::from(&scene.camera);
-    let noise = cumulus::render::noise::NoiseVolume::new(cfg.noise_texels);
+    let noise = cumulus::noise::NoiseVolume::new(cfg.noise_texels);
     cumulus::render::slices::slices_frame(
         &scene.ellipsoids,
         &scene.particles,
@@ -438,7 +438,7 @@ fn parcels_sliced_get_flat_bases_at_their_condensation_planes() {
         method: RenderMethod::Slices,
         ..RenderConfig::default()
     };
-    let noise = cumulus::render::noise::NoiseVolume::new(cfg.noise_texels);
+    let noise = cumulus::noise::NoiseVolume::new(cfg.noise_texels);
     let frame = cumulus::render::slices::slices_frame(
         &[],
         &Default::default(),

@@ -1,4 +1,4 @@
-//! `--set TABLE.KEY=VALUE` scene overrides (src/scene_set.rs): applied to
+//! `--set TABLE.KEY=VALUE` scene overrides (src/scene/set.rs): applied to
 //! the TOML before validation, so they pass the file's checks; errors name
 //! the key, the value and what is allowed; wired into `cumulus simulate`.
 

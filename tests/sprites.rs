@@ -11,7 +11,7 @@ use cumulus::physics::CloudParcel;
 use cumulus::scene::SceneProfile;
 use cumulus::sprites_model::cloud::{PRUNE_TYPICAL, prune};
 use cumulus::sprites_model::order::{back_to_front, block_overdraw, view_overdraw};
-use cumulus::sprites_model::{CloudType, Sprite, parcel_cloud, scene_clouds};
+use cumulus::sprites_model::{CloudType, Sprite, parcel_cloud};
 use glam::Vec3;
 
 fn sprite(x: f32, y: f32, z: f32, h: f32) -> Sprite {
@@ -47,8 +47,8 @@ boxes = [
 
 #[test]
 fn authored_boxes_fill_deterministically_within_their_boxes() {
-    let a = scene_clouds(&profile(ONE_BOX).unwrap());
-    let b = scene_clouds(&profile(ONE_BOX).unwrap());
+    let a = profile(ONE_BOX).unwrap().build_sprite_clouds();
+    let b = profile(ONE_BOX).unwrap().build_sprite_clouds();
     assert_eq!(a, b, "same seed, same sprites");
     let c = &a[0];
     assert!(
@@ -73,7 +73,7 @@ fn authored_boxes_fill_deterministically_within_their_boxes() {
     let mut other = profile(ONE_BOX).unwrap();
     other.sprite_clouds[0].seed = 10;
     assert_ne!(
-        scene_clouds(&other)[0].sprites,
+        other.build_sprite_clouds()[0].sprites,
         c.sprites,
         "the seed matters"
     );
@@ -176,8 +176,8 @@ fn every_preset_fills_a_cloud_and_cirrus_is_flat() {
 fn layers_expand_deterministically_with_their_coverage() {
     let text = "[[layers]]\ntype = \"altocumulus\"\ncoverage = 0.5\nextent_m = 24000.0\nseed = 4\n";
     let s = profile(text).unwrap();
-    let a = scene_clouds(&s);
-    assert_eq!(a, scene_clouds(&s));
+    let a = s.build_sprite_clouds();
+    assert_eq!(a, s.build_sprite_clouds());
     // 20 × 20 cells at 50 %: about 200 clouds (binomial sd 10; ±4 sd).
     assert!((160..=240).contains(&a.len()), "{}", a.len());
     assert!(
@@ -190,7 +190,7 @@ fn layers_expand_deterministically_with_their_coverage() {
 fn shipped_wang_profiles_load_and_show_what_they_promise() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles");
     let types = SceneProfile::load(&dir.join("cloud_types.toml")).unwrap_or_else(|e| panic!("{e}"));
-    let clouds = scene_clouds(&types);
+    let clouds = types.build_sprite_clouds();
     let mut kinds: Vec<_> = clouds.iter().map(|c| c.kind).collect();
     kinds.dedup();
     assert_eq!(
@@ -206,7 +206,7 @@ fn shipped_wang_profiles_load_and_show_what_they_promise() {
     );
 
     let overcast = SceneProfile::load(&dir.join("overcast.toml")).unwrap_or_else(|e| panic!("{e}"));
-    let clouds = scene_clouds(&overcast);
+    let clouds = overcast.build_sprite_clouds();
     let sprites: Vec<Sprite> = clouds
         .iter()
         .flat_map(|c| c.sprites.iter().copied())
@@ -318,7 +318,7 @@ fn dropped_sprites_are_counted_and_shown() {
         "min_m = [-300.0, -300.0, -200.0], max_m = [300.0, 300.0, 200.0], count = 60",
         "min_m = [0.0, 0.0, 0.0], max_m = [1.0, 1.0, 1.0], count = 10",
     );
-    let clouds = scene_clouds(&profile(&text).unwrap());
+    let clouds = profile(&text).unwrap().build_sprite_clouds();
     let n = FillCounts::of(&clouds);
     assert_eq!((n.clouds, n.capped), (1, 0));
     // The flat second box has no volume: its density gives the minimum, 1 sprite.

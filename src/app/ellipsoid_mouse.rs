@@ -10,7 +10,7 @@ use glam::Vec3;
 
 use super::state::Model;
 use crate::authored::{pick, states_at};
-use crate::render::{Camera, RenderMethod};
+use crate::config::{Camera, RenderMethod};
 
 /// An ellipsoid being dragged.
 #[derive(Debug, Clone, Copy)]

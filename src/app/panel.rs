@@ -115,7 +115,7 @@ pub fn show(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) -> PanelActio
                 ui.separator();
                 actions.render_changed = render_section(ui, m, ps);
                 ui.separator();
-                if m.render_cfg.method == crate::render::RenderMethod::Slices {
+                if m.render_cfg.method == crate::config::RenderMethod::Slices {
                     actions.render_changed |=
                         super::slices_panel::slices_section(ui, m, &mut ps.selected_ellipsoid);
                     ui.separator();
@@ -460,7 +460,7 @@ fn render_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) -> bool
     let r = &mut m.render_cfg;
     ui.horizontal(|ui| {
         ui.label("method");
-        for method in crate::render::RenderMethod::ALL {
+        for method in crate::config::RenderMethod::ALL {
             ui.radio_value(&mut r.method, method, method.name());
         }
     });

@@ -10,10 +10,11 @@ use glam::Vec3;
 
 use super::camera::OrbitCamera;
 use super::profile_edit::ProfileEditor;
+use crate::config::{Camera, RenderConfig};
 use crate::error::{Error, Result};
 use crate::physics::{CloudParcel, ParcelWorld, WorldConfig};
-use crate::render::{Camera, RenderConfig, Sun};
 use crate::scene::{SceneProfile, SceneSource};
+use crate::sky::Sun;
 use crate::sun::SolarClock;
 
 /// Seed of the simulation; fixed so that a reset replays the same run.

@@ -38,7 +38,7 @@ pub struct WatchOptions {
     /// Inner window size. units: logical pixels
     pub size: (u32, u32),
     /// Render method overriding the scene's `[render] method`.
-    pub method: Option<crate::render::RenderMethod>,
+    pub method: Option<crate::config::RenderMethod>,
     /// `--set TABLE.KEY=VALUE` scene overrides (see `crate::scene_set`).
     pub set: Vec<String>,
     /// Destroy the GPU device (`wgpu::Device::destroy`) after this frame,
@@ -215,10 +215,7 @@ impl App {
         // the latest finished frame's.
         renderer.set_timing_mode(crate::render::TimingMode::GpuLagged);
         // The scene's own sprite clouds, drawn under every method.
-        renderer.set_sprite_clouds(
-            &ctx,
-            crate::sprites_model::scene_clouds(&self.model.profile),
-        )?;
+        renderer.set_sprite_clouds(&ctx, self.model.profile.build_sprite_clouds())?;
         // Live, the pipelines of every setting one click away are built in
         // the background, so a toggle in the panel does not stop a frame for
         // a compile; counted captures (`--frames`) change no setting.
@@ -480,7 +477,7 @@ fn record(m: &mut Model, t: crate::render::FrameTimings, renderer: &Renderer) {
     m.stats.upload_ms = t.upload_ms;
     m.stats.gpu_timestamps = t.gpu_timestamps;
     m.stats.passes = t.passes;
-    m.stats.bake_note = (renderer.config().method == crate::render::RenderMethod::Baked)
+    m.stats.bake_note = (renderer.config().method == crate::config::RenderMethod::Baked)
         .then(|| renderer.bake_info().coarsening_note())
         .flatten();
 }

@@ -78,7 +78,7 @@ impl Sounding {
         let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
         let text = String::from_utf8(bytes).map_err(|e| {
             let at = e.utf8_error().valid_up_to();
-            let (line, col) = crate::scene::line_col(
+            let (line, col) = crate::error::line_col(
                 std::str::from_utf8(&e.as_bytes()[..at]).unwrap_or(""),
                 at,
             );
@@ -106,7 +106,7 @@ impl Sounding {
         }
         if let Some(off) = text.find(|c: char| c == '\0' || (c.is_control() && !c.is_whitespace()))
         {
-            let (line, col) = crate::scene::line_col(text, off);
+            let (line, col) = crate::error::line_col(text, off);
             return Err(Error::parse(
                 path,
                 line,

@@ -5,10 +5,12 @@
 //! points are upscaled to the reference size first.
 //! The physics sweep lives in `physics_error.rs` and is re-exported here.
 
+use crate::config::{Camera, RenderConfig};
 use crate::error::Result;
 use crate::physics::CloudParcel;
+use crate::render::GpuContext;
 use crate::render::headless::Headless;
-use crate::render::{Camera, GpuContext, RenderConfig, Sun};
+use crate::sky::Sun;
 
 use super::measure::{Repeats, Source, measure};
 pub use super::physics_error::{PhysicsError, PhysicsErrorRow, physics_sweep, physics_sweep_with};
@@ -104,7 +106,7 @@ pub fn reference_config(base: &RenderConfig, brute_force: bool) -> RenderConfig 
     r.grid_culling = !brute_force;
     r.early_exit_transmittance = 0.0;
     // The paper's per-sample union: what the baked field approximates.
-    r.method = crate::render::RenderMethod::Exact;
+    r.method = crate::config::RenderMethod::Exact;
     r
 }
 
@@ -248,7 +250,7 @@ impl RenderSweep {
         }
         // Each method against the reference (kept even where one equals
         // the default row).
-        for m in crate::render::RenderMethod::ALL {
+        for m in crate::config::RenderMethod::ALL {
             let c = RenderConfig {
                 method: m,
                 ..base.clone()
@@ -256,8 +258,8 @@ impl RenderSweep {
             out.push(s("method", m.name().into(), c, 1.0));
         }
         for m in [
-            crate::render::MarchPath::Fragment,
-            crate::render::MarchPath::Compute,
+            crate::config::MarchPath::Fragment,
+            crate::config::MarchPath::Compute,
         ] {
             let c = RenderConfig {
                 march: m,
@@ -267,7 +269,7 @@ impl RenderSweep {
         }
         if self.no_grid_culling {
             let c = RenderConfig {
-                method: crate::render::RenderMethod::Exact,
+                method: crate::config::RenderMethod::Exact,
                 grid_culling: false,
                 ..base.clone()
             };
@@ -285,7 +287,7 @@ impl RenderSweep {
         }
         for &q in &self.slices_quality {
             let mut c = RenderConfig {
-                method: crate::render::RenderMethod::Slices,
+                method: crate::config::RenderMethod::Slices,
                 ..base.clone()
             };
             c.slices.quality = q;
@@ -401,7 +403,7 @@ pub fn render_sweep(
         let img = rgb(&resize_rgba(&m.rgba, w, h, width, height));
         match st.parameter.as_str() {
             // Grid culling is the exact method's: compare it with brute force.
-            "method" if st.cfg.method == crate::render::RenderMethod::Exact => {
+            "method" if st.cfg.method == crate::config::RenderMethod::Exact => {
                 default_rgb = Some(img.clone())
             }
             "grid_culling" => brute_rgb = Some(img.clone()),
@@ -519,7 +521,7 @@ mod tests {
         // Default duplicates (step×1, 4 octaves, 4 light steps, 0.02, scale 1)
         // dropped; every method row, both march-path rows and the slices
         // quality row kept.
-        let methods = crate::render::RenderMethod::ALL.len();
+        let methods = crate::config::RenderMethod::ALL.len();
         assert_eq!(
             s.len(),
             1 + 1 + 1 + 1 + 1 + 1 + 1 + methods + 2 + 1,
@@ -529,7 +531,7 @@ mod tests {
             .iter()
             .find(|st| st.parameter == "slices_quality")
             .unwrap();
-        assert_eq!(q.cfg.method, crate::render::RenderMethod::Slices);
+        assert_eq!(q.cfg.method, crate::config::RenderMethod::Slices);
         assert_eq!(q.cfg.slices.quality, 32);
         for st in &s {
             st.cfg.validate().unwrap();

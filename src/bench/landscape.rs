@@ -9,9 +9,10 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use crate::config::{MarchPath, RenderConfig};
 use crate::error::Result;
 use crate::render::headless::Headless;
-use crate::render::{FrameInput, GpuContext, MarchPath, RenderConfig};
+use crate::render::{FrameInput, GpuContext};
 
 use super::Mode;
 use super::measure::{Repeats, Source, measure};

@@ -6,10 +6,12 @@
 
 use std::time::Instant;
 
+use crate::config::Camera;
 use crate::error::{Error, Result};
 use crate::physics::{CloudParcel, ParcelWorld};
 use crate::render::headless::Headless;
-use crate::render::{Camera, FrameInput, GpuContext, Sun};
+use crate::render::{FrameInput, GpuContext};
+use crate::sky::Sun;
 
 use super::stats::median;
 

@@ -11,11 +11,13 @@
 
 use std::path::Path;
 
+use crate::config::{Camera, RenderMethod};
 use crate::error::{Error, Result};
 use crate::physics::{CloudParcel, ParcelWorld};
+use crate::render::GpuContext;
 use crate::render::headless::Headless;
-use crate::render::{Camera, GpuContext, RenderMethod, Sun};
 use crate::scene::SceneProfile;
+use crate::sky::Sun;
 
 use super::measure::{Repeats, Source, measure};
 use super::stats::{mean_flip, rgb};
@@ -197,11 +199,12 @@ pub fn methods(
         let flip = reference
             .as_ref()
             .map(|r| mean_flip(r, &rgb(&m.rgba), size.0, size.1));
-        let scene_sprites: Vec<crate::sprites_model::Sprite> =
-            crate::sprites_model::scene_clouds(&l.profile)
-                .into_iter()
-                .flat_map(|c| c.sprites)
-                .collect();
+        let scene_sprites: Vec<crate::sprites_model::Sprite> = l
+            .profile
+            .build_sprite_clouds()
+            .into_iter()
+            .flat_map(|c| c.sprites)
+            .collect();
         let overdraw = crate::sprites_model::order::view_overdraw(
             &scene_sprites,
             l.camera.position,
@@ -229,7 +232,7 @@ fn run_case(
     size: (u32, u32),
     reps: Repeats,
 ) -> Result<(super::measure::Measured, usize)> {
-    let mut cfg = crate::render::RenderConfig {
+    let mut cfg = crate::config::RenderConfig {
         method,
         ..l.profile.render.clone()
     };
@@ -245,7 +248,7 @@ fn run_case(
     }
     let mut hl = Headless::new(ctx, &cfg, size.0, size.1)?;
     hl.renderer
-        .set_sprite_clouds(ctx, crate::sprites_model::scene_clouds(&l.profile))?;
+        .set_sprite_clouds(ctx, l.profile.build_sprite_clouds())?;
     hl.renderer
         .set_authored(&l.profile.ellipsoids, &l.profile.particles);
     if impostors {

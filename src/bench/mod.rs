@@ -28,8 +28,9 @@ pub mod stats;
 
 use std::path::PathBuf;
 
+use crate::config::RenderConfig;
 use crate::error::Result;
-use crate::render::{GpuContext, RenderConfig};
+use crate::render::GpuContext;
 
 use accuracy::{PhysicsError, RenderError, RenderSweep};
 use measure::Repeats;
@@ -85,7 +86,7 @@ pub struct Options {
     pub progress: bool,
     /// Render method of the performance and pruning tables and the error
     /// sweep's base (the scaling table measures every method).
-    pub method: crate::render::RenderMethod,
+    pub method: crate::config::RenderMethod,
     /// `--set TABLE.KEY=VALUE` overrides applied to every scene file the
     /// bench loads (the profiles of the methods table, see
     /// [`methods::cases`]), validated exactly like the file.

@@ -3,12 +3,11 @@
 //! method (baked, exact with grid culling, brute force), and what each
 //! optional pass costs (pruning).
 
+use crate::config::{Camera, CameraConfig, RenderConfig, RenderMethod, TerrainConfig};
 use crate::error::Result;
 use crate::physics::{CloudParcel, ParcelWorld};
 use crate::render::headless::Headless;
-use crate::render::{
-    Camera, CameraConfig, GpuContext, RenderConfig, RenderMethod, TerrainConfig, pack,
-};
+use crate::render::{GpuContext, pack};
 
 use super::measure::{Measured, Repeats, Source, measure};
 use super::scenes;

@@ -49,7 +49,7 @@ pub fn slices_rows(
     for quality in QUALITIES {
         for mode in [VertexField::Cpu, VertexField::Gpu] {
             let mut cfg = l.profile.render.clone();
-            cfg.method = crate::render::RenderMethod::Slices;
+            cfg.method = crate::config::RenderMethod::Slices;
             cfg.slices.quality = quality;
             cfg.slices.vertex_field = mode;
             let mut hl = Headless::new(ctx, &cfg, size.0, size.1)?;

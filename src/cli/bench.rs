@@ -33,7 +33,7 @@ pub struct Args {
     /// Render method of the performance and pruning tables (the scaling
     /// table measures every method): baked (default), exact, sprites or slices.
     #[arg(long, value_parser = super::watch::parse_method)]
-    pub method: Option<cumulus::render::RenderMethod>,
+    pub method: Option<cumulus::config::RenderMethod>,
     /// Overrides for every scene file the bench loads (the methods table's
     /// profiles): `--set render.slices.quality=32`.
     #[command(flatten)]

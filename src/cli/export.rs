@@ -6,9 +6,9 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
+use cumulus::config::Camera;
 use cumulus::export::sidecar::Sidecar;
 use cumulus::export::{self, DEFAULT_MAX_MEMORY_MIB, GridSpec};
-use cumulus::render::Camera;
 use cumulus::render::field::CloudField;
 use cumulus::render::slices::field::AuthoredField;
 use cumulus::render::slices::slices_frame;
@@ -153,7 +153,7 @@ fn export_frame(
     args: &Args,
     scene: &cumulus::scene::SceneProfile,
     scene_name: &str,
-    cfg: &cumulus::render::RenderConfig,
+    cfg: &cumulus::config::RenderConfig,
     parcels: &[cumulus::physics::CloudParcel],
     time: f64,
     out: &Path,
@@ -245,7 +245,7 @@ enum Density {
 impl Density {
     fn new(
         scene: &cumulus::scene::SceneProfile,
-        cfg: &cumulus::render::RenderConfig,
+        cfg: &cumulus::config::RenderConfig,
         parcels: &[cumulus::physics::CloudParcel],
         time: f64,
     ) -> anyhow::Result<Self> {
@@ -283,7 +283,7 @@ impl Density {
     /// The parcels' default voxel, or for authored clouds a 64th of the
     /// finest first-octave tile (the noise's coarse detail resolved by a
     /// few voxels; finer octaves need --voxel and the memory for it).
-    fn default_voxel_m(&self, cfg: &cumulus::render::RenderConfig) -> f32 {
+    fn default_voxel_m(&self, cfg: &cumulus::config::RenderConfig) -> f32 {
         match self {
             Density::Parcels(f) => export::default_voxel_m(cfg, f),
             Density::Authored(_) => {

@@ -4,9 +4,10 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
+use cumulus::config::Camera;
 use cumulus::physics::{CloudParcel, ParcelWorld};
 use cumulus::render::headless::Headless;
-use cumulus::render::{Camera, FrameInput, GpuContext};
+use cumulus::render::{FrameInput, GpuContext};
 
 /// On or off.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -51,7 +52,7 @@ pub struct Args {
     /// scene's authored [[ellipsoids]] and the parcels, by light-aligned
     /// slicing planes).
     #[arg(long, value_parser = super::watch::parse_method)]
-    pub method: Option<cumulus::render::RenderMethod>,
+    pub method: Option<cumulus::config::RenderMethod>,
     #[command(flatten)]
     pub overrides: super::SetArgs,
     /// Finite-difference normals (overrides the scene's [render] normals).
@@ -272,7 +273,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let ctx = GpuContext::new_headless(args.adapter.as_deref())?;
     eprintln!("adapter: {}", ctx.describe());
     let mut headless = Headless::new(&ctx, &cfg, args.width, args.height)?;
-    let sprite_clouds = cumulus::sprites_model::scene_clouds(&scene);
+    let sprite_clouds = scene.build_sprite_clouds();
     if !sprite_clouds.is_empty() {
         eprintln!(
             "{scene_name}: {}",
@@ -360,7 +361,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .map(|(n, ms)| format!("{n} {ms:.1} ms"))
             .collect();
         let bake = headless.renderer.bake_info();
-        if cfg.method == cumulus::render::RenderMethod::Baked
+        if cfg.method == cumulus::config::RenderMethod::Baked
             && let Some(note) = bake.coarsening_note()
         {
             eprintln!("note: {note}");

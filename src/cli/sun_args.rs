@@ -3,8 +3,9 @@
 //! is rewritten, so the ground's heating (the emission clock) moves with the sun.
 
 use anyhow::{bail, ensure};
-use cumulus::render::{RenderConfig, Sun};
+use cumulus::config::RenderConfig;
 use cumulus::scene::SceneProfile;
+use cumulus::sky::Sun;
 use cumulus::sun::SolarClock;
 
 /// Applies `--hour`/`--date` to `scene` (the frame at `time_s` shows them),

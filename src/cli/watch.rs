@@ -35,7 +35,7 @@ pub struct Args {
     /// (default), exact, sprites (Wang 2003) or slices (Schpok 2003; its
     /// panel edits the qualitative controls and the authored ellipsoids).
     #[arg(long, value_parser = parse_method)]
-    pub method: Option<cumulus::render::RenderMethod>,
+    pub method: Option<cumulus::config::RenderMethod>,
     #[command(flatten)]
     pub overrides: super::SetArgs,
     /// Destroy the GPU device after frame N, to exercise the recovery from
@@ -45,7 +45,7 @@ pub struct Args {
 }
 
 /// Parses `--method` (the error names the allowed values).
-pub fn parse_method(s: &str) -> Result<cumulus::render::RenderMethod, String> {
+pub fn parse_method(s: &str) -> Result<cumulus::config::RenderMethod, String> {
     s.parse().map_err(|e: cumulus::error::Error| e.to_string())
 }
 

@@ -17,10 +17,10 @@ pub mod vol;
 use glam::Vec3;
 use rayon::prelude::*;
 
+use crate::config::RenderConfig;
 use crate::error::{Error, Result};
-use crate::render::RenderConfig;
+use crate::noise;
 use crate::render::field::{CloudField, PLANE_SHELL};
-use crate::render::noise;
 
 pub use vol::{VolGrid, read_vol, write_vol};
 

@@ -9,7 +9,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::render::{Camera, RenderConfig, Sun};
+use crate::config::{Camera, RenderConfig};
+use crate::sky::Sun;
 use crate::sky::{SKY_AZIMUTHS, SKY_ELEVATIONS};
 
 use super::GridSpec;

@@ -453,21 +453,6 @@ impl WorldConfig {
 }
 
 impl WorldConfig {
-    /// The physics tables of a scene profile.
-    pub fn from_scene(scene: &crate::scene::SceneProfile) -> Self {
-        let mut emission = scene.emission.clone();
-        // One clock: with a [sun] table the ground heats by its solar time.
-        if let Some(Ok(clock)) = scene.sun.as_ref().map(|s| s.clock()) {
-            emission.start_hour = clock.solar_time_h(0.0);
-        }
-        WorldConfig {
-            physics: scene.physics.clone(),
-            ground: scene.ground.clone(),
-            emission,
-            wind: scene.wind.clone(),
-        }
-    }
-
     /// Validates all four tables.
     pub fn validate(&self) -> Result<()> {
         self.physics.validate()?;

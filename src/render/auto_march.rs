@@ -6,7 +6,7 @@
 //! pass). The first frame of each path is dropped (drivers compile on first
 //! use), then the path with the lower median of [`SAMPLES`] frames wins.
 
-use crate::render::method::MarchPath;
+use crate::config::method::MarchPath;
 use crate::render::timing::FrameTimings;
 
 /// Frames measured per path (after the dropped first one).

@@ -15,10 +15,10 @@
 
 use glam::Vec3;
 
+use crate::config::RenderConfig;
 use crate::error::Result;
+use crate::noise;
 use crate::physics::CloudParcel;
-use crate::render::RenderConfig;
-use crate::render::noise;
 use crate::render::pack::{GpuParcel, GridInfo, Packed, pack};
 
 /// Plane shell thickness relative to the sphere's shell. Keep in sync with

@@ -2,10 +2,11 @@
 //! rendered with the same `Renderer::render` path as the window, and read
 //! back row by row (rows padded to wgpu's 256-byte copy alignment).
 
+use crate::config::RenderConfig;
 use crate::error::{Error, Result};
+use crate::render::FrameInput;
 use crate::render::gpu::GpuContext;
 use crate::render::renderer::{FrameTimings, Renderer, read_buffer};
-use crate::render::{FrameInput, RenderConfig};
 
 /// Format of headless images (PNG-ready bytes after readback).
 pub const HEADLESS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;

@@ -11,12 +11,12 @@
 
 use std::collections::HashMap;
 
+use crate::config::method::RenderMethod;
 use crate::error::{Error, Result};
+use crate::landscape::terrain::TerrainVertex;
 use crate::render::gpu::GpuContext;
-use crate::render::method::RenderMethod;
 use crate::render::prebuild::Prebuilder;
 use crate::render::shaders::Pass;
-use crate::render::terrain::TerrainVertex;
 
 /// Format of the internal depth buffer (written by terrain, read by clouds).
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;

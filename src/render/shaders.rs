@@ -9,7 +9,7 @@
 //! pipeline creation, so code that a scene does not need (normals, shadow
 //! lookups, brute-force loops) is removed then.
 
-use crate::render::method::RenderMethod;
+use crate::config::method::RenderMethod;
 use crate::render::pack::{MAX_GRID_CELLS, MAX_GRID_ENTRIES, MAX_PARCELS};
 use crate::sky::{AIR_HEIGHTS, AIR_STEPS, AIR_TOP_M, SKY_AZIMUTHS, SKY_ELEVATIONS};
 

@@ -29,6 +29,7 @@
 
 mod air;
 mod luts;
+mod sun_light;
 mod view;
 
 use glam::DVec3;
@@ -37,6 +38,7 @@ pub use air::{AIR_HEIGHTS, AIR_STEPS, AIR_TOP_M, Air, AirTable, ray_height_m};
 pub use luts::{
     MULTIPLE_SCATTERING_SIZE, MultipleScatteringLut, SkyLuts, TRANSMITTANCE_SIZE, TransmittanceLut,
 };
+pub use sun_light::Sun;
 pub use view::{SKY_AZIMUTHS, SKY_ELEVATIONS, SKY_TEXELS, SkyLight};
 
 /// The sun's colour above the atmosphere, in the renderer's units (linear

@@ -8,7 +8,7 @@
 use std::path::Path;
 
 use crate::error::Result;
-use crate::render::noise::{fade, hash};
+use crate::noise::{fade, hash};
 
 /// Tiles per row and column of the sheet.
 pub const GRID: u32 = 4;

@@ -66,12 +66,12 @@ pub fn validate_scene(clouds: &[SpriteCloudSpec], layers: &[LayerSpec]) -> Resul
     Ok(())
 }
 
-/// Every sprite cloud of a scene: its `[[sprite_clouds]]`, then its
-/// `[[layers]]` expanded, in file order (deterministic).
-pub fn scene_clouds(scene: &crate::scene::SceneProfile) -> Vec<SpriteCloud> {
-    let authored = scene.sprite_clouds.iter().map(SpriteCloudSpec::build);
+/// The sprite clouds of a scene's `[[sprite_clouds]]`, then its
+/// `[[layers]]` expanded, in that order (deterministic).
+pub fn build_clouds(clouds: &[SpriteCloudSpec], layers: &[LayerSpec]) -> Vec<SpriteCloud> {
+    let authored = clouds.iter().map(SpriteCloudSpec::build);
     authored
-        .chain(scene.layers.iter().flat_map(LayerSpec::build))
+        .chain(layers.iter().flat_map(LayerSpec::build))
         .collect()
 }
 

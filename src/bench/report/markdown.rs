@@ -181,7 +181,7 @@ pub fn targets(r: &BenchResults) -> Vec<Target> {
     let baked = r
         .methods
         .iter()
-        .filter(|m| m.method == crate::render::RenderMethod::Baked)
+        .filter(|m| m.method == crate::config::RenderMethod::Baked)
         .filter_map(|m| m.mean_flip_vs_exact.map(|f| (f, m.scene.as_str())))
         .max_by(|a, b| a.0.total_cmp(&b.0));
     out.push(Target {

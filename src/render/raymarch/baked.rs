@@ -243,7 +243,7 @@ impl BakedField {
             label: Some("bake"),
             source: wgpu::ShaderSource::Wgsl(
                 crate::render::shaders::Pass::Bake
-                    .source(crate::render::RenderMethod::Baked)
+                    .source(crate::config::RenderMethod::Baked)
                     .into(),
             ),
         });

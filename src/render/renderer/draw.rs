@@ -232,7 +232,7 @@ impl Renderer {
         });
         let color = |view, load| [Some(crate::render::gpu::stored_color(view, load))];
         let clear = wgpu::LoadOp::Clear(wgpu::Color::WHITE);
-        let slices = self.cfg.method == crate::render::RenderMethod::Slices;
+        let slices = self.cfg.method == crate::config::RenderMethod::Slices;
         // The paper's Background control: a flat colour instead of the sky.
         let background = (slices && !self.cfg.slices.sky).then(|| {
             let [r, g, b] = self.cfg.slices.background_colour.map(f64::from);

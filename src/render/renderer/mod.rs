@@ -24,11 +24,14 @@
 
 use std::time::Instant;
 
+use crate::config::method::{MarchPath, RenderMethod};
+use crate::config::{RenderConfig, TerrainConfig};
 use crate::error::{Error, Result};
+use crate::landscape::terrain;
+use crate::noise::NoiseVolume;
 use crate::physics::CloudParcel;
 use crate::render::auto_march::AutoMarch;
 use crate::render::gpu::GpuContext;
-use crate::render::method::{MarchPath, RenderMethod};
 use crate::render::noise;
 use crate::render::pack::{FrameUniform, GridInfo, GridUniform, ParcelsUniform};
 use crate::render::pipelines::{PassLayouts, PipelineCache, PipelineKey};
@@ -37,9 +40,8 @@ use crate::render::raymarch::exact::ExactField;
 use crate::render::shaders::Pass;
 use crate::render::slices::{SlicesGpu, slices_frame};
 use crate::render::sprites::{RingGpu, SpriteScene, SpriteStats, SpritesGpu};
-use crate::render::terrain;
 use crate::render::timing::Timestamps;
-use crate::render::{Features, FrameInput, RenderConfig, TerrainConfig};
+use crate::render::{Features, FrameInput};
 
 mod draw;
 mod ensure;
@@ -126,7 +128,7 @@ pub struct Renderer {
     slices: SlicesGpu,
     /// The noise volume on the CPU (its side), for the first octave of the
     /// vertex shadows when the CPU evaluates them (`slices` method).
-    slices_noise: Option<(u32, noise::NoiseVolume)>,
+    slices_noise: Option<(u32, NoiseVolume)>,
     /// Authored clouds the `slices` method draws besides the parcels.
     authored: (
         Vec<crate::authored::Ellipsoid>,
@@ -191,7 +193,8 @@ impl Renderer {
             min_filter: wgpu::FilterMode::Linear,
             ..Default::default()
         });
-        let noise_view = noise::NoiseVolume::new(cfg.noise_texels).texture(&ctx.device, &ctx.queue);
+        let noise_view =
+            noise::texture(&NoiseVolume::new(cfg.noise_texels), &ctx.device, &ctx.queue);
 
         let layouts = PassLayouts::new(device);
         let slices = SlicesGpu::new(device);
@@ -419,7 +422,7 @@ impl Renderer {
         cfg.validate()?;
         if cfg.noise_texels != self.noise_texels {
             self.noise_view =
-                noise::NoiseVolume::new(cfg.noise_texels).texture(&ctx.device, &ctx.queue);
+                noise::texture(&NoiseVolume::new(cfg.noise_texels), &ctx.device, &ctx.queue);
             self.noise_texels = cfg.noise_texels;
             self.rebind_common(ctx);
         }
@@ -481,7 +484,7 @@ impl Renderer {
                 let texels = self.cfg.noise_texels;
                 let cpu = mode == crate::authored::VertexField::Cpu;
                 if cpu && self.slices_noise.as_ref().map(|(n, _)| *n) != Some(texels) {
-                    self.slices_noise = Some((texels, noise::NoiseVolume::new(texels)));
+                    self.slices_noise = Some((texels, NoiseVolume::new(texels)));
                 }
                 let frame = slices_frame(
                     &self.authored.0,

@@ -11,7 +11,7 @@ use glam::{Mat4, Vec3};
 use crate::authored::MediaFilter;
 use crate::authored::ellipsoid::{EllipsoidState, bounds_m, field_at};
 use crate::authored::octaves::OctaveUniform;
-use crate::render::noise::NoiseVolume;
+use crate::noise::NoiseVolume;
 
 /// The noise-detailed implicit field of one frame.
 pub struct AuthoredField {

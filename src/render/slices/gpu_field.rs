@@ -10,8 +10,8 @@ use bytemuck::{Pod, Zeroable};
 
 use super::SlicesFrame;
 use crate::authored::slicing::ShadowRays;
+use crate::config::RenderMethod;
 use crate::error::{Error, Result};
-use crate::render::RenderMethod;
 use crate::render::gpu::GpuContext;
 use crate::render::pipelines::{PassLayouts, uniform_buffer, uniform_entry};
 use crate::render::raymarch::baked::compute_storage_entry;

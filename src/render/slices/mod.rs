@@ -25,13 +25,13 @@ use crate::authored::ellipsoid::{EllipsoidState, bounds_m};
 use crate::authored::octaves::{OctaveUniform, octave_uniform};
 use crate::authored::slicing::{SliceGeometry, slice_grid};
 use crate::authored::{Ellipsoid, ParticleConfig, states_at};
+use crate::config::RenderConfig;
 use crate::error::Result;
+use crate::noise::NoiseVolume;
 use crate::physics::CloudParcel;
-use crate::render::RenderConfig;
-use crate::render::noise::NoiseVolume;
 
 /// Maps the sun's irradiance scale (≈ 2.2 for nominal daylight, see
-/// [`crate::render::Sun`]) to the colour multiplier of the lit cloud, so a
+/// [`crate::sky::Sun`]) to the colour multiplier of the lit cloud, so a
 /// `cloud_colour` of 1 tone-maps to about 0.86 through `output_color`, near
 /// the ray-marched methods' sunlit tops.
 pub const SUN_TO_COLOUR: f32 = 0.8;

@@ -16,7 +16,7 @@ use crate::error::{Error, Result};
 use crate::render::gpu::GpuContext;
 
 pub use build::{SpriteScene, SpriteStats};
-pub use ring::{RingGpu, SpritesConfig};
+pub use ring::RingGpu;
 
 /// One sprite as the shader reads it (144 bytes; keep in sync with
 /// `SpriteInstance` in shaders/sprites.wgsl).
@@ -142,7 +142,7 @@ pub(super) fn bind(
 /// sprite), for clouds in front of the camera.
 pub fn cloud_labels(
     clouds: &[crate::sprites_model::SpriteCloud],
-    camera: &crate::render::Camera,
+    camera: &crate::config::Camera,
     width: u32,
     height: u32,
 ) -> Vec<crate::plots::labels::Label> {

@@ -11,43 +11,13 @@
 //! face camera and the ring quads.
 
 use glam::Vec3;
-use serde::{Deserialize, Serialize};
 
 use super::{SpriteInstance, SpritesGpu};
-use crate::error::{Error, Result};
-use crate::render::Camera;
+use crate::config::Camera;
 use crate::render::gpu::GpuContext;
 use crate::sprites_model::impostor::{
     IMPOSTOR_SIZE, ImpostorRing, RingConfig, RingFrame, SECTOR_RAD, SECTORS,
 };
-
-/// The `[render.sprites]` table.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
-#[serde(default, deny_unknown_fields)]
-pub struct SpritesConfig {
-    /// Radius of the impostor ring; absent: no impostors (every sprite
-    /// drawn directly). units: m
-    pub impostor_radius_m: Option<f32>,
-}
-
-/// Smallest and largest ring radius: a 4 km cloud block must fit outside
-/// it, and beyond 200 km nothing is left to impostor. units: m
-const RADIUS_RANGE_M: (f32, f32) = (4000.0, 200_000.0);
-
-impl SpritesConfig {
-    pub fn validate(&self) -> Result<()> {
-        if let Some(r) = self.impostor_radius_m
-            && !(r.is_finite() && (RADIUS_RANGE_M.0..=RADIUS_RANGE_M.1).contains(&r))
-        {
-            return Err(Error::invalid(
-                "render.sprites.impostor_radius_m",
-                r,
-                "4000 to 200000 m (leave it out for no impostors)",
-            ));
-        }
-        Ok(())
-    }
-}
 
 /// Centre direction (horizontal) of face `k`.
 fn face_dir(k: usize) -> Vec3 {
@@ -241,24 +211,6 @@ impl RingGpu {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn radius_is_validated_and_named() {
-        assert!(SpritesConfig::default().validate().is_ok());
-        let ok = SpritesConfig {
-            impostor_radius_m: Some(20_000.0),
-        };
-        assert!(ok.validate().is_ok());
-        for bad in [100.0, f32::NAN, 1.0e6] {
-            let e = SpritesConfig {
-                impostor_radius_m: Some(bad),
-            }
-            .validate()
-            .unwrap_err()
-            .to_string();
-            assert!(e.contains("render.sprites.impostor_radius_m"), "{e}");
-        }
-    }
 
     #[test]
     fn a_face_quad_is_its_cameras_view_at_the_ring_radius() {

@@ -3,21 +3,24 @@
 //! the TOML (errors name the file, line and column), validates every part and
 //! builds the environment.
 
+pub mod set;
+
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
 use crate::atmosphere::AtmosphereSpec;
 use crate::authored::{Ellipsoid, ParticleConfig};
-use crate::error::{Error, Result};
+use crate::config::{CameraConfig, RenderConfig};
+use crate::error::{Error, Result, line_col};
 use crate::physics::{EmissionConfig, GroundConfig, PhysicsConfig, WindConfig, WorldConfig};
-use crate::render::{CameraConfig, RenderConfig, Sun};
+use crate::sky::Sun;
 use crate::sun::{SolarClock, SunConfig};
 
 /// Name of the scene embedded in the binary and used when none is given.
 pub const DEFAULT_SCENE_NAME: &str = "fair_weather";
 /// The embedded default scene: fair-weather cumulus under an inversion.
-pub const DEFAULT_SCENE_TOML: &str = include_str!("../profiles/fair_weather.toml");
+pub const DEFAULT_SCENE_TOML: &str = include_str!("../../profiles/fair_weather.toml");
 
 /// A scene profile as written in TOML.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -116,19 +119,6 @@ pub fn render_sun(clock: Option<&SolarClock>, render: &RenderConfig, t_s: f64) -
     }
 }
 
-/// Byte offset → 1-based (line, column).
-pub fn line_col(text: &str, offset: usize) -> (usize, usize) {
-    let before = &text[..offset.min(text.len())];
-    let line = before.matches('\n').count() + 1;
-    let col = before
-        .rsplit('\n')
-        .next()
-        .map(|s| s.chars().count())
-        .unwrap_or(0)
-        + 1;
-    (line, col)
-}
-
 impl SceneProfile {
     /// Parses a profile from TOML text; `path` is used in error messages.
     pub fn from_toml(text: &str, path: &Path) -> Result<Self> {
@@ -152,7 +142,7 @@ impl SceneProfile {
     /// points, physics, ground, emission, wind, render and camera.
     pub fn validate(&self) -> Result<()> {
         self.atmosphere.validate()?;
-        crate::physics::WorldConfig::from_scene(self).validate()?;
+        self.world_tables().validate()?;
         self.render.validate()?;
         self.render.slices.validate()?;
         crate::authored::ellipsoid::validate_all(&self.ellipsoids)?;
@@ -177,14 +167,37 @@ impl SceneProfile {
         self.sun.as_ref().map(SunConfig::clock).transpose()
     }
 
+    /// The physics tables of this scene (physics, ground, emission, wind),
+    /// the emission clocked by the `[sun]` table when there is one; the
+    /// ground's terrain is read by [`SceneProfile::world_config`].
+    pub fn world_tables(&self) -> WorldConfig {
+        let mut emission = self.emission.clone();
+        // One clock: with a [sun] table the ground heats by its solar time.
+        if let Some(Ok(clock)) = self.sun.as_ref().map(|s| s.clock()) {
+            emission.start_hour = clock.solar_time_h(0.0);
+        }
+        WorldConfig {
+            physics: self.physics.clone(),
+            ground: self.ground.clone(),
+            emission,
+            wind: self.wind.clone(),
+        }
+    }
+
+    /// Every sprite cloud of this scene: its `[[sprite_clouds]]`, then its
+    /// `[[layers]]` expanded, in file order (deterministic).
+    pub fn build_sprite_clouds(&self) -> Vec<crate::sprites_model::SpriteCloud> {
+        crate::sprites_model::build_clouds(&self.sprite_clouds, &self.layers)
+    }
+
     /// Everything the physics needs, with the ground's terrain read (a
     /// heightmap relative to `base_dir`) when `[ground] follow_terrain`.
     pub fn world_config(&self, base_dir: &Path) -> Result<WorldConfig> {
-        let mut cfg = WorldConfig::from_scene(self);
+        let mut cfg = self.world_tables();
         if self.ground.follow_terrain {
             let mut render = self.render.clone();
             render.resolve_paths(base_dir);
-            cfg.ground.terrain = crate::render::terrain::heightfield(&render.terrain)?;
+            cfg.ground.terrain = crate::landscape::terrain::heightfield(&render.terrain)?;
             if let Some(clock) = self.clock()? {
                 // Solar noon of the first day; a sun held 5° up in polar night.
                 let noon_s = (12.0 - clock.solar_time_h(0.0)) * 3600.0;
@@ -361,7 +374,7 @@ pub fn load_scene_with(
 ) -> Result<(SceneProfile, SceneSource)> {
     match path {
         None => Ok((
-            crate::scene_set::load_with_overrides(
+            set::load_with_overrides(
                 DEFAULT_SCENE_TOML,
                 Path::new(EMBEDDED_SCENE_LABEL),
                 overrides,
@@ -370,7 +383,7 @@ pub fn load_scene_with(
         )),
         Some(p) => {
             let text = read_text(p)?;
-            let profile = crate::scene_set::load_with_overrides(&text, p, overrides)?;
+            let profile = set::load_with_overrides(&text, p, overrides)?;
             require_atmosphere(&text, p)?;
             Ok((profile, SceneSource::File(p.to_path_buf())))
         }

@@ -12,8 +12,8 @@
 
 use std::path::Path;
 
+use super::{SceneProfile, locate};
 use crate::error::{Error, Result};
-use crate::scene::{SceneProfile, locate};
 
 /// One parsed `--set` argument.
 #[derive(Debug, Clone, PartialEq)]

@@ -8,7 +8,48 @@ use glam::Vec3;
 
 use crate::error::Result;
 use crate::landscape::{self, Heightfield};
-use crate::render::TerrainConfig;
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+
+/// Terrain settings (the `[render.terrain]` table).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TerrainConfig {
+    /// Draw a terrain (and, with `shadows`, cloud shadows on it).
+    pub enabled: bool,
+    /// Optional 8/16-bit greyscale heightmap PNG (relative to the scene file);
+    /// black = 0 m, white = `height_scale_m`. None = procedural fBm hills.
+    pub heightmap: Option<PathBuf>,
+    /// Height of the highest terrain point. units: m
+    pub height_scale_m: f32,
+    /// Side of the square terrain mesh, centred on the domain (larger than the
+    /// domain so the landscape reaches the horizon). units: m
+    pub extent_m: f32,
+    /// Vertices per side of the terrain mesh.
+    pub resolution: u32,
+    /// Seed of the procedural terrain.
+    pub seed: u32,
+    /// Height of the water surface of lakes: the terrain below it lies
+    /// under a flat, dark, sky-reflecting water plane (shaders/terrain.wgsl
+    /// `water`). Unset: no water. Drawn only (the physics' ground is
+    /// the terrain itself). units: m
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub water_level_m: Option<f32>,
+}
+
+impl Default for TerrainConfig {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            heightmap: None,
+            height_scale_m: 1800.0,
+            extent_m: 40_000.0,
+            resolution: 160,
+            seed: 7,
+            water_level_m: None,
+        }
+    }
+}
 
 /// One mesh vertex. Matches `VertexIn` in shaders/terrain.wgsl.
 /// The water plane's vertices have the normal [`WATER_NORMAL`], which no
@@ -57,7 +98,7 @@ fn heights(cfg: &TerrainConfig) -> Result<Vec<f32>> {
 }
 
 /// Builds the terrain mesh for `cfg` (heightmap paths as given: resolve them
-/// first with [`crate::render::RenderConfig::resolve_paths`]).
+/// first with [`crate::config::RenderConfig::resolve_paths`]).
 pub fn build_mesh(cfg: &TerrainConfig) -> Result<TerrainMesh> {
     let n = cfg.resolution as usize;
     let hs = heights(cfg)?;

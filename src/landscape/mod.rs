@@ -3,6 +3,8 @@
 //! hills or a greyscale heightmap PNG. Pure CPU; imports neither the physics
 //! nor the GPU, so both can use it.
 
+pub mod terrain;
+
 use std::path::Path;
 
 use crate::error::{Error, Result};
