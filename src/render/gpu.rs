@@ -79,6 +79,26 @@ impl GpuContext {
         Self::from_adapter(instance, adapter)
     }
 
+    /// Wraps the device of another wgpu program that embeds the cloud
+    /// renderer: cumulus then creates its resources on that device and
+    /// records into that queue. GPU timestamps are used when the device was
+    /// opened with [`wgpu::Features::TIMESTAMP_QUERY`].
+    pub fn from_host(
+        instance: wgpu::Instance,
+        adapter: wgpu::Adapter,
+        device: wgpu::Device,
+        queue: wgpu::Queue,
+    ) -> Self {
+        let timestamps = device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        Self {
+            instance,
+            adapter,
+            device,
+            queue,
+            timestamps,
+        }
+    }
+
     /// A fresh instance like the one `new_headless` uses (for the window to
     /// create its surface from).
     pub fn new_instance() -> wgpu::Instance {

@@ -10,7 +10,7 @@ use crate::render::pipelines::Pipeline;
 use crate::render::shaders::Pass;
 use crate::render::timing::{FrameTimings, TimingMode};
 
-use super::{Renderer, shadow_rect, shadow_rect_of};
+use super::{Renderer, SCENE_FORMAT, shadow_rect, shadow_rect_of};
 
 impl Renderer {
     pub(super) fn frame_uniform(&self, input: &FrameInput<'_>) -> FrameUniform {
@@ -80,6 +80,49 @@ impl Renderer {
     /// call `resize` gets a correct frame, not a validation panic); a size
     /// the device cannot hold draws nothing and returns no pass timings.
     pub fn render(&mut self, ctx: &GpuContext, target: &wgpu::TextureView) -> FrameTimings {
+        self.draw(ctx, target, false)
+    }
+
+    /// Draws only the clouds of the prepared frame over `hdr_target`, a
+    /// view of another program's [`SCENE_FORMAT`] texture of the
+    /// renderer's size that already holds that program's scene in linear
+    /// radiance: no sky, no terrain, no tone map (the program tone-maps
+    /// the result itself; cloud radiance is in the renderer's units, where
+    /// [`crate::config::RenderConfig::tone_exposure`] brings sunlit cloud
+    /// tops near 1). The clouds are blended "over" with premultiplied
+    /// alpha. The configuration must have the terrain off: this renderer
+    /// cannot see the program's ground. Returns the per-pass timings.
+    pub fn render_clouds_over(
+        &mut self,
+        ctx: &GpuContext,
+        hdr_target: &wgpu::TextureView,
+    ) -> crate::error::Result<FrameTimings> {
+        let format = hdr_target.texture().format();
+        if format != SCENE_FORMAT {
+            return Err(crate::error::Error::invalid(
+                "cloud target format",
+                format!("{format:?}"),
+                format!("{SCENE_FORMAT:?} (linear HDR, as the renderer's own scene target)"),
+            ));
+        }
+        if self.features.terrain {
+            return Err(crate::error::Error::invalid(
+                "render.terrain.enabled",
+                true,
+                "false when the clouds are drawn into another program's target (its ground is not this renderer's)",
+            ));
+        }
+        Ok(self.draw(ctx, hdr_target, true))
+    }
+
+    /// [`Renderer::render`] into `target`, or with `clouds_only` the cloud
+    /// passes alone over `target` as the scene target.
+    fn draw(
+        &mut self,
+        ctx: &GpuContext,
+        target: &wgpu::TextureView,
+        clouds_only: bool,
+    ) -> FrameTimings {
         let size = target.texture().size();
         let mut timings = FrameTimings {
             gpu_timestamps: self.timing_mode() != TimingMode::Cpu,
@@ -98,8 +141,18 @@ impl Renderer {
                 Pass::Bake => self.baked.dirty(),
                 Pass::Shadow => !self.shadow_reusable(),
                 _ => true,
-            } && self.needed(*p))
+            } && self.needed(*p)
+                && !(clouds_only && matches!(p, Pass::Sky | Pass::Terrain | Pass::Tonemap)))
             .collect();
+        let scene_view = if clouds_only {
+            target.clone()
+        } else {
+            self.scene
+                .as_ref()
+                .expect("ensure made the scene target")
+                .view
+                .clone()
+        };
         let names: Vec<&'static str> = passes.iter().map(|p| p.name()).collect();
         let mode = self.timing_mode();
         let mut ts = self.timestamps.take();
@@ -107,7 +160,13 @@ impl Renderer {
             (TimingMode::GpuBlocking, Some(ts)) => {
                 let mut enc = ctx.device.create_command_encoder(&Default::default());
                 for (i, pass) in passes.iter().enumerate() {
-                    self.encode_pass(&mut enc, *pass, target, Some((&ts.set, 2 * i as u32)));
+                    self.encode_pass(
+                        &mut enc,
+                        *pass,
+                        target,
+                        &scene_view,
+                        Some((&ts.set, 2 * i as u32)),
+                    );
                 }
                 ts.resolve(&mut enc, passes.len() as u32);
                 ctx.queue.submit([enc.finish()]);
@@ -119,7 +178,7 @@ impl Renderer {
                 let mut enc = ctx.device.create_command_encoder(&Default::default());
                 for (i, pass) in passes.iter().enumerate() {
                     let writes = measure.then_some((&ts.set, 2 * i as u32));
-                    self.encode_pass(&mut enc, *pass, target, writes);
+                    self.encode_pass(&mut enc, *pass, target, &scene_view, writes);
                 }
                 if measure {
                     ts.resolve(&mut enc, passes.len() as u32);
@@ -133,7 +192,7 @@ impl Renderer {
                 for pass in passes {
                     let start = Instant::now();
                     let mut enc = ctx.device.create_command_encoder(&Default::default());
-                    self.encode_pass(&mut enc, pass, target, None);
+                    self.encode_pass(&mut enc, pass, target, &scene_view, None);
                     ctx.queue.submit([enc.finish()]);
                     ctx.wait_idle();
                     timings
@@ -172,6 +231,7 @@ impl Renderer {
         enc: &mut wgpu::CommandEncoder,
         pass: Pass,
         target: &wgpu::TextureView,
+        scene_view: &wgpu::TextureView,
         timestamps: Option<(&wgpu::QuerySet, u32)>,
     ) {
         if pass == Pass::Bake {
@@ -249,9 +309,9 @@ impl Renderer {
                 &self.shadow_view.as_ref().expect("shadow map exists").1,
                 clear,
             ),
-            Pass::Sky => color(&scene.view, background.unwrap_or(clear)),
+            Pass::Sky => color(scene_view, background.unwrap_or(clear)),
             Pass::Tonemap => color(target, clear),
-            _ => color(&scene.view, wgpu::LoadOp::Load),
+            _ => color(scene_view, wgpu::LoadOp::Load),
         };
         let depth = (pass == Pass::Terrain).then(|| wgpu::RenderPassDepthStencilAttachment {
             view: self.depth_view.as_ref().expect("depth exists with terrain"),
