@@ -2,8 +2,8 @@
 //! half its view step and more than twice its rays per pixel changes it by
 //! less than a stated mean FLIP, while the default setting is measurably
 //! farther from it (so the check can see sampling error at all). Renders
-//! need an adapter: without one the test prints a notice and passes, unless
-//! CI=true.
+//! need an adapter: without one the test fails (see `common::gpu` for the
+//! opt-in skip).
 
 use crate::common;
 

@@ -3,8 +3,8 @@
 //! temporary directory; checks that every table is well formed: CSV headers,
 //! one row per (count × variant), finite non-negative numbers and positive
 //! times, the Markdown sections, PNGs that decode. Without any adapter it
-//! prints a notice and passes, unless CI=true, where it fails.
-//! Also the binary's `--tiny` flag end to end.
+//! fails (see `common::gpu` for the opt-in skip). Also the binary's
+//! `--tiny` flag end to end.
 
 use crate::common;
 

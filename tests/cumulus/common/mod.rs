@@ -1,15 +1,17 @@
-//! Helpers shared by the integration tests: the GPU adapter of the render
-//! tests and the environments of the physics tests.
-
-#![allow(dead_code)] // each test binary uses its own subset
+//! Helpers shared by the integration tests: the GPU adapter and what a GPU
+//! test does without one (`gpu`), image comparison (`flip`, `hdr`),
+//! one-frame renders (`render`), and the environments of the physics tests
+//! (here and `physics`).
 
 use cumulus::atmosphere::{EnvLevel, Environment, PressureModel};
-use cumulus::render::GpuContext;
 
 pub mod flip;
+pub mod gpu;
 pub mod hdr;
 pub mod physics;
 pub mod render;
+
+pub use gpu::context;
 
 /// A minimal `[atmosphere]` table (two levels) for test profiles: a profile
 /// file must say what its atmosphere is. Append it after the lines a test
@@ -25,24 +27,6 @@ z_m = 10000.0
 t_c = -45.0
 td_c = -60.0
 ";
-
-/// The CPU Vulkan adapter (lavapipe "llvmpipe"), or any adapter when that is
-/// absent. With none: a notice naming `what` and `None`, or a panic when
-/// CI=true (CI must not silently skip the GPU tests).
-pub fn context(what: &str) -> Option<GpuContext> {
-    let ctx =
-        GpuContext::new_headless(Some("llvmpipe")).or_else(|_| GpuContext::new_headless(None));
-    match ctx {
-        Ok(c) => Some(c),
-        Err(e) => {
-            if std::env::var("CI").as_deref() == Ok("true") {
-                panic!("CI=true needs a GPU adapter (lavapipe): {e}");
-            }
-            eprintln!("NOTICE: skipping {what}, no adapter: {e}");
-            None
-        }
-    }
-}
 
 pub fn level(z_m: f64, theta_k: f64, qv_g: f64) -> EnvLevel {
     EnvLevel {

@@ -1,8 +1,8 @@
 //! The CPU density the exporter writes (src/render/field.rs) against the GPU:
 //! a small frame rendered by the real cloud pass, and the same pixels'
 //! view rays integrated through `CloudField::density` on the CPU, must agree
-//! on which pixels hold cloud. Needs an adapter: without one the test prints
-//! a notice and passes, unless CI=true.
+//! on which pixels hold cloud. Needs an adapter: without one the test fails
+//! (see `common::gpu` for the opt-in skip).
 
 use crate::common;
 

@@ -1,7 +1,7 @@
 //! `cumulus render` end to end: simulated and stand-in scenes give PNGs of
 //! the asked size (numbered for several frames); bad arguments fail with a
 //! clear message before any GPU work. Renders need an adapter: without one
-//! the rendering tests print a notice and pass, unless CI=true.
+//! the rendering tests fail (see `common::gpu` for the opt-in skip).
 
 use crate::common;
 

@@ -3,8 +3,8 @@
 //! parcels with different condensation planes overlap), parcel counts
 //! beyond the exact path's uniform limit and none at all, no pipeline
 //! rebuilt when clouds vanish and come back, and no re-bake while the
-//! parcels stand still. Without any adapter these tests print a notice and
-//! pass, unless CI=true, where they fail.
+//! parcels stand still. Without any adapter these tests fail (see
+//! `common::gpu` for the opt-in skip).
 
 use crate::common;
 

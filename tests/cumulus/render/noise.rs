@@ -3,8 +3,8 @@
 //! cone) against its CPU twin (`NoiseVolume::noise3_lod`, which the export
 //! and src/render/field.rs use): the real common.wgsl, the real texture and
 //! sampler, evaluated by a compute shader at points near and far from the
-//! eye. Needs an adapter: without one the test prints a notice and passes,
-//! unless CI=true.
+//! eye. Needs an adapter: without one the test fails (see `common::gpu` for
+//! the opt-in skip).
 
 use crate::common;
 

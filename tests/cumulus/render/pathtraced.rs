@@ -6,9 +6,10 @@
 //!   sun: its base/top and shaded/sunlit contrasts must be the path
 //!   tracer's within a stated factor.
 //!
-//! Needs Python with the packages of benches/requirements.txt and a GPU
-//! adapter: without them the tests print a notice and pass, unless CI=true
-//! (.ci/run installs them).
+//! Needs Python with the packages of benches/requirements.txt: without
+//! them the tests print a notice and pass, unless CI=true (.ci/run installs
+//! them). Needs a GPU adapter too: without one they fail (see `common::gpu`
+//! for the opt-in skip).
 
 use crate::common;
 
@@ -45,8 +46,9 @@ fn have_python_packages() -> bool {
         .is_ok_and(|o| o.status.success())
 }
 
-/// Whether the Python packages and a GPU adapter are there (under CI=true
-/// a missing one fails the test; otherwise it prints a notice and skips).
+/// Whether the Python packages and a GPU adapter are there (missing
+/// packages fail the test under CI=true, else it prints a notice and
+/// skips; a missing adapter: see `common::context`).
 fn ready(what: &str) -> bool {
     if !have_python_packages() {
         if std::env::var("CI").as_deref() == Ok("true") {

@@ -1,6 +1,6 @@
 //! Renders on the CPU Vulkan adapter (lavapipe "llvmpipe"; any adapter when
-//! that is absent). Without any adapter these tests print a notice and pass,
-//! unless CI=true, where they fail.
+//! that is absent). Without any adapter these tests fail (see `common::gpu`
+//! for the opt-in skip).
 //!
 //! Small fixed scenes (≤ 256×192) against reference PNGs in
 //! tests/reference/render/ by mean FLIP; `UPDATE_REFERENCES=1` rewrites them.

@@ -3,8 +3,8 @@
 //! through `--set` (Quality does not change how much cloud covers the sky,
 //! Opacity does not change the silhouette), a reference render by FLIP,
 //! the physics' parcels drawn by slicing, and a saved scene reloading to an
-//! identical render. Without any adapter the GPU tests print a notice and
-//! pass, unless CI=true, where they fail.
+//! identical render. Without any adapter the GPU tests fail (see
+//! `common::gpu` for the opt-in skip).
 
 use crate::common;
 

@@ -1,7 +1,7 @@
 //! Sprite clouds composited with the rest of a frame (issue 13, lavapipe):
 //! their shadows on the terrain, depth order against ray-marched clouds,
 //! physics clouds in the impostor ring, and a fly-through with no popping.
-//! Skips without an adapter unless CI=true.
+//! Fails without an adapter (see `common::gpu` for the opt-in skip).
 
 use crate::common;
 

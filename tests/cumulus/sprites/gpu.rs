@@ -3,8 +3,8 @@
 //! draws something, the terrain hides sprites behind it and not those in
 //! front, the method switches live on one renderer, and the impostor ring
 //! (§6.2) matches the direct render, completes in 8 frames and leaves
-//! clouds 2000 ft above the camera alone. Skips without an
-//! adapter unless CI=true. `UPDATE_REFERENCES=1` rewrites the reference.
+//! clouds 2000 ft above the camera alone. Needs an adapter (see
+//! `common::gpu`). `UPDATE_REFERENCES=1` rewrites the reference.
 
 use crate::common;
 

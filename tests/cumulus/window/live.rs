@@ -4,13 +4,16 @@
 //!
 //! Needs an X display: uses `DISPLAY` when set, else starts its own Xvfb on a
 //! free display number. Without either, or without a GPU adapter (Mesa's
-//! lavapipe on a machine with no GPU), the test FAILS when CI=true (CI
-//! installs both) and otherwise prints a notice and passes.
+//! lavapipe on a machine with no GPU), the tests fail like every GPU test
+//! (see `common::gpu`: `CUMULUS_SKIP_GPU_TESTS=1` skips them instead, never
+//! under CI=true; CI installs both).
 
 use std::io::{BufRead, BufReader};
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
+
+use crate::common::gpu;
 
 /// An Xvfb server this test started; killed when dropped, even on panic.
 struct Xvfb {
@@ -77,29 +80,33 @@ fn start_xvfb() -> Option<Xvfb> {
 }
 
 /// The display to use, and the server to keep alive while using it.
-fn display() -> Option<(String, Option<Xvfb>)> {
+fn find_display() -> Result<(String, Option<Xvfb>), &'static str> {
     if let Ok(d) = std::env::var("DISPLAY")
         && !d.is_empty()
     {
-        return Some((d, None));
+        return Ok((d, None));
     }
-    if on_path("Xvfb") {
-        let x = start_xvfb()?;
-        return Some((x.display.clone(), Some(x)));
+    if !on_path("Xvfb") {
+        return Err("DISPLAY is unset and Xvfb is not installed");
     }
-    None
+    let x = start_xvfb().ok_or("Xvfb did not start")?;
+    Ok((x.display.clone(), Some(x)))
 }
 
-/// No display or no adapter: a failure on CI, a notice elsewhere.
-fn no_display(why: &str) {
-    if std::env::var("CI").as_deref() == Ok("true") {
-        panic!("CI=true but the window test cannot run: {why}");
-    }
-    eprintln!("NOTICE: window test skipped: {why}");
+/// [`find_display`], or without one what the GPU tests' policy says
+/// (a failure, or None when skipping was asked for).
+fn display(what: &str) -> Option<(String, Option<Xvfb>)> {
+    gpu::require(
+        what,
+        find_display(),
+        "no X display",
+        "install Xvfb (Debian/Ubuntu: `apt-get install xvfb xauth`) or set DISPLAY",
+    )
 }
 
 /// Runs `cumulus watch --screenshot` with `args` on `display` and returns
-/// the image; None when there is no GPU adapter and CI is not set.
+/// the image; without a GPU adapter, what the GPU tests' policy says (a
+/// failure, or None when skipping was asked for).
 fn capture(display: &str, args: &[&str], keep_as: &str) -> Option<image::RgbaImage> {
     capture_with_log(display, args, keep_as).map(|(img, _)| img)
 }
@@ -122,7 +129,8 @@ fn capture_with_log(
         .expect("run cumulus");
     let stderr = String::from_utf8_lossy(&output.stderr);
     if !output.status.success() && stderr.contains("no GPU adapter") {
-        no_display(&format!("no GPU adapter: {stderr}"));
+        let what = format!("window test ({keep_as})");
+        gpu::require::<(), _>(&what, Err(&stderr), "no GPU adapter", gpu::ADAPTER_FIX);
         return None;
     }
     assert!(output.status.success(), "cumulus watch failed:\n{stderr}");
@@ -186,8 +194,7 @@ fn args<'a>(frames: &'a str, warmup: &'a str, extra: &[&'a str]) -> Vec<&'a str>
 
 #[test]
 fn screenshot_shows_panel_and_clouds() {
-    let Some((display, _xvfb)) = display() else {
-        no_display("DISPLAY is unset and Xvfb is not installed");
+    let Some((display, _xvfb)) = display("window screenshot") else {
         return;
     };
     // Small window (the CPU adapter is slow), a few frames, and ten minutes
@@ -264,8 +271,7 @@ fn screenshot_shows_panel_and_clouds() {
 /// from the new device.
 #[test]
 fn a_lost_device_is_reported_and_replaced() {
-    let Some((display, _xvfb)) = display() else {
-        no_display("DISPLAY is unset and Xvfb is not installed");
+    let Some((display, _xvfb)) = display("window device loss") else {
         return;
     };
     let Some((img, log)) = capture_with_log(
@@ -309,8 +315,7 @@ fn a_lost_device_is_reported_and_replaced() {
 /// and more.
 #[test]
 fn window_and_headless_draw_the_same_image() {
-    let Some((display, _xvfb)) = display() else {
-        no_display("DISPLAY is unset and Xvfb is not installed");
+    let Some((display, _xvfb)) = display("window against headless") else {
         return;
     };
     let Some((img, log)) = capture_with_log(
