@@ -3,29 +3,17 @@
 //! bad sounding's error message and exit status.
 
 use std::path::Path;
-use std::process::Command;
 
-fn cumulus() -> Command {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_cumulus"));
-    c.current_dir(env!("CARGO_MANIFEST_DIR"));
-    c
-}
+use crate::common::cli;
 
 const OUN_2011: &str = "profiles/soundings/oun-2011-05-22-12z.txt";
 
 #[test]
 fn json_has_the_documented_keys_and_values() {
-    let out = cumulus()
-        .args(["parcel", "--sounding", OUN_2011, "--json"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = cli::run(["parcel", "--sounding", OUN_2011, "--json"]);
+    out.expect_success();
     let v: serde_json::Value =
-        serde_json::from_slice(&out.stdout).expect("exactly one JSON object");
+        serde_json::from_slice(&out.output.stdout).expect("exactly one JSON object");
     let obj = v.as_object().unwrap();
     for key in [
         "lcl_hpa", "lcl_m", "lfc_hpa", "lfc_m", "el_hpa", "el_m", "levels",
@@ -70,16 +58,12 @@ fn json_has_the_documented_keys_and_values() {
 fn plot_writes_a_png() {
     let dir = tempfile::tempdir().unwrap();
     let png = dir.path().join("skewt.png");
-    let out = cumulus()
-        .args(["parcel", "--sounding", OUN_2011, "--plot"])
-        .arg(&png)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    cli::run_command(
+        cli::command()
+            .args(["parcel", "--sounding", OUN_2011, "--plot"])
+            .arg(&png),
+    )
+    .expect_success();
     let bytes = std::fs::read(&png).unwrap();
     assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n"), "not a PNG");
     let img = image::load_from_memory(&bytes).unwrap();
@@ -101,17 +85,13 @@ fn plot_writes_a_png() {
 
 /// Runs `cumulus parcel --json` with extra arguments and parses the object.
 fn parcel_json(extra: &[&str]) -> serde_json::Value {
-    let out = cumulus()
-        .args(["parcel", "--sounding", OUN_2011, "--json"])
-        .args(extra)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let out = cli::run(
+        ["parcel", "--sounding", OUN_2011, "--json"]
+            .iter()
+            .chain(extra),
     );
-    serde_json::from_slice(&out.stdout).expect("exactly one JSON object")
+    out.expect_success();
+    serde_json::from_slice(&out.output.stdout).expect("exactly one JSON object")
 }
 
 #[test]
@@ -165,28 +145,18 @@ fn parcel_option_chooses_the_lifted_parcel() {
     let first = &v["levels"][0];
     assert!((first["p_hpa"].as_f64().unwrap() - 886.0).abs() < 1e-9);
     assert_eq!(v["parcels"]["sb"]["cape_j_per_kg"], v["cape_j_per_kg"]);
-    let out = cumulus()
-        .args([
-            "parcel",
-            "--sounding",
-            OUN_2011,
-            "--parcel",
-            "mu",
-            "--dynamic",
-        ])
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("--parcel sb or ml"));
-    let out = cumulus()
-        .args(["parcel", "--sounding", OUN_2011, "--parcel", "xx"])
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    assert!(
-        String::from_utf8_lossy(&out.stderr).contains("sb"),
-        "lists the allowed values"
-    );
+    cli::run([
+        "parcel",
+        "--sounding",
+        OUN_2011,
+        "--parcel",
+        "mu",
+        "--dynamic",
+    ])
+    .expect_failure_containing(&["--parcel sb or ml"]);
+    // "sb": it lists the allowed values.
+    cli::run(["parcel", "--sounding", OUN_2011, "--parcel", "xx"])
+        .expect_failure_containing(&["sb"]);
 }
 
 #[test]
@@ -202,45 +172,38 @@ fn bad_sounding_fails_with_file_line_column() {
         .map(|(i, l)| if i == 9 { l.replacen("  20.8", "  x0.8", 1) } else { l.to_string() } + "\n")
         .collect();
     std::fs::write(&bad, text).unwrap();
-    let out = cumulus()
-        .args(["parcel", "--sounding"])
-        .arg(&bad)
-        .arg("--json")
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    assert!(out.stdout.is_empty(), "no JSON on failure");
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains(&format!("{}:10:18:", bad.display())), "{err}");
-    assert!(err.contains("\"x0.8\"") && err.contains("TEMP"), "{err}");
+    let out = cli::run_command(
+        cli::command()
+            .args(["parcel", "--sounding"])
+            .arg(&bad)
+            .arg("--json"),
+    );
+    out.expect_failure_containing(&[&format!("{}:10:18:", bad.display()), "\"x0.8\"", "TEMP"]);
+    assert!(out.output.stdout.is_empty(), "no JSON on failure");
 }
 
 #[test]
 fn dynamic_release_reports_summary_trajectory_and_csv() {
     let dir = tempfile::tempdir().unwrap();
     let csv_path = dir.path().join("traj.csv");
-    let out = cumulus()
-        .args([
-            "parcel",
-            "--sounding",
-            "profiles/soundings/oun-2011-05-22-12z.txt",
-            "--json",
-            "--dynamic",
-            "--temp-excess",
-            "3",
-            "--duration",
-            "900",
-            "--csv",
-        ])
-        .arg(&csv_path)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let out = cli::run_command(
+        cli::command()
+            .args([
+                "parcel",
+                "--sounding",
+                "profiles/soundings/oun-2011-05-22-12z.txt",
+                "--json",
+                "--dynamic",
+                "--temp-excess",
+                "3",
+                "--duration",
+                "900",
+                "--csv",
+            ])
+            .arg(&csv_path),
     );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    out.expect_success();
+    let v: serde_json::Value = serde_json::from_slice(&out.output.stdout).unwrap();
     let d = &v["dynamic"];
     let zmax = d["max_altitude_m"].as_f64().unwrap();
     let lcl = v["lcl_m"].as_f64().unwrap();
@@ -260,17 +223,13 @@ fn dynamic_release_reports_summary_trajectory_and_csv() {
 
 #[test]
 fn dynamic_flags_need_dynamic() {
-    let out = cumulus()
-        .args([
-            "parcel",
-            "--sounding",
-            "profiles/soundings/oun-2011-05-22-12z.txt",
-            "--mixing",
-        ])
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("--dynamic"));
+    cli::run([
+        "parcel",
+        "--sounding",
+        "profiles/soundings/oun-2011-05-22-12z.txt",
+        "--mixing",
+    ])
+    .expect_failure_containing(&["--dynamic"]);
 }
 
 #[test]
@@ -293,18 +252,8 @@ fn bad_wind_fails_and_missing_wind_is_reported() {
         })
         .collect();
     std::fs::write(&bad, text).unwrap();
-    let out = cumulus()
-        .args(["parcel", "--sounding"])
-        .arg(&bad)
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains(&format!("{}:10:47:", bad.display())), "{err}");
-    assert!(
-        err.contains("DRCT 390") && err.contains("0 to 360"),
-        "{err}"
-    );
+    cli::run_command(cli::command().args(["parcel", "--sounding"]).arg(&bad))
+        .expect_failure_containing(&[&format!("{}:10:47:", bad.display()), "DRCT 390", "0 to 360"]);
 
     // The same sounding cut after DWPT: no wind columns at all is not an
     // error, and the output says there is no wind.
@@ -314,16 +263,8 @@ fn bad_wind_fails_and_missing_wind_is_reported() {
         .map(|l| l.chars().take(28).collect::<String>() + "\n")
         .collect();
     std::fs::write(&calm, text).unwrap();
-    let out = cumulus()
-        .args(["parcel", "--sounding"])
-        .arg(&calm)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = String::from_utf8_lossy(&out.stdout);
+    let out = cli::run_command(cli::command().args(["parcel", "--sounding"]).arg(&calm));
+    out.expect_success();
+    let text = out.stdout();
     assert!(text.contains("wind: none in the sounding"), "{text}");
 }

@@ -5,7 +5,8 @@
 //! file that existed before a failed run must be unchanged.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+
+use crate::common::cli;
 
 fn bad(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -17,34 +18,10 @@ fn shipped_sounding() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles/soundings/oun-2011-05-22-12z.txt")
 }
 
-fn cumulus(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cumulus"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-/// Runs `args`, checks the failure is clean and that stderr holds every
-/// one of `expect`; returns stderr.
+/// Runs `args`, checks the failure is clean (exit 1 or 2, no panic) and
+/// that stderr holds every one of `expect`; returns stderr.
 fn fails_cleanly(args: &[&str], expect: &[&str]) -> String {
-    let out = cumulus(args);
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(
-        !out.status.success(),
-        "{args:?} succeeded:\n{}",
-        String::from_utf8_lossy(&out.stdout)
-    );
-    // 1 = our error, 2 = clap's usage error; 101 would be a panic, 134 an abort.
-    let code = out.status.code();
-    assert!(
-        matches!(code, Some(1) | Some(2)),
-        "{args:?}: exit {code:?}\n{stderr}"
-    );
-    assert!(!stderr.contains("panicked"), "{args:?} panicked:\n{stderr}");
-    for e in expect {
-        assert!(stderr.contains(e), "{args:?}: {e:?} not in:\n{stderr}");
-    }
-    stderr
+    cli::run(args).expect_failure_containing(expect)
 }
 
 /// `cumulus simulate PROFILE` into a file that already exists: the run must

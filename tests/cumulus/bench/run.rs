@@ -6,12 +6,12 @@
 //! fails (see `common::gpu` for the opt-in skip). Also the binary's
 //! `--tiny` flag end to end.
 
-use crate::common;
-
 use std::path::Path;
 
 use cumulus::bench::{Mode, Options, Plan, perf::VARIANTS};
 use cumulus::render::GpuContext;
+
+use crate::common::{self, cli};
 
 fn context() -> Option<GpuContext> {
     common::context("bench test")
@@ -309,12 +309,7 @@ fn tiny_bench_binary() {
     }
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("report");
-    let status = std::process::Command::new(env!("CARGO_BIN_EXE_cumulus"))
-        .args(["bench", "--tiny", "--out"])
-        .arg(&out)
-        .status()
-        .unwrap();
-    assert!(status.success());
+    cli::run_command(cli::command().args(["bench", "--tiny", "--out"]).arg(&out)).expect_success();
     check_outputs(&out);
 }
 

@@ -1,10 +1,11 @@
-//! Helpers shared by the integration tests: the GPU adapter and what a GPU
-//! test does without one (`gpu`), image comparison (`flip`, `hdr`),
-//! one-frame renders (`render`), and the environments of the physics tests
-//! (here and `physics`).
+//! Helpers shared by the integration tests: the `cumulus` binary (`cli`),
+//! the GPU adapter and what a GPU test does without one (`gpu`), image
+//! comparison (`flip`, `hdr`), one-frame renders (`render`), and the
+//! environments of the physics tests (here and `physics`).
 
 use cumulus::atmosphere::{EnvLevel, Environment, PressureModel};
 
+pub mod cli;
 pub mod flip;
 pub mod gpu;
 pub mod hdr;

@@ -5,29 +5,29 @@
 //! No GPU needed.
 
 use std::path::Path;
-use std::process::Command;
 
 use cumulus::export::{GridSpec, read_vol};
 use cumulus::render::Camera;
 use cumulus::render::slices::field::AuthoredField;
 use cumulus::render::slices::slices_frame;
 
+use crate::common::cli;
+
 #[test]
 fn an_authored_animation_exports_as_a_numbered_series() {
     let scene_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles/authored.toml");
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("auth.vol");
-    let o = Command::new(env!("CARGO_BIN_EXE_cumulus"))
-        .arg("export")
-        .arg(&scene_path)
-        .args([
-            "--time", "0", "--frames", "2", "--every", "400", "--voxel", "400", "--out",
-        ])
-        .arg(&out)
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&o.stderr);
-    assert!(o.status.success(), "{stderr}");
+    cli::run_command(
+        cli::command()
+            .arg("export")
+            .arg(&scene_path)
+            .args([
+                "--time", "0", "--frames", "2", "--every", "400", "--voxel", "400", "--out",
+            ])
+            .arg(&out),
+    )
+    .expect_success();
     assert!(!out.exists(), "a series writes numbered files only");
     let read = |name: &str| read_vol(&std::fs::read(dir.path().join(name)).unwrap(), name).unwrap();
     let (a, b) = (read("auth-0000.vol"), read("auth-0001.vol"));

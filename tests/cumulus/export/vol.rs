@@ -3,8 +3,6 @@
 //! values eq. 18 gives by hand, and bad arguments fail with a clear message
 //! leaving no file behind. No GPU needed: the density is evaluated on the CPU.
 
-use std::process::Command;
-
 use cumulus::export::sidecar::Sidecar;
 use cumulus::export::{GridSpec, read_vol, sample_grid, vol_grid, write_vol};
 use cumulus::physics::CloudParcel;
@@ -12,9 +10,7 @@ use cumulus::render::RenderConfig;
 use cumulus::render::field::CloudField;
 use glam::Vec3;
 
-fn cumulus() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_cumulus"))
-}
+use crate::common::cli;
 
 #[test]
 fn vol_round_trip_keeps_header_dims_bounds_and_values() {
@@ -135,21 +131,23 @@ fn one_analytic_sphere_exports_to_the_expected_voxel_values() {
 fn export_writes_a_vol_and_its_sidecar() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("clouds.vol");
-    let o = cumulus()
-        .args([
-            "export",
-            "--stand-in",
-            "--time",
-            "1200",
-            "--voxel",
-            "150",
-            "--out",
-        ])
-        .arg(&out)
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&o.stderr);
-    assert!(o.status.success(), "{stderr}");
+    let export = |out: &std::path::Path| {
+        cli::run_command(
+            cli::command()
+                .args([
+                    "export",
+                    "--stand-in",
+                    "--time",
+                    "1200",
+                    "--voxel",
+                    "150",
+                    "--out",
+                ])
+                .arg(out),
+        )
+        .expect_success()
+    };
+    let stderr = export(&out);
     assert!(stderr.contains("MiB"), "memory is stated: {stderr}");
     let grid = read_vol(&std::fs::read(&out).unwrap(), "clouds.vol").unwrap();
     let side: Sidecar =
@@ -165,20 +163,7 @@ fn export_writes_a_vol_and_its_sidecar() {
     );
     // Deterministic: the same export again is byte-identical.
     let again = dir.path().join("again.vol");
-    let o = cumulus()
-        .args([
-            "export",
-            "--stand-in",
-            "--time",
-            "1200",
-            "--voxel",
-            "150",
-            "--out",
-        ])
-        .arg(&again)
-        .output()
-        .unwrap();
-    assert!(o.status.success());
+    export(&again);
     assert_eq!(std::fs::read(&out).unwrap(), std::fs::read(&again).unwrap());
 }
 
@@ -201,17 +186,14 @@ fn bad_export_arguments_fail_clearly_and_leave_no_file() {
         (&["--voxel", "200"], blocker.join("e.vol"), "cannot write"),
     ];
     for (extra, out, needle) in cases {
-        let o = cumulus()
-            .args(["export", "--stand-in", "--time", "1200"])
-            .args(extra)
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&o.stderr);
-        assert!(!o.status.success(), "{extra:?} should fail");
-        assert!(stderr.contains(needle), "{extra:?}: {stderr}");
-        assert!(!stderr.contains("panicked"), "{stderr}");
+        cli::run_command(
+            cli::command()
+                .args(["export", "--stand-in", "--time", "1200"])
+                .args(extra)
+                .arg("--out")
+                .arg(&out),
+        )
+        .expect_failure_containing(&[needle]);
         assert!(
             !out.exists() && !out.with_extension("json").exists(),
             "{extra:?} left a file"

@@ -1,35 +1,27 @@
 //! `cumulus simulate` end to end: a short run writes a CSV with one row per
 //! frame; bad arguments fail with a clear message.
 
-use std::process::Command;
-
-fn cumulus() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_cumulus"))
-}
+use crate::common::cli;
 
 #[test]
 fn simulate_writes_one_row_per_frame() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("diag.csv");
-    let status = cumulus()
-        .args([
-            "simulate",
-            "--duration",
-            "120",
-            "--dt",
-            "2",
-            "--seed",
-            "3",
-            "--out",
-        ])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(
-        status.status.success(),
-        "{}",
-        String::from_utf8_lossy(&status.stderr)
-    );
+    let err = cli::run_command(
+        cli::command()
+            .args([
+                "simulate",
+                "--duration",
+                "120",
+                "--dt",
+                "2",
+                "--seed",
+                "3",
+                "--out",
+            ])
+            .arg(&out),
+    )
+    .expect_success();
     let text = std::fs::read_to_string(&out).unwrap();
     let mut lines = text.lines();
     let header = lines.next().unwrap();
@@ -43,7 +35,6 @@ fn simulate_writes_one_row_per_frame() {
     }
     assert!(rows[59].starts_with("120.000,"));
     // The clamp summary is a readable line, not Rust's Debug text.
-    let err = String::from_utf8_lossy(&status.stderr);
     let line = err
         .lines()
         .find(|l| l.contains("clamps:"))
@@ -64,19 +55,13 @@ fn an_empty_profile_says_what_is_missing() {
     let dir = tempfile::tempdir().unwrap();
     let (scene, out) = (dir.path().join("empty.toml"), dir.path().join("d.csv"));
     std::fs::write(&scene, "").unwrap();
-    let o = cumulus()
-        .args(["simulate", "--duration", "10", "--out"])
-        .arg(&out)
-        .arg(&scene)
-        .output()
-        .unwrap();
-    assert!(!o.status.success());
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("empty.toml"), "{err}");
-    assert!(
-        err.contains("[atmosphere]") && err.contains("sounding"),
-        "{err}"
-    );
+    cli::run_command(
+        cli::command()
+            .args(["simulate", "--duration", "10", "--out"])
+            .arg(&out)
+            .arg(&scene),
+    )
+    .expect_failure_containing(&["empty.toml", "[atmosphere]", "sounding"]);
     assert!(!out.exists(), "nothing is written on error");
 }
 
@@ -84,13 +69,11 @@ fn an_empty_profile_says_what_is_missing() {
 fn simulate_rejects_a_bad_step() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("diag.csv");
-    let o = cumulus()
-        .args(["simulate", "--duration", "10", "--dt", "0", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(!o.status.success());
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("--dt"), "{err}");
+    cli::run_command(
+        cli::command()
+            .args(["simulate", "--duration", "10", "--dt", "0", "--out"])
+            .arg(&out),
+    )
+    .expect_failure_containing(&["--dt"]);
     assert!(!out.exists(), "nothing is written on error");
 }

@@ -2,26 +2,26 @@
 //! bound it is judged by against a CAPE worked out by hand.
 
 use std::path::Path;
-use std::process::Command;
 
 use cumulus::atmosphere::{EnvLevel, Environment, PressureModel, thermo};
 use cumulus::physics::WorldConfig;
 use cumulus::stability::{self, KE_RATIO_BOUND, Size};
+
+use crate::common::cli;
 
 /// `cumulus stability --quick` runs every case to the end without NaN/Inf,
 /// panic or kinetic energy beyond the bound, exits 0 and writes both reports.
 #[test]
 fn quick_matrix_is_stable() {
     let dir = tempfile::tempdir().unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_cumulus"))
-        .args(["stability", "--quick", "--out"])
-        .arg(dir.path())
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{stdout}\n{stderr}");
-    assert!(!stderr.contains("panicked"), "{stderr}");
+    let out = cli::run_command(
+        cli::command()
+            .args(["stability", "--quick", "--out"])
+            .arg(dir.path()),
+    );
+    // Exit 0 and no "panicked" on stderr.
+    out.expect_success();
+    let stdout = out.stdout();
     assert!(
         stdout.contains("| stiffness_1e6 |"),
         "table printed: {stdout}"

@@ -3,13 +3,7 @@
 //! clear message before any GPU work. Renders need an adapter: without one
 //! the rendering tests fail (see `common::gpu` for the opt-in skip).
 
-use crate::common;
-
-use std::process::Command;
-
-fn cumulus() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_cumulus"))
-}
+use crate::common::{self, cli};
 
 #[test]
 fn render_simulates_and_writes_a_png() {
@@ -18,15 +12,14 @@ fn render_simulates_and_writes_a_png() {
     }
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("frame.png");
-    let o = cumulus()
-        .args([
-            "render", "--width", "96", "--height", "64", "--time", "600", "--out",
-        ])
-        .arg(&out)
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&o.stderr);
-    assert!(o.status.success(), "{stderr}");
+    let stderr = cli::run_command(
+        cli::command()
+            .args([
+                "render", "--width", "96", "--height", "64", "--time", "600", "--out",
+            ])
+            .arg(&out),
+    )
+    .expect_success();
     let img = image::open(&out).unwrap();
     assert_eq!((img.width(), img.height()), (96, 64));
     // The embedded scene has condensed by 10 minutes: the cloud pass ran.
@@ -41,26 +34,26 @@ fn several_frames_are_numbered() {
     }
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("anim.png");
-    let o = cumulus()
-        .args([
-            "render",
-            "--stand-in",
-            "--width",
-            "64",
-            "--height",
-            "48",
-            "--frames",
-            "3",
-            "--every",
-            "30",
-            "--normals",
-            "on",
-            "--out",
-        ])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    cli::run_command(
+        cli::command()
+            .args([
+                "render",
+                "--stand-in",
+                "--width",
+                "64",
+                "--height",
+                "48",
+                "--frames",
+                "3",
+                "--every",
+                "30",
+                "--normals",
+                "on",
+                "--out",
+            ])
+            .arg(&out),
+    )
+    .expect_success();
     for i in 0..3 {
         let p = dir.path().join(format!("anim-{i:04}.png"));
         let img = image::open(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
@@ -86,16 +79,14 @@ fn bad_arguments_are_named() {
             "render.exposure_ev",
         ),
     ] {
-        let o = cumulus()
-            .arg("render")
-            .args(&args)
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&o.stderr);
-        assert!(!o.status.success(), "{args:?} succeeded");
-        assert!(stderr.contains(needle), "{args:?}: {stderr}");
+        cli::run_command(
+            cli::command()
+                .arg("render")
+                .args(&args)
+                .arg("--out")
+                .arg(&out),
+        )
+        .expect_failure_containing(&[needle]);
         assert!(!out.exists());
     }
 }
@@ -105,16 +96,14 @@ fn bad_render_table_names_the_field() {
     let dir = tempfile::tempdir().unwrap();
     let scene = dir.path().join("s.toml");
     std::fs::write(&scene, "name = \"s\"\n[render]\nstep_m = -3.0\n").unwrap();
-    let o = cumulus()
-        .arg("render")
-        .arg(&scene)
-        .arg("--out")
-        .arg(dir.path().join("x.png"))
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&o.stderr);
-    assert!(!o.status.success());
-    assert!(stderr.contains("render.step_m"), "{stderr}");
+    cli::run_command(
+        cli::command()
+            .arg("render")
+            .arg(&scene)
+            .arg("--out")
+            .arg(dir.path().join("x.png")),
+    )
+    .expect_failure_containing(&["render.step_m"]);
 }
 
 /// The display transform of shaders/common.wgsl `tone_map` (exposure `k`,
@@ -139,22 +128,22 @@ fn exr_is_the_linear_scene_the_png_tone_maps() {
     let dir = tempfile::tempdir().unwrap();
     let render = |name: &str, ev: f32| {
         let out = dir.path().join(name);
-        let o = cumulus()
-            .args([
-                "render",
-                "--stand-in",
-                "--set",
-                &format!("render.exposure_ev={ev}"),
-                "--width",
-                "80",
-                "--height",
-                "56",
-                "--out",
-            ])
-            .arg(&out)
-            .output()
-            .unwrap();
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        cli::run_command(
+            cli::command()
+                .args([
+                    "render",
+                    "--stand-in",
+                    "--set",
+                    &format!("render.exposure_ev={ev}"),
+                    "--width",
+                    "80",
+                    "--height",
+                    "56",
+                    "--out",
+                ])
+                .arg(&out),
+        )
+        .expect_success();
         out
     };
     let exr = image::open(render("frame.exr", 0.0)).unwrap().to_rgb32f();
@@ -211,28 +200,22 @@ fn a_saved_cloud_field_renders_back_to_the_same_picture() {
         dir.path().join("field.csv"),
     );
     let render = |extra: &[&std::ffi::OsStr], out: &std::path::Path| {
-        let o = cumulus()
-            .args(["render", "--width", "64", "--height", "48", "--time", "900"])
-            .args(extra)
-            .arg("--out")
-            .arg(out)
-            .output()
-            .unwrap();
-        (
-            o.status.success(),
-            String::from_utf8_lossy(&o.stderr).into_owned(),
+        cli::run_command(
+            cli::command()
+                .args(["render", "--width", "64", "--height", "48", "--time", "900"])
+                .args(extra)
+                .arg("--out")
+                .arg(out),
         )
     };
-    let (ok, err) = render(&["--save-parcels".as_ref(), csv.as_os_str()], &a);
-    assert!(ok, "{err}");
+    render(&["--save-parcels".as_ref(), csv.as_os_str()], &a).expect_success();
     let text = std::fs::read_to_string(&csv).unwrap();
     // By 15 minutes the embedded scene has condensed: the file holds them.
     assert!(
         text.lines().filter(|l| !l.starts_with('#')).count() > 2,
         "{text}"
     );
-    let (ok, err) = render(&["--parcels".as_ref(), csv.as_os_str()], &b);
-    assert!(ok, "{err}");
+    let err = render(&["--parcels".as_ref(), csv.as_os_str()], &b).expect_success();
     assert!(
         !err.contains("simulat"),
         "--parcels must not simulate: {err}"
@@ -252,12 +235,9 @@ fn a_saved_cloud_field_renders_back_to_the_same_picture() {
     lines[last] = format!("{id},NaN,0,1500,500,1,1100");
     std::fs::write(&bad, lines.join("\n")).unwrap();
     let c = dir.path().join("c.png");
-    let (ok, err) = render(&["--parcels".as_ref(), bad.as_os_str()], &c);
-    assert!(!ok, "a NaN in the field file was accepted");
-    assert!(
-        err.contains(&format!("bad.csv:{}:", last + 1)) && err.contains("finite number"),
-        "{err}"
-    );
+    // A NaN in the field file is refused.
+    render(&["--parcels".as_ref(), bad.as_os_str()], &c)
+        .expect_failure_containing(&[&format!("bad.csv:{}:", last + 1), "finite number"]);
     assert!(!c.exists(), "a failed render left an image");
 }
 
@@ -274,15 +254,14 @@ fn render_defaults_to_baked_and_agrees_with_the_papers_exact_path() {
     let dir = tempfile::tempdir().unwrap();
     let render = |name: &str, extra: &[&str]| {
         let out = dir.path().join(name);
-        let o = cumulus()
-            .args(["render", "--width", "192", "--height", "108"])
-            .args(extra)
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&o.stderr).to_string();
-        assert!(o.status.success(), "{stderr}");
+        let stderr = cli::run_command(
+            cli::command()
+                .args(["render", "--width", "192", "--height", "108"])
+                .args(extra)
+                .arg("--out")
+                .arg(&out),
+        )
+        .expect_success();
         let img = image::open(&out).unwrap().to_rgba8();
         (img.into_raw(), stderr)
     };

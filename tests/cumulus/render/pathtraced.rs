@@ -11,13 +11,13 @@
 //! them). Needs a GPU adapter too: without one they fail (see `common::gpu`
 //! for the opt-in skip).
 
-use crate::common;
-
 use std::path::Path;
 use std::process::Command;
 
-use crate::common::hdr::{base_and_top, cloud_mask, half_means, luminance};
 use cumulus::bench::stats::mean_flip;
+
+use crate::common::hdr::{base_and_top, cloud_mask, half_means, luminance};
+use crate::common::{self, cli};
 
 /// Most mean FLIP of the default setting against the path tracer at this
 /// size and sample count (the accuracy goal, ≤ 0.05, is for the full
@@ -214,16 +214,16 @@ fn a_tower_is_shaded_like_the_path_traced_one() {
         // air), with the tower and without it (the cloud mask).
         let ours = |parcels: &Path, file: &str| {
             let exr = out.join(file);
-            let o = Command::new(env!("CARGO_BIN_EXE_cumulus"))
-                .arg("render")
-                .arg(out.join("scene.toml"))
-                .arg("--parcels")
-                .arg(parcels)
-                .args(["--width", &ws, "--height", &hs, "--out"])
-                .arg(&exr)
-                .output()
-                .unwrap();
-            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+            cli::run_command(
+                cli::command()
+                    .arg("render")
+                    .arg(out.join("scene.toml"))
+                    .arg("--parcels")
+                    .arg(parcels)
+                    .args(["--width", &ws, "--height", &hs, "--out"])
+                    .arg(&exr),
+            )
+            .expect_success();
             exr_rgb(&exr)
         };
         let rgb = ours(&tower, "ours.exr");

@@ -10,6 +10,8 @@ use cumulus::physics::{GroundConfig, ParcelSpec, ParcelWorld, WorldConfig};
 use cumulus::scene::SceneProfile;
 use glam::DVec3;
 
+use crate::common::cli;
+
 fn landscape() -> (SceneProfile, WorldConfig, cumulus::atmosphere::Environment) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles/landscape.toml");
     let scene = SceneProfile::load(&path).unwrap();
@@ -191,13 +193,8 @@ fn the_physics_ground_is_the_drawn_terrain() {
 fn two_simulated_hours_of_the_landscape_reach_two_thousand_cloud_parcels() {
     // The issue's own command, as a user types it (no --out: the summary
     // only). About 21 s on 2 cores in release.
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_cumulus"))
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .args(["simulate", "profiles/landscape.toml", "--duration", "7200"])
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{err}");
+    let err =
+        cli::run(["simulate", "profiles/landscape.toml", "--duration", "7200"]).expect_success();
     // "... peak N condensed parcels at t = T s ..."
     let peak = err
         .split("peak ")

@@ -2,10 +2,9 @@
 //! the TOML before validation, so they pass the file's checks; errors name
 //! the key, the value and what is allowed; wired into `cumulus simulate`.
 
-use crate::common;
-
 use std::path::Path;
-use std::process::Command;
+
+use crate::common::{self, cli};
 
 use cumulus::authored::MediaFilter;
 use cumulus::scene::load_scene_with;
@@ -147,35 +146,25 @@ fn simulate_takes_set_overrides() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("s.csv");
     let run = |set: &str| {
-        Command::new(env!("CARGO_BIN_EXE_cumulus"))
-            .args([
-                "simulate",
-                "--duration",
-                "4",
-                "--dt",
-                "2",
-                "--set",
-                set,
-                "--out",
-            ])
-            .arg(&out)
-            .output()
-            .unwrap()
+        cli::run_command(
+            cli::command()
+                .args([
+                    "simulate",
+                    "--duration",
+                    "4",
+                    "--dt",
+                    "2",
+                    "--set",
+                    set,
+                    "--out",
+                ])
+                .arg(&out),
+        )
     };
-    let bad = run("physics.stiffness=-3");
-    assert!(!bad.status.success());
-    let stderr = String::from_utf8_lossy(&bad.stderr);
-    assert!(
-        stderr.contains("invalid --set physics.stiffness = -3"),
-        "{stderr}"
-    );
+    run("physics.stiffness=-3")
+        .expect_failure_containing(&["invalid --set physics.stiffness = -3"]);
     assert!(!out.exists(), "nothing written on bad input");
-    let good = run("emission.enabled=false");
-    assert!(
-        good.status.success(),
-        "{}",
-        String::from_utf8_lossy(&good.stderr)
-    );
+    run("emission.enabled=false").expect_success();
     let csv = std::fs::read_to_string(&out).unwrap();
     // Header and two frames; no emission → no parcels.
     assert_eq!(csv.lines().count(), 3, "{csv}");
@@ -206,22 +195,19 @@ fn bench_takes_set_overrides() {
     // The binary checks them before opening a device or measuring.
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("report");
-    let bad = Command::new(env!("CARGO_BIN_EXE_cumulus"))
-        .args([
-            "bench",
-            "--tiny",
-            "--set",
-            "render.slices.quality=4",
-            "--out",
-        ])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(!bad.status.success());
-    let stderr = String::from_utf8_lossy(&bad.stderr);
-    assert!(
-        stderr.contains("invalid --set render.slices.quality = 4: 8 to 1024 slicing planes"),
-        "{stderr}"
-    );
+    cli::run_command(
+        cli::command()
+            .args([
+                "bench",
+                "--tiny",
+                "--set",
+                "render.slices.quality=4",
+                "--out",
+            ])
+            .arg(&out),
+    )
+    .expect_failure_containing(&[
+        "invalid --set render.slices.quality = 4: 8 to 1024 slicing planes",
+    ]);
     assert!(!out.exists(), "nothing written on bad input");
 }

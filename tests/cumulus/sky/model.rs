@@ -1,12 +1,10 @@
 //! The atmosphere model (src/sky/) against analytic and published values,
 //! and what it does to a frame: dawn and noon light the scene differently.
 
-use crate::common;
-
-use std::process::Command;
-
 use cumulus::sky::{Atmosphere, SKY_TEXELS, SkyLight, SkyLuts, mie_phase, rayleigh_phase};
 use glam::{DVec3, Vec3};
+
+use crate::common::{self, cli};
 
 /// Only Rayleigh scattering: the cases with a closed-form answer.
 fn rayleigh_only() -> Atmosphere {
@@ -316,13 +314,13 @@ fn dawn_and_noon_renders_differ() {
     let dir = tempfile::tempdir().unwrap();
     let render = |hour: &str| {
         let out = dir.path().join(format!("h{hour}.png"));
-        let o = Command::new(env!("CARGO_BIN_EXE_cumulus"))
-            .args(["render", "--width", "64", "--height", "48", "--time", "600"])
-            .args(["--hour", hour, "--out"])
-            .arg(&out)
-            .output()
-            .unwrap();
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        cli::run_command(
+            cli::command()
+                .args(["render", "--width", "64", "--height", "48", "--time", "600"])
+                .args(["--hour", hour, "--out"])
+                .arg(&out),
+        )
+        .expect_success();
         image::open(&out).unwrap().to_rgb8()
     };
     let (dawn, noon) = (render("7"), render("12"));
@@ -417,14 +415,14 @@ fn haze_greys_the_distance_in_a_render() {
     let dir = tempfile::tempdir().unwrap();
     let chroma = |set: &[&str]| {
         let out = dir.path().join("v.png");
-        let o = Command::new(env!("CARGO_BIN_EXE_cumulus"))
-            .args(["render", "--width", "64", "--height", "48", "--time", "600"])
-            .args(set)
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap();
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        cli::run_command(
+            cli::command()
+                .args(["render", "--width", "64", "--height", "48", "--time", "600"])
+                .args(set)
+                .arg("--out")
+                .arg(&out),
+        )
+        .expect_success();
         let img = image::open(&out).unwrap().to_rgb8();
         // Mean spread between the strongest and weakest channel (0..255).
         let spread: f64 = img

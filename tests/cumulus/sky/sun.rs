@@ -18,13 +18,12 @@
 //! larger because refraction near the horizon differs between the two
 //! models by up to ~0.2° (NOAA's fit gives 24′ where SPA's standard gives 34′).
 
-use crate::common;
-
 use std::path::Path;
-use std::process::Command;
 
 use cumulus::scene::SceneProfile;
 use cumulus::sun::{SolarClock, SunConfig, solar_position};
+
+use crate::common::{self, cli};
 
 /// Angle between two azimuths, wrapping at 360°. units: degrees
 fn az_diff(a: f64, b: f64) -> f64 {
@@ -260,13 +259,6 @@ fn at_night_the_light_is_held_above_the_horizon_and_dark() {
     assert_eq!(sun.color, glam::Vec3::ZERO);
 }
 
-fn cumulus(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_cumulus"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
 #[test]
 fn render_hour_and_date_are_checked_before_any_work() {
     let dir = tempfile::tempdir().unwrap();
@@ -279,9 +271,7 @@ fn render_hour_and_date_are_checked_before_any_work() {
     ] {
         let mut all = vec!["render", "--out", out];
         all.extend(args);
-        let o = cumulus(&all);
-        let err = String::from_utf8_lossy(&o.stderr);
-        assert!(!o.status.success() && err.contains(says), "{err}");
+        cli::run(&all).expect_failure_containing(&[says]);
         assert!(!Path::new(out).exists());
     }
     // A scene that pins the sun has no clock to move.
@@ -291,17 +281,13 @@ fn render_hour_and_date_are_checked_before_any_work() {
         format!("name = \"pinned\"\n{}", common::ATMOSPHERE_TOML),
     )
     .unwrap();
-    let o = cumulus(&[
+    cli::run([
         "render",
         pinned.to_str().unwrap(),
         "--out",
         out,
         "--hour",
         "7",
-    ]);
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(
-        !o.status.success() && err.contains("no [sun] table"),
-        "{err}"
-    );
+    ])
+    .expect_failure_containing(&["no [sun] table"]);
 }

@@ -6,16 +6,15 @@
 //! clouds 2000 ft above the camera alone. Needs an adapter (see
 //! `common::gpu`). `UPDATE_REFERENCES=1` rewrites the reference.
 
-use crate::common;
-
-use crate::common::render::{camera, no_terrain, render};
-
 use std::path::PathBuf;
 
 use cumulus::render::headless::Headless;
 use cumulus::render::{Camera, FrameInput, GpuContext, RenderConfig, RenderMethod, TerrainConfig};
 use cumulus::sprites_model::{CloudType, SpriteCloud};
 use glam::Vec3;
+
+use crate::common::render::{camera, no_terrain, render};
+use crate::common::{self, cli};
 
 /// Mean FLIP allowed against the reference: the frame is deterministic on
 /// one adapter (seeded sprites, CPU shading); the margin covers another
@@ -175,24 +174,18 @@ fn the_method_switches_live_on_one_renderer() {
 fn atlas_command_writes_the_renderers_sheet() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("atlas.png");
-    let status = std::process::Command::new(env!("CARGO_BIN_EXE_cumulus"))
-        .args(["atlas", "--out"])
-        .arg(&out)
-        .status()
-        .unwrap();
-    assert!(status.success());
+    cli::run_command(cli::command().args(["atlas", "--out"]).arg(&out)).expect_success();
     let png = image::open(&out).unwrap().into_rgba8();
     let sheet = cumulus::render::sprites::atlas::sheet();
     assert_eq!((png.width(), png.height()), (sheet.size, sheet.size));
     assert_eq!(png.into_raw(), sheet.rgba);
     // A tile smaller than the paper's is refused, naming the flag.
-    let bad = std::process::Command::new(env!("CARGO_BIN_EXE_cumulus"))
-        .args(["atlas", "--tile", "64", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(!bad.status.success());
-    assert!(String::from_utf8_lossy(&bad.stderr).contains("--tile"));
+    cli::run_command(
+        cli::command()
+            .args(["atlas", "--tile", "64", "--out"])
+            .arg(&out),
+    )
+    .expect_failure_containing(&["--tile"]);
 }
 
 #[test]
@@ -204,16 +197,15 @@ fn render_command_draws_the_labelled_cloud_types() {
     let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("profiles/cloud_types.toml");
     let render = |extra: &[&str], name: &str| {
         let out = dir.path().join(name);
-        let o = std::process::Command::new(env!("CARGO_BIN_EXE_cumulus"))
-            .arg("render")
-            .arg(&scene)
-            .args(["--width", "320", "--height", "180", "--out"])
-            .arg(&out)
-            .args(extra)
-            .output()
-            .unwrap();
-        let log = String::from_utf8_lossy(&o.stderr).into_owned();
-        assert!(o.status.success(), "{log}");
+        let log = cli::run_command(
+            cli::command()
+                .arg("render")
+                .arg(&scene)
+                .args(["--width", "320", "--height", "180", "--out"])
+                .arg(&out)
+                .args(extra),
+        )
+        .expect_success();
         (image::open(&out).unwrap().into_rgba8().into_raw(), log)
     };
     let (types, log) = render(&[], "types.png");

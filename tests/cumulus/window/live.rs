@@ -13,7 +13,7 @@ use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use crate::common::gpu;
+use crate::common::{cli, gpu};
 
 /// An Xvfb server this test started; killed when dropped, even on panic.
 struct Xvfb {
@@ -119,29 +119,25 @@ fn capture_with_log(
 ) -> Option<(image::RgbaImage, String)> {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("window.png");
-    let output = Command::new(env!("CARGO_BIN_EXE_cumulus"))
-        .args(["watch", "--screenshot"])
-        .arg(&out)
-        .args(args)
-        .env("DISPLAY", display)
-        .env_remove("WAYLAND_DISPLAY")
-        .output()
-        .expect("run cumulus");
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    if !output.status.success() && stderr.contains("no GPU adapter") {
+    let run = cli::run_command(
+        cli::command()
+            .args(["watch", "--screenshot"])
+            .arg(&out)
+            .args(args)
+            .env("DISPLAY", display)
+            .env_remove("WAYLAND_DISPLAY"),
+    );
+    if !run.succeeded() && run.stderr().contains("no GPU adapter") {
         let what = format!("window test ({keep_as})");
-        gpu::require::<(), _>(&what, Err(&stderr), "no GPU adapter", gpu::ADAPTER_FIX);
+        gpu::require::<(), _>(&what, Err(run.stderr()), "no GPU adapter", gpu::ADAPTER_FIX);
         return None;
     }
-    assert!(output.status.success(), "cumulus watch failed:\n{stderr}");
+    let stderr = run.expect_success();
     // Keep the capture for a look when asked (CUMULUS_KEEP_SCREENSHOTS=dir).
     if let Some(k) = std::env::var_os("CUMULUS_KEEP_SCREENSHOTS") {
         std::fs::copy(&out, Path::new(&k).join(keep_as)).unwrap();
     }
-    Some((
-        image::open(&out).expect("a PNG").to_rgba8(),
-        stderr.into_owned(),
-    ))
+    Some((image::open(&out).expect("a PNG").to_rgba8(), stderr))
 }
 
 /// Left edge of the 3D view in the capture: the panel is 380 points wide
@@ -340,16 +336,16 @@ fn window_and_headless_draw_the_same_image() {
 
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("headless.png");
-    let status = Command::new(env!("CARGO_BIN_EXE_cumulus"))
-        .args(["render", "--no-labels", "--time", t, "--width"])
-        .arg(w.to_string())
-        .arg("--height")
-        .arg(h.to_string())
-        .arg("--out")
-        .arg(&out)
-        .status()
-        .expect("run cumulus render");
-    assert!(status.success());
+    cli::run_command(
+        cli::command()
+            .args(["render", "--no-labels", "--time", t, "--width"])
+            .arg(w.to_string())
+            .arg("--height")
+            .arg(h.to_string())
+            .arg("--out")
+            .arg(&out),
+    )
+    .expect_success();
     let headless = image::open(&out).unwrap().to_rgba8();
     let rgb =
         |i: &image::RgbaImage| -> Vec<u8> { i.pixels().flat_map(|p| [p[0], p[1], p[2]]).collect() };
