@@ -9,6 +9,17 @@ use cumulus::stability::{self, KE_RATIO_BOUND, Size};
 
 use crate::common::cli;
 
+/// `stability::run_matrix` with no progress, one call at a time.
+/// run_matrix swaps the process's panic hook for a quiet one while it
+/// runs and then puts back the one it found; all tests share this process,
+/// so two calls at once could leave the quiet hook installed for good and
+/// every later failing test of the binary would print no panic message.
+fn run_matrix(cases: &[stability::Case]) -> Vec<stability::CaseResult> {
+    static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    stability::run_matrix(cases, |_, _| {})
+}
+
 /// `cumulus stability --quick` runs every case to the end without NaN/Inf,
 /// panic or kinetic energy beyond the bound, exits 0 and writes both reports.
 #[test]
@@ -107,7 +118,7 @@ fn reports_replace_old_ones_whole() {
         .into_iter()
         .filter(|c| c.name == "parcels_10")
         .collect();
-    let results = stability::run_matrix(&cases, |_, _| {});
+    let results = run_matrix(&cases);
     assert!(results[0].passed(), "{:?}", results[0].failures());
     let [md, csv] = stability::write_reports(dir.path(), &results, "t").unwrap();
     let text = std::fs::read_to_string(csv).unwrap();
@@ -126,7 +137,7 @@ fn failure_criteria() {
         .into_iter()
         .filter(|c| c.name == "parcels_10")
         .collect();
-    let ok = stability::run_matrix(&cases, |_, _| {}).remove(0);
+    let ok = run_matrix(&cases).remove(0);
     assert!(ok.passed(), "{:?}", ok.failures());
 
     let mut r = ok.clone();
