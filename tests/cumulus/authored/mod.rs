@@ -1,0 +1,6 @@
+//! Schpok 2003's authored clouds on the CPU: the model, mouse editing and
+//! the slicing geometry (the GPU side is `render::slices`).
+
+mod model;
+mod pick;
+mod slicing;

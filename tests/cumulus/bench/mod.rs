@@ -1,0 +1,5 @@
+//! `cumulus bench`: a tiny run's tables, and the convergence of its render
+//! reference.
+
+mod reference_convergence;
+mod run;

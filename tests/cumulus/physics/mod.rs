@@ -1,0 +1,12 @@
+//! The parcel physics: single parcels, the world, the paper's equations,
+//! convergence order, thread-count determinism, the moist ascent against
+//! parcel theory, `cumulus simulate` and the stability matrix.
+
+mod cli;
+mod fidelity;
+mod moist_ascent;
+mod order;
+mod scale;
+mod single;
+mod stability;
+mod world;

@@ -1,0 +1,15 @@
+//! The wgpu renderer on the CPU adapter (lavapipe): reference images, the
+//! render methods against each other, lighting, noise, temporal
+//! amortisation, the slices method, WGSL validation, `cumulus render` and
+//! the path-traced comparison.
+
+mod cli;
+mod lighting;
+mod methods;
+mod noise;
+mod pathtraced;
+mod renderer;
+mod shaders;
+mod slices;
+mod temporal;
+mod tower_body;

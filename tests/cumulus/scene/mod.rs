@@ -1,0 +1,5 @@
+//! Scenes: `--set` overrides, the pre-simulated start, and the landscape.
+
+mod landscape;
+mod set;
+mod start;
