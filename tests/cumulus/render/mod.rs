@@ -1,9 +1,10 @@
 //! The wgpu renderer on the CPU adapter (lavapipe): reference images, the
 //! render methods against each other, lighting, noise, temporal
-//! amortisation, the slices method, WGSL validation, `cumulus render` and
-//! the path-traced comparison.
+//! amortisation, the slices method, WGSL validation, `cumulus render`, the
+//! path-traced comparison and the renderer embedded in another program.
 
 mod cli;
+mod embed;
 mod lighting;
 mod methods;
 mod noise;

@@ -3,7 +3,7 @@
 //! x.png`): it writes a PNG of the asked size whose clouds cover part of
 //! the program's own background.
 
-mod common;
+use crate::common;
 
 /// The example's binary, which `cargo test` builds beside the test
 /// binaries (target/<profile>/examples/embed).
@@ -24,14 +24,12 @@ fn the_embed_example_draws_clouds_over_its_own_background() {
     }
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("embed.png");
-    let o = std::process::Command::new(example())
-        .args(["--width", "160", "--height", "90", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&o.stderr);
-    assert!(o.status.success(), "{stderr}");
-    assert!(!stderr.contains("panicked"), "{stderr}");
+    let stderr = common::cli::run_command(
+        std::process::Command::new(example())
+            .args(["--width", "160", "--height", "90", "--out"])
+            .arg(&out),
+    )
+    .expect_success();
     let img = image::open(&out).unwrap().to_rgb8();
     assert_eq!(img.dimensions(), (160, 90));
     // The background is one colour (the program's clear); the clouds are
