@@ -6,7 +6,7 @@ use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use cumulus::bench::{TABLE_COUNTS, scenes};
-use cumulus::render::RenderConfig;
+use cumulus::config::RenderConfig;
 use cumulus::render::pack::pack;
 
 fn packing(c: &mut Criterion) {

@@ -44,12 +44,3 @@ pub mod timing;
 pub use frame::{Features, FrameInput};
 pub use gpu::GpuContext;
 pub use renderer::{FrameTimings, Renderer, TimingMode};
-
-// The configuration types, under the paths the integration tests and
-// embedding programs know them by.
-pub use crate::config::{
-    Camera, CameraConfig, DEFAULT_VISIBILITY_KM, MarchPath, RenderConfig, RenderMethod,
-    TONE_EXPOSURE, TerrainConfig, method,
-};
-pub use crate::landscape::terrain;
-pub use crate::sky::Sun;

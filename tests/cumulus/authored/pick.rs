@@ -7,7 +7,7 @@ use cumulus::authored::pick::{
     RESIZE_PER_STEP, drag_offset, move_by, outline, pick, ray_ellipsoid, resize_by,
 };
 use cumulus::authored::{Ellipsoid, EllipsoidState, Keyframe, state_at};
-use cumulus::render::Camera;
+use cumulus::config::Camera;
 use glam::Vec3;
 
 fn state(centre: [f32; 3], radii: [f32; 3], rotation_deg: [f32; 3]) -> EllipsoidState {

@@ -12,7 +12,7 @@ use cumulus::bench::accuracy::{
 };
 use cumulus::bench::measure::Repeats;
 use cumulus::bench::stats::{mean_flip, rgb};
-use cumulus::render::{Camera, CameraConfig, RenderConfig};
+use cumulus::config::{Camera, CameraConfig, RenderConfig};
 
 /// Output size: tiny for CI on lavapipe (the reference is rendered at 2×
 /// and 3× this). units: px

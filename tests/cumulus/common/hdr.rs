@@ -3,9 +3,11 @@
 //! two measurements on a tower (base against top, one side against the
 //! other).
 
+use cumulus::config::{Camera, RenderConfig};
 use cumulus::physics::CloudParcel;
 use cumulus::render::headless::Headless;
-use cumulus::render::{Camera, FrameInput, GpuContext, RenderConfig, Sun};
+use cumulus::render::{FrameInput, GpuContext};
+use cumulus::sky::Sun;
 
 /// Rec. 709 luminance of each pixel of an RGB float image.
 pub fn luminance(rgb: &[f32]) -> Vec<f32> {

@@ -1,9 +1,10 @@
 //! Camera, configuration and one-frame helpers of the sprite render tests,
 //! and the parcel columns of the lighting and render-method tests.
 
+use cumulus::config::{Camera, RenderConfig, RenderMethod, TerrainConfig};
 use cumulus::physics::CloudParcel;
 use cumulus::render::headless::Headless;
-use cumulus::render::{Camera, FrameInput, GpuContext, RenderConfig, RenderMethod, TerrainConfig};
+use cumulus::render::{FrameInput, GpuContext};
 use cumulus::sprites_model::SpriteCloud;
 use glam::Vec3;
 

@@ -6,8 +6,8 @@
 
 use std::path::Path;
 
+use cumulus::config::Camera;
 use cumulus::export::{GridSpec, read_vol};
-use cumulus::render::Camera;
 use cumulus::render::slices::field::AuthoredField;
 use cumulus::render::slices::slices_frame;
 

@@ -6,9 +6,10 @@
 
 use crate::common;
 
+use cumulus::config::{Camera, CameraConfig, RenderConfig, TerrainConfig};
+use cumulus::render::FrameInput;
 use cumulus::render::field::CloudField;
 use cumulus::render::headless::Headless;
-use cumulus::render::{Camera, CameraConfig, FrameInput, RenderConfig, TerrainConfig};
 use glam::Vec4;
 
 const W: u32 = 64;

@@ -3,10 +3,10 @@
 //! values eq. 18 gives by hand, and bad arguments fail with a clear message
 //! leaving no file behind. No GPU needed: the density is evaluated on the CPU.
 
+use cumulus::config::RenderConfig;
 use cumulus::export::sidecar::Sidecar;
 use cumulus::export::{GridSpec, read_vol, sample_grid, vol_grid, write_vol};
 use cumulus::physics::CloudParcel;
-use cumulus::render::RenderConfig;
 use cumulus::render::field::CloudField;
 use glam::Vec3;
 

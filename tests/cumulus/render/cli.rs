@@ -160,7 +160,7 @@ fn exr_is_the_linear_scene_the_png_tone_maps() {
     // 2/255 per channel: the half-float scene target rounds the radiance
     // (11-bit mantissa, ≤ 0.05 % → < 0.3/255 after the curve) and both
     // paths round to 8 bits (≤ 1/255 between them, GPU vs f32 here).
-    let base = cumulus::render::TONE_EXPOSURE;
+    let base = cumulus::config::TONE_EXPOSURE;
     for (png, k, what) in [
         (&png, base, "EV 0"),
         (&dark, base * (-1.5f32).exp2(), "EV −1.5"),

@@ -6,11 +6,10 @@ use crate::common;
 
 use crate::common::hdr::{base_and_top, cloud_mask, half_means, hdr_frames, luminance};
 
+use cumulus::config::{Camera, CameraConfig, RenderConfig, RenderMethod, TerrainConfig};
 use cumulus::physics::CloudParcel;
+use cumulus::render::FrameInput;
 use cumulus::render::headless::Headless;
-use cumulus::render::{
-    Camera, CameraConfig, FrameInput, RenderConfig, RenderMethod, TerrainConfig,
-};
 use glam::Vec3;
 
 /// A 4 km tower: parcels of radius 500 m stacked every 400 m from 1.5 to

@@ -8,12 +8,10 @@
 
 use crate::common;
 
+use cumulus::config::{Camera, CameraConfig, RenderConfig, RenderMethod, TerrainConfig};
 use cumulus::physics::CloudParcel;
 use cumulus::render::headless::Headless;
-use cumulus::render::{
-    Camera, CameraConfig, FrameInput, GpuContext, RenderConfig, RenderMethod, TerrainConfig,
-    standin,
-};
+use cumulus::render::{FrameInput, GpuContext, standin};
 use glam::Vec3;
 
 /// Mean FLIP allowed between baked and exact at the same settings (the
@@ -376,14 +374,14 @@ fn compute_and_fragment_march_agree_and_auto_decides() {
         };
         let fragment = render(
             &ctx,
-            &path(cumulus::render::MarchPath::Fragment),
+            &path(cumulus::config::MarchPath::Fragment),
             towers_camera(),
             &parcels,
             size,
         );
         let compute = render(
             &ctx,
-            &path(cumulus::render::MarchPath::Compute),
+            &path(cumulus::config::MarchPath::Compute),
             towers_camera(),
             &parcels,
             size,
@@ -469,7 +467,7 @@ fn toggling_a_setting_takes_pipelines_built_in_the_background() {
         }),
         ("temporal off", |c| c.temporal = Some(false)),
         ("march compute", |c| {
-            c.march = cumulus::render::MarchPath::Compute
+            c.march = cumulus::config::MarchPath::Compute
         }),
         ("terrain off", |c| c.terrain.enabled = false),
         ("exact", |c| c.method = RenderMethod::Exact),

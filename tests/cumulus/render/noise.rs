@@ -163,7 +163,7 @@ fn gpu_noise_matches_its_cpu_twin_at_level_0_and_through_the_mips() {
     let Some(ctx) = common::context("GPU against CPU noise test") else {
         return;
     };
-    let vol = NoiseVolume::new(cumulus::render::RenderConfig::default().noise_texels);
+    let vol = NoiseVolume::new(cumulus::config::RenderConfig::default().noise_texels);
     // Points from 100 m to ~40 km from the eye, scattered off the lattice
     // (a fixed LCG: reproducible).
     let mut s = 12345u32;

@@ -9,11 +9,10 @@
 
 use crate::common;
 
+use cumulus::config::{Camera, CameraConfig, RenderConfig, TerrainConfig};
 use cumulus::physics::CloudParcel;
 use cumulus::render::headless::Headless;
-use cumulus::render::{
-    Camera, CameraConfig, FrameInput, GpuContext, RenderConfig, Renderer, TerrainConfig, standin,
-};
+use cumulus::render::{FrameInput, GpuContext, Renderer, standin};
 use glam::Vec3;
 
 /// Mean FLIP allowed against a reference. Same driver gives ~0; the ray start
@@ -324,7 +323,7 @@ fn pruned_scenes_create_fewer_passes() {
         ["bake", "shadow", "sky", "terrain", "clouds", "tonemap"]
     );
     let exact = RenderConfig {
-        method: cumulus::render::RenderMethod::Exact,
+        method: cumulus::config::RenderMethod::Exact,
         ..RenderConfig::default()
     };
     let exact = Renderer::new(&ctx, &exact, fmt, 64, 48).unwrap();
@@ -400,7 +399,7 @@ fn timings_name_every_pass() {
     let Some(ctx) = context() else { return };
     // One march path throughout ("auto" alternates while it measures).
     let cfg = RenderConfig {
-        march: cumulus::render::MarchPath::Fragment,
+        march: cumulus::config::MarchPath::Fragment,
         ..RenderConfig::default()
     };
     let mut hl = Headless::new(&ctx, &cfg, 64, 48).unwrap();
@@ -460,7 +459,7 @@ fn grid_culling_matches_brute_force() {
     // evaluating all of them (up to float ordering in the max()). The grid
     // is the exact method's.
     let culled = RenderConfig {
-        method: cumulus::render::RenderMethod::Exact,
+        method: cumulus::config::RenderMethod::Exact,
         ..RenderConfig::default()
     };
     let brute = RenderConfig {
@@ -551,7 +550,7 @@ fn the_most_parcels_the_uniforms_hold_render() {
         .collect();
     // The uniform limit is the exact method's (the baked one has none).
     let cfg = RenderConfig {
-        method: cumulus::render::RenderMethod::Exact,
+        method: cumulus::config::RenderMethod::Exact,
         ..RenderConfig::default()
     };
     let mut hl = Headless::new(&ctx, &cfg, 64, 48).unwrap();

@@ -3,7 +3,7 @@
 //! constants; all failures are reported at once. Also checks the Rust uniform
 //! structs against the WGSL layout naga computes.
 
-use cumulus::render::RenderMethod;
+use cumulus::config::RenderMethod;
 use cumulus::render::pack::{FrameUniform, GpuParcel, GridUniform, ParcelsUniform};
 use cumulus::render::shaders::{FILES, Pass};
 

@@ -11,10 +11,11 @@ use crate::common;
 use std::path::{Path, PathBuf};
 
 use cumulus::authored::octaves::{OctaveUniform, TierUniform};
+use cumulus::config::{Camera, RenderConfig, RenderMethod};
 use cumulus::render::headless::Headless;
 use cumulus::render::shaders::Pass;
 use cumulus::render::slices::SlicesParams;
-use cumulus::render::{Camera, FrameInput, GpuContext, RenderConfig, RenderMethod, standin};
+use cumulus::render::{FrameInput, GpuContext, standin};
 use cumulus::scene::{SceneProfile, load_scene_with};
 
 /// Small frames: lavapipe fills 128 planes of the whole cloud per pixel.
@@ -305,14 +306,14 @@ fn parcels_are_drawn_as_slices() {
     let Some(ctx) = context() else { return };
     let cfg = RenderConfig {
         method: RenderMethod::Slices,
-        terrain: cumulus::render::TerrainConfig {
+        terrain: cumulus::config::TerrainConfig {
             enabled: false,
             ..Default::default()
         },
         ..RenderConfig::default()
     };
     let parcels = standin::default_field(0.0);
-    let camera = Camera::from(&cumulus::render::CameraConfig::default());
+    let camera = Camera::from(&cumulus::config::CameraConfig::default());
     let frame = |cfg: &RenderConfig, parcels| {
         let mut hl = Headless::new(&ctx, cfg, SIZE.0, SIZE.1).unwrap();
         let input = FrameInput {
@@ -470,7 +471,7 @@ fn terrain_under_an_authored_cloud_is_darker_with_shadows_on() {
         radii_m: [1500.0, 1500.0, 500.0],
         ..Default::default()
     }];
-    let camera = Camera::from(&cumulus::render::CameraConfig {
+    let camera = Camera::from(&cumulus::config::CameraConfig {
         position_m: [0.0, -7000.0, 5000.0],
         target_m: [0.0, 0.0, 0.0],
         ..Default::default()

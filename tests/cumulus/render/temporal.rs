@@ -15,9 +15,10 @@
 use crate::common;
 
 use cumulus::bench::stats::{mean_flip, rgb};
+use cumulus::config::{Camera, CameraConfig, RenderConfig};
 use cumulus::physics::CloudParcel;
 use cumulus::render::headless::Headless;
-use cumulus::render::{Camera, CameraConfig, FrameInput, GpuContext, RenderConfig, standin};
+use cumulus::render::{FrameInput, GpuContext, standin};
 use glam::Vec3;
 
 const W: u32 = 160;

@@ -10,9 +10,11 @@ use std::path::Path;
 
 use crate::common::hdr::{cloud_mask, hdr_frames, luminance};
 use cumulus::app::state::Model;
+use cumulus::config::{Camera, RenderConfig};
 use cumulus::physics::CloudParcel;
-use cumulus::render::{Camera, GpuContext, RenderConfig, Sun};
+use cumulus::render::GpuContext;
 use cumulus::scene::{SceneProfile, SceneSource, render_sun};
+use cumulus::sky::Sun;
 use glam::{Vec2, Vec3};
 
 /// Horizontal radius of the column cut out as "the tower". units: m

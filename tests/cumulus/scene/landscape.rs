@@ -172,12 +172,12 @@ fn the_physics_ground_is_the_drawn_terrain() {
     let w = ParcelWorld::new(env, cfg, 1).unwrap();
     let mut terrain = scene.render.terrain.clone();
     terrain.resolution = 33;
-    let mesh = cumulus::render::terrain::build_mesh(&terrain).unwrap();
+    let mesh = cumulus::landscape::terrain::build_mesh(&terrain).unwrap();
     let water = terrain.water_level_m;
     let mut ground_vertices = 0;
     for v in mesh.vertices {
         let [x, y, z] = v.position;
-        if v.normal == cumulus::render::terrain::WATER_NORMAL {
+        if v.normal == cumulus::landscape::terrain::WATER_NORMAL {
             // The lake's plane (drawn only; the physics has no water).
             assert_eq!(Some(z as f64), water.map(f64::from));
             continue;

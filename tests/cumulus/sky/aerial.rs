@@ -4,8 +4,9 @@
 
 use crate::common;
 
+use cumulus::config::{Camera, CameraConfig, RenderConfig, TerrainConfig};
+use cumulus::render::FrameInput;
 use cumulus::render::headless::Headless;
-use cumulus::render::{Camera, CameraConfig, FrameInput, RenderConfig, TerrainConfig};
 use cumulus::sky::{Atmosphere, SUN_ABOVE_AIR, SkyLuts};
 use glam::{DVec3, Vec3, Vec4Swizzles};
 

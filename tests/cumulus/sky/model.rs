@@ -350,7 +350,7 @@ fn dawn_and_noon_renders_differ() {
 
 #[test]
 fn visibility_sets_the_aerosol_koschmieder_s_way() {
-    use cumulus::render::DEFAULT_VISIBILITY_KM;
+    use cumulus::config::DEFAULT_VISIBILITY_KM;
     // The default setting is the Earth's own clean air, and a visibility
     // set is the visibility read back.
     let earth = Atmosphere::EARTH;

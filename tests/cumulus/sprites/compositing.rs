@@ -7,9 +7,10 @@ use crate::common;
 
 use crate::common::render::{camera, no_terrain, render};
 
+use cumulus::config::{RenderConfig, RenderMethod, TerrainConfig};
 use cumulus::physics::CloudParcel;
+use cumulus::render::FrameInput;
 use cumulus::render::headless::Headless;
-use cumulus::render::{FrameInput, RenderConfig, RenderMethod, TerrainConfig};
 use cumulus::sprites_model::{CloudType, SpriteCloud};
 use glam::Vec3;
 

@@ -8,8 +8,9 @@
 
 use std::path::PathBuf;
 
+use cumulus::config::{Camera, RenderConfig, RenderMethod, TerrainConfig};
 use cumulus::render::headless::Headless;
-use cumulus::render::{Camera, FrameInput, GpuContext, RenderConfig, RenderMethod, TerrainConfig};
+use cumulus::render::{FrameInput, GpuContext};
 use cumulus::sprites_model::{CloudType, SpriteCloud};
 use glam::Vec3;
 
@@ -40,7 +41,7 @@ fn physics_parcels_as_sprites_match_the_reference() {
         ..RenderConfig::default()
     };
     let parcels = cumulus::render::standin::default_field(0.0);
-    let cam = Camera::from(&cumulus::render::CameraConfig::default());
+    let cam = Camera::from(&cumulus::config::CameraConfig::default());
     let (w, h) = (128, 72);
     let rgba = render(&ctx, &cfg, Vec::new(), cam, &parcels, (w, h));
     let sky = render(&ctx, &cfg, Vec::new(), cam, &[], (w, h));
@@ -129,7 +130,7 @@ fn the_method_switches_live_on_one_renderer() {
         return;
     };
     let parcels = cumulus::render::standin::default_field(0.0);
-    let cam = Camera::from(&cumulus::render::CameraConfig::default());
+    let cam = Camera::from(&cumulus::config::CameraConfig::default());
     let mut cfg = no_terrain(RenderMethod::Baked);
     let mut hl = Headless::new(&ctx, &cfg, 64, 48).unwrap();
     let input = FrameInput {

@@ -66,7 +66,7 @@ fn the_slices_panel_shows_the_paper_groups_and_edits_nothing_by_itself() {
     assert_eq!(after.ellipsoids, before.ellipsoids);
 
     // Another method: no slices controls.
-    m.render_cfg.method = cumulus::render::RenderMethod::Baked;
+    m.render_cfg.method = cumulus::config::RenderMethod::Baked;
     let (_, t) = frame(&ctx, &mut m, &mut ps, 1.0);
     assert!(!t.contains("Media shaping"), "slices controls under baked");
 }
