@@ -8,7 +8,7 @@
 //! coordinates and the equation of time from J. Meeus, *Astronomical
 //! Algorithms* (2nd ed., 1998), ch. 25 and 28, and add NOAA's fit of
 //! atmospheric refraction. NOAA quotes them as good to about a minute of time
-//! for 1800–2100 within ±72° latitude; tests/sun.rs checks them against
+//! for 1800–2100 within ±72° latitude; tests/cumulus/sky/sun.rs checks them against
 //! NREL's Solar Position Algorithm (Reda & Andreas 2004) to 0.5°. Universal
 //! time stands in for terrestrial time (ΔT ≈ 70 s moves the sun < 0.005°).
 

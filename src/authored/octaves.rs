@@ -245,7 +245,7 @@ pub fn octave_weights(octaves: usize) -> Vec<f32> {
 /// One tier as the shaders take it: WGSL
 /// `struct SlicesTier { texture_from_world: array<mat4x4<f32>, 8>,
 /// bottom_m: vec4<f32>, media: vec4<u32> }` (544 bytes). Keep in sync with
-/// that struct in shaders/slices.wgsl (tests/render_slices.rs checks sizes
+/// that struct in shaders/slices.wgsl (tests/cumulus/render/slices.rs checks sizes
 /// and offsets against naga's layout).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]

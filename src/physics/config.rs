@@ -57,7 +57,7 @@ pub struct PhysicsConfig {
     /// In SI the paper's 0.01 is all but inert: a parcel of r = 150 m
     /// relaxes towards a neighbour at s = μ m/(ρ_i ρ_j) ∇²W ≈ 4e-7 s⁻¹, so
     /// relative motion loses well under 1 % in ten minutes (tested in
-    /// tests/physics_fidelity.rs). Kept for fidelity to the paper; turbulent
+    /// tests/cumulus/physics/fidelity.rs). Kept for fidelity to the paper; turbulent
     /// (eddy) viscosity of a convective boundary layer, μ ≈ ρ K with
     /// K ≈ 10–100 m² s⁻¹, is 10–100 Pa s and damps relative motion within
     /// minutes (the same test checks the computed e^{−2st} decay at 50).

@@ -10,7 +10,7 @@
 //! to the GPU; the noise is [`noise::NoiseVolume`], the same tiling texture
 //! sampled as the GPU samples it. The only GPU detail not mirrored is the
 //! hardware's 8-bit fixed-point filter weights (about 1/256 of a texel step).
-//! No wgpu here: unit-testable without a GPU; tests/export_gpu.rs checks it
+//! No wgpu here: unit-testable without a GPU; tests/cumulus/export/gpu.rs checks it
 //! against the real cloud pass.
 
 use glam::Vec3;

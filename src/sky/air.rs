@@ -18,7 +18,7 @@
 //! a homogeneous slab), the ray's height following the Earth's curve.
 //! The clouds' shadow reaches the air where a pass has the cloud-shadow
 //! map (the terrain): shadowed air scatters no sunlight, only its share of
-//! the multiply scattered light. tests/aerial.rs holds it against direct
+//! the multiply scattered light. tests/cumulus/sky/aerial.rs holds it against direct
 //! integration of the sky model.
 
 use glam::{DVec3, Vec3};

@@ -10,7 +10,7 @@ use super::{Atmosphere, SUN_STEPS};
 
 /// Transmittance table size: view zenith cosine × height (Hillaire uses
 /// 256 × 64 on the GPU; the CPU's bilinear lookups need fewer, see
-/// tests/sky.rs for the error against direct integration).
+/// tests/cumulus/sky/model.rs for the error against direct integration).
 pub const TRANSMITTANCE_SIZE: [usize; 2] = [128, 32];
 /// Multiple-scattering table size: sun zenith cosine × height (Hillaire:
 /// 32 × 32).

@@ -34,7 +34,7 @@
 //! evaluated after what they depend on; the latent heat of condensation
 //! takes the sub-step's mean 1/Π (trapezoidal, `moisture`). This is the symmetric (Strang-like) composition of the
 //! split processes and the dynamics, with one force and one rate
-//! evaluation per sub-step. Observed (`tests/physics_order.rs`): order ≈ 2
+//! evaluation per sub-step. Observed (`tests/cumulus/physics/order.rs`): order ≈ 2
 //! without the two terms that jump by the paper's design (the tessellated
 //! hidden-cap pressure, detrainment switching on at the condensation
 //! level), ≈ 1.45 with everything on (it was ≈ 1.1).
