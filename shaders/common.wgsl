@@ -1,12 +1,12 @@
 // Shared by every pass: uniforms, camera rays, noise, sun and sky.
 //
-// Keep in sync with src/render/pack.rs (FrameUniform, GpuParcel,
-// ParcelsUniform, GridUniform). The array sizes MAX_PARCELS,
-// GRID_CELL_PAIRS, GRID_ENTRY_QUADS, SKY_AZIMUTHS, SKY_ELEVATIONS, AIR_HEIGHTS,
-// AIR_TOP_M and AIR_STEPS are prepended by
-// src/render/shaders.rs from the Rust constants, so they cannot drift.
-// naga has no #include: src/render/shaders.rs concatenates
-// prelude + common.wgsl (+ density.wgsl) + the pass file.
+// Imports nothing: the generated prelude that starts every module
+// (src/render/shaders.rs) gives the array sizes MAX_PARCELS,
+// GRID_CELL_PAIRS, GRID_ENTRY_QUADS, SKY_AZIMUTHS, SKY_ELEVATIONS,
+// AIR_HEIGHTS, AIR_TOP_M and AIR_STEPS from the Rust constants, and the
+// prelude and this file make a module by themselves. Keep in sync with
+// src/render/pack.rs (FrameUniform, GpuParcel, ParcelsUniform,
+// GridUniform).
 //
 // Colours are linear RGB; sun irradiance ~2 gives daylight exposure.
 

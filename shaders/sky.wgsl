@@ -1,6 +1,8 @@
 // Sky pass: clears the target to a sky gradient with a sun disc. Always
 // runs; the terrain and clouds draw over it.
 
+#import "common.wgsl"
+
 @vertex
 fn vs_main(@builtin(vertex_index) i: u32) -> FullscreenOut {
     return fullscreen_vertex(i);

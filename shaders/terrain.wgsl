@@ -2,7 +2,13 @@
 // built on the CPU by src/render/terrain.rs) with depth, lit as a
 // Lambertian surface by the sun, darkened by the clouds' transmittance (the
 // cloud-shadow map every method's clouds are marched or splatted into,
-// shadow.wgsl), and by the sky, seen through the air (air.wgsl).
+// shadow.wgsl), and by the sky, seen through the air (air.wgsl), whose
+// sunlight the same map shadows.
+
+#import "common.wgsl"
+#import "air.wgsl"
+// `ground_sun_depth` for ground inside the ray-marched clouds' region.
+#import "raymarch/density.wgsl"
 
 // Darken the sun by the clouds (false: no cloud shadows this frame).
 override HAS_SHADOWS: bool = true;
@@ -52,14 +58,25 @@ fn cloud_shadow(p: vec3<f32>) -> f32 {
     return map_shadow(p, frame.sun_dir.xyz);
 }
 
-// The air's share of the sun (air.wgsl): the clouds shadow it like the
-// ground below it (the map), except within the ray-marched clouds' region
-// and above it, where it counts as sunlit.
-fn air_sunlit(p: vec3<f32>) -> f32 {
+// The share of the sun's light reaching the air at p: the clouds shadow
+// it like the ground below it (the map), except within the ray-marched
+// clouds' region and above it, where it counts as sunlit.
+fn air_sun_share(p: vec3<f32>) -> f32 {
     if !HAS_SHADOWS || (SHADOW_IN_REGION && p.z > frame.grid_min.z) {
         return 1.0;
     }
     return map_shadow(p, frame.sun_dir.xyz);
+}
+
+// What the air does over `dist` (m) along unit `dir` from the eye, its
+// sunlight shadowed by the clouds (air_sun_share at each step).
+fn shadowed_air(dir: vec3<f32>, dist: f32) -> Air {
+    let m = air_march(dir, dist);
+    var air = clear_air();
+    for (var i = 0u; i < AIR_STEPS; i++) {
+        air = air_step(air, m, i, air_sun_share(air_step_point(m, i)));
+    }
+    return air;
 }
 
 // Transmittance over p from the cloud-shadow map.
@@ -115,9 +132,11 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     if HAS_WATER && in.normal.z < 0.0 {
         c = water(in.world);
     }
-    // The air between the eye and the ground (air.wgsl).
-    let from_eye = in.world - frame.camera_pos.xyz;
-    let dist = length(from_eye);
-    c = through_air(c, 1.0, from_eye / dist, dist);
+    // The air between the eye and the ground.
+    if AERIAL_PERSPECTIVE {
+        let from_eye = in.world - frame.camera_pos.xyz;
+        let dist = length(from_eye);
+        c = seen_through(shadowed_air(from_eye / dist, dist), c, 1.0);
+    }
     return vec4<f32>(output_color(c), 1.0);
 }

@@ -1,11 +1,13 @@
 // The authored clouds' field on the GPU (Schpok et al. 2003 §3.1, §3.2,
 // Table 2), shared by the slices passes: the slicing planes (their noise
 // and media filter), the compute pass that evaluates the field and shadow
-// at the slice vertices (slices_field.wgsl) and, under the `slices`
-// method, the cloud-shadow map (field_slices.wgsl). The CPU twin of every
+// at the slice vertices (vertex_field.wgsl) and, under the `slices`
+// method, the cloud-shadow map (shadow_field.wgsl). The CPU twin of every
 // routine here is the reference: src/authored/ellipsoid.rs (Wyvill blend,
 // s², the grid index) and src/render/slices/field.rs (tiers, octaves,
 // media filters, the first-octave shadow weight). Keep them in sync.
+
+#import "../common.wgsl"
 
 // 544 bytes; keep in sync with TierUniform in src/authored/octaves.rs.
 struct SlicesTier {

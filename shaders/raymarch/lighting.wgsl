@@ -1,17 +1,21 @@
 // Lighting of a cloud sample, tuned so clouds read as cumulus (sunlit
 // domes bright, bases grey-blue): the sun, attenuated by a short light
-// march toward it (the noise detail) and the light volume beyond it (the
-// whole cloud region), through the same medium the view rays see,
-// scattered once with a two-lobe Henyey–Greenstein phase and many times
-// with a diffusion-like falloff, dimmed where the cloud ends behind the
-// sample (`sun_scattering`); plus sky
-// ambient shaded by the light volume's look upward and, with the multiple scattering,
-// darkened toward the sample's condensation plane (the flat base); plus the
-// sunlit ground's light from below (without terrain, the sky's lower half),
-// at the base. Kept apart from the march
-// (clouds.wgsl) so that a
-// lighting model (e.g. a light volume) can replace it: the march calls only
-// `ray_lighting` and `sample_source`.
+// march toward it (the noise detail) and the far light beyond it (the
+// `<far_light>` slot: the whole cloud region), through the same medium the
+// view rays see, scattered once with a two-lobe Henyey–Greenstein phase
+// and many times with a diffusion-like falloff, dimmed where the cloud
+// ends behind the sample (`sun_scattering`); plus sky ambient shaded by
+// the far light's look upward and, with the multiple scattering, darkened
+// toward the sample's condensation plane (the flat base); plus the sunlit
+// ground's light from below (without terrain, the sky's lower half), at
+// the base. Kept apart from the march (clouds.wgsl) so that a lighting
+// model can replace it: the march calls only `ray_lighting` and
+// `sample_source`.
+
+#import "../common.wgsl"
+#import <field>
+#import "density.wgsl"
+#import <far_light>
 
 // Finite-difference normals of ρ for extra (voxel) shading: paper Table 1
 // "with FDM normals". Off: this code is removed at pipeline creation.
@@ -24,12 +28,13 @@ fn henyey_greenstein(cos_theta: f32, g: f32) -> f32 {
 
 // Growth of the light-march steps: step i is `light step`·LIGHT_GROWTH^i
 // long, so a few samples reach across a whole cloud (≈1.4 km with the
-// defaults) while the first ones resolve the crisp sunlit edge.
+// defaults) while the first ones resolve the crisp sunlit edge. The
+// bench's light-march length (src/bench/accuracy.rs) uses it too.
 const LIGHT_GROWTH: f32 = 1.6;
 
 // Extinction toward the sun over the view rays' extinction: 1, the same
 // medium both ways (as the path tracer sees it). A denser light march
-// (2.5 before) darkened cloud interiors well below the path tracer's.
+// darkens cloud interiors well below the path tracer's.
 const LIGHT_DENSITY: f32 = 1.0;
 
 // The phase's back lobe: g and weight in the mix with the forward lobe
@@ -75,7 +80,7 @@ fn short_depth(p: vec3<f32>, dir: vec3<f32>, steps: u32, detailed: u32, enough: 
 // extinction gives the exponent): a short march of `light steps` samples
 // resolves the noise detail near p (only its first step sees the noise:
 // past it the detail no longer shows in the shadow), then the light volume
-// (field file's far_light_depth: the parcels alone, over the whole cloud
+// (the `<far_light>` file's far_light_depth: the parcels alone, over the whole cloud
 // region) adds everything beyond, so a tower's top shadows its base and its
 // neighbours.
 fn light_density_sum(p: vec3<f32>) -> f32 {
@@ -209,7 +214,9 @@ struct RayLight {
     bounce: vec3<f32>,
 }
 
-fn ray_lighting(rd: vec3<f32>) -> RayLight {
+// `over_terrain`: a terrain lies below the clouds (else the sky's lower
+// half).
+fn ray_lighting(rd: vec3<f32>, over_terrain: bool) -> RayLight {
     var l: RayLight;
     l.phase_weights = sun_phase_weights(dot(rd, frame.sun_dir.xyz));
     l.sky_base = 0.8 * sky_ambient();
@@ -224,11 +231,11 @@ fn ray_lighting(rd: vec3<f32>) -> RayLight {
     // Without terrain, what a cloud sees below it is what the sky pass
     // draws there (and what benches/pathtraced.py gives Mitsuba without
     // --ground): the sky's lower half, the horizon's radiance darkening
-    // toward the ground haze (frame.sky_below, integrated on the CPU),
+    // toward the ground haze (frame.sky_below.rgb, integrated on the CPU),
     // scattered the same way. A fixed 0.03 × sun before, about a tenth of
     // it: against Mitsuba, fair weather at 384×288 (64 spp) went from mean
     // FLIP 0.075 to 0.047.
-    if HAS_TERRAIN {
+    if over_terrain {
         let ground_albedo = 0.5 * (MEADOW_ALBEDO + FIELD_ALBEDO);
         l.bounce = 0.8 * lambert(ground_albedo, vec3<f32>(0.0, 0.0, 1.0), 1.0);
     } else {

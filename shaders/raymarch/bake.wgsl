@@ -28,9 +28,10 @@
 // 3. `resolve`, one thread per voxel: writes (v, plane) into the field
 //    texture, folds v into the coarse cells whose trilinear footprint holds
 //    the voxel (so a cell's value bounds every filtered fetch in it), and
-//    zeroes the voxel's accumulators for the next bake. (It used to also
-//    upsample the light volume into the field's B and A, 8 storage reads a
-//    voxel: most of the bake's time.)
+//    zeroes the voxel's accumulators for the next bake.
+
+#import "../common.wgsl"
+#import "parcel.wgsl"
 
 // Keep in sync with BAKE_BLOCK in src/render/raymarch/baked.rs.
 const BAKE_BLOCK: u32 = 4u;
@@ -44,11 +45,8 @@ const BAKE_BLOCK: u32 = 4u;
 const KEY_LEVELS: f32 = 65535.0;
 const PLANE_RANGE_M: f32 = 2048.0;
 
-struct Chunk {
-    p: array<Parcel, MAX_PARCELS>,
-}
-
-@group(1) @binding(0) var<uniform> chunk: Chunk;
+// The chunk's parcels, at its offset of the parcel buffer.
+@group(1) @binding(0) var<uniform> chunk: Parcels;
 @group(1) @binding(1) var<storage, read_write> voxel_keys: array<atomic<u32>>;
 @group(1) @binding(2) var<storage, read_write> occupancy_bits: array<atomic<u32>>;
 @group(1) @binding(3) var field_out: texture_storage_3d<rgba16float, write>;

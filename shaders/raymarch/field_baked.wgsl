@@ -3,15 +3,19 @@
 // (R: v, G: condensation plane (m)), read with one trilinear fetch, so a
 // sample costs the same whatever the parcel count. The light volume
 // (`light_tex`, R, G and B: optical depths toward the sun, straight up and
-// away from the sun) is
-// a second 3D texture over the same region, one texel per coarse cell, so
-// the same coordinates address both and the sampler interpolates between
-// the cells' centres. The frame's grid (grid_min, grid_cell, grid_dims) is
-// the bake's coarse occupancy grid (BAKE_BLOCK³ voxels a cell) over the
-// same region; `occupancy` holds, per coarse cell, the largest v that
-// trilinear filtering can return in it (bit pattern of v + 1; 0 = nothing),
-// so rays cross empty cells in one step. Same functions as
-// field_exact.wgsl; see there.
+// away from the sun) is a second 3D texture over the same region, one
+// texel per coarse cell, so the same coordinates address both and the
+// sampler interpolates between the cells' centres. The frame's grid
+// (grid_min, grid_cell, grid_dims) is the bake's coarse occupancy grid
+// (BAKE_BLOCK³ voxels a cell) over the same region; `occupancy` holds, per
+// coarse cell, the largest v that trilinear filtering can return in it
+// (bit pattern of v + 1; 0 = nothing), so rays cross empty cells in one
+// step. Bound to both the `<field>` slot (field_value, field_sample,
+// empty_skip: as field_exact.wgsl, see there) and the `<far_light>` slot
+// (far_light_depth, far_behind_depth: as far_light_exact.wgsl) of the
+// method (src/render/shaders.rs).
+
+#import "../common.wgsl"
 
 @group(0) @binding(6) var field_tex: texture_3d<f32>;
 @group(0) @binding(7) var<storage, read> occupancy: array<u32>;

@@ -7,16 +7,19 @@
 // is seen through the air like the ray-marched clouds and writes premultiplied
 // colour, blended with (ONE, ONE_MINUS_SRC_ALPHA) as the cloud pass does.
 // Depth against ray-marched clouds in the same frame: the march runs first
-// and leaves its cloud depth per pixel (clouds.wgsl, the opacity-weighted
+// and leaves its cloud depth per pixel (raymarch/clouds.wgsl, the opacity-weighted
 // mean distance along the ray); the sprite pass keeps the fragments
 // farther than it (CLOUD_DEPTH = 1), the clouds are blended over them, and
 // a second draw after the composite keeps the nearer ones (CLOUD_DEPTH =
 // 2), so each sprite fragment lands on its side of the clouds.
 // Shadows (SHADOW_SPLAT): the same instances, turned to face the sun and
 // projected along it onto the ground plane into the cloud-shadow map (the
-// rectangle and lookup of shadow.wgsl and terrain.wgsl), each multiplying
+// rectangle and lookup of ../shadow.wgsl and ../terrain.wgsl), each multiplying
 // the sun's transmittance there by (1 − its opacity). Only the sprites
 // drawn directly cast shadows (not those in the impostor ring).
+
+#import "../common.wgsl"
+#import "../air.wgsl"
 
 // Compare with the terrain depth (false: no terrain pass this frame).
 override HAS_TERRAIN: bool = true;
@@ -144,9 +147,4 @@ fn fs_main(in: SpriteOut) -> @location(0) vec4<f32> {
     let dist = length(to_eye);
     let seen = through_air(rgb * alpha, alpha, to_eye / max(dist, 1e-3), dist);
     return vec4<f32>(output_color(seen), alpha);
-}
-
-// The air's share of the sun (air.wgsl): no cloud-shadow map in this pass.
-fn air_sunlit(p: vec3<f32>) -> f32 {
-    return 1.0;
 }

@@ -1,12 +1,18 @@
 // Cloud density (paper eq. 18) from the macro field of the scene's method
-// (field_exact.wgsl or field_baked.wgsl, both giving v ∈ [−1, 1]):
+// (the `<field>` slot: field_exact.wgsl or field_baked.wgsl, both giving
+// v ∈ [−1, 1]):
 //     ρ(P) = smoothstep(0, 1, v(P) + k·noise(P)),
 // with noise(P) ∈ [−0.5, 0.5] tiling fBm and k the noise amplitude: smoothstep
 // has edges 0 and 1, so a full parcel (f = 1) is opaque one shell inside its
 // surface, its edge is noise-eroded over about k/2 shells, and a parcel with
 // f < 1 never reaches full density and turns sponge-like as f drops. Below
 // the plane d rises at most to −k/2 before ρ vanishes: the base is flat to
-// within k/2 · PLANE_SHELL · shell.
+// within k/2 · PLANE_SHELL · shell. Also the ray-marching methods' file of
+// the `<ground_shadow>` slot (shadow.wgsl): `ground_sun_depth`, below.
+
+#import "../common.wgsl"
+#import "parcel.wgsl"
+#import <field>
 
 // ρ from a macro value v at p.
 fn density_from(v: f32, p: vec3<f32>) -> f32 {

@@ -15,6 +15,8 @@
 //     v(P) = f·(d(P) + 1) − 1  ∈ [−1, 1],
 // and density.wgsl turns it into the density ρ = smoothstep(0, 1, v + k·noise).
 
+#import "../common.wgsl"
+
 // Plane shell thickness relative to the sphere's shell.
 const PLANE_SHELL: f32 = 0.3;
 

@@ -4,7 +4,7 @@
 // composite pass then blends over sky and terrain.
 //
 // The CPU (src/authored/slicing.rs) tessellates the planes; the CPU, or the
-// compute pass of slices_field.wgsl, stores at every vertex the implicit
+// compute pass of vertex_field.wgsl, stores at every vertex the implicit
 // field (Σ Wyvill blends, eq. 1 before the plane opacity) and the shadow
 // accumulated toward the light (eq. 2). Here:
 //   vertex   : world → clip; field and shadow interpolated across the plane;
@@ -20,13 +20,15 @@
 // Seen through the air per vertex (air.wgsl). Output is premultiplied,
 // through output_color() like every pass.
 
+#import "../common.wgsl"
+#import "../air.wgsl"
+// The octave transforms, controls and media filters (group 2).
+#import "implicit.wgsl"
+
 // Read the terrain depth (false: no terrain pass, nothing hides the planes).
 override HAS_TERRAIN: bool = true;
 
 @group(1) @binding(0) var depth_tex: texture_depth_2d;
-
-// The octave transforms, controls and media filters (group 2) are in
-// implicit.wgsl, assembled before this file.
 
 struct SliceIn {
     @location(0) position_m: vec3<f32>,
@@ -79,9 +81,4 @@ fn fs_main(in: SliceOut) -> @location(0) vec4<f32> {
         * frame.sun_color.rgb * params.opacity.z;
     let seen = seen_through(Air(in.air_light, in.air_transmittance), c * alpha, alpha);
     return vec4<f32>(output_color(seen), alpha);
-}
-
-// The air's share of the sun (air.wgsl): no cloud-shadow map in this pass.
-fn air_sunlit(p: vec3<f32>) -> f32 {
-    return 1.0;
 }

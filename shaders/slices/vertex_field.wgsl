@@ -7,6 +7,9 @@
 //              vertices from the light: shadow += step × density (× the
 //              first octave's weight when enabled), eq. 2.
 
+#import "../common.wgsl"
+#import "implicit.wgsl"
+
 // 48 bytes; keep in sync with FieldJob in src/render/slices/gpu_field.rs.
 struct FieldJob {
     counts: vec4<u32>, // x: vertices; y: rays; z: ray start stride; w: ray start offset

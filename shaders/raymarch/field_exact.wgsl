@@ -1,36 +1,17 @@
 // Macro field of the `exact` method (the paper's path, §6.2): the union
 // over parcels of parcel_value (parcel.wgsl), evaluated per sample from the
 // parcels listed in the sample's cell of the CPU-built grid (uniform
-// buffers). Cost per sample ∝ the cell's list length. The other method,
-// field_baked.wgsl, provides the same five functions from a baked texture:
+// buffers). Cost per sample ∝ the cell's list length. One of the two files
+// bound to the `<field>` slot (src/render/shaders.rs); the other,
+// field_baked.wgsl, reads the same functions from a baked texture:
 //   field_value(p)          v(P) ∈ [−1, 1]
 //   field_sample(p)         (v(P), condensation plane under P (m))
-//   far_light_depth(p)      optical depth ∫ρ ds of the parcels alone (no
-//                           noise; density × m) from P to the cloud
-//                           region's edge toward the sun (x) and up (y)
-//   far_behind_depth(p)     the same away from the sun
 //   empty_skip(p, rd)       > 0: distance along rd over which v + k/2 ≤ 0
 //                           (no density can appear); 0: p may be cloudy.
+// The method's far light (the `<far_light>` slot) is far_light_exact.wgsl.
 
-// The exact method's far light march (the baked method reads a light
-// volume instead): far_depth_along (density.wgsl) at a step of one grid
-// cell's shortest side.
-fn far_step() -> f32 {
-    let cell = frame.grid_cell.xyz;
-    return min(cell.x, min(cell.y, cell.z));
-}
-
-// Optical depths (density × m) of the parcels alone from P to the grid
-// box's edge toward the sun (x) and straight up (y).
-fn far_light_depth(p: vec3<f32>) -> vec2<f32> {
-    let ds = far_step();
-    return vec2<f32>(far_depth_along(p, frame.sun_dir.xyz, ds), far_depth_along(p, vec3<f32>(0.0, 0.0, 1.0), ds));
-}
-
-// The same away from the sun.
-fn far_behind_depth(p: vec3<f32>) -> f32 {
-    return far_depth_along(p, -frame.sun_dir.xyz, far_step());
-}
+#import "../common.wgsl"
+#import "parcel.wgsl"
 
 // Evaluate only the parcels listed in the sample's grid cell (paper §6.2).
 // false: every parcel at every sample (brute force, for the bench).
