@@ -56,13 +56,13 @@ struct AirMarch {
 }
 
 fn air_march(dir: vec3<f32>, dist: f32) -> AirMarch {
-    let mu = dot(dir, frame.sun_dir.xyz);
+    let mu = dot(dir, frame.sun_dir);
     return AirMarch(
         dir,
         dist / f32(AIR_STEPS),
         rayleigh_phase(mu),
-        mie_phase(mu, frame.sky_ambient.w),
-        max(frame.camera_pos.z, 0.0),
+        mie_phase(mu, frame.sky_mie_g),
+        max(frame.camera_pos.eye_m.z, 0.0),
     );
 }
 
@@ -73,7 +73,7 @@ fn air_step_t(m: AirMarch, i: u32) -> f32 {
 
 // The middle of step i, where a caller takes its share of the sun.
 fn air_step_point(m: AirMarch, i: u32) -> vec3<f32> {
-    return frame.camera_pos.xyz + m.dir * air_step_t(m, i);
+    return frame.camera_pos.eye_m + m.dir * air_step_t(m, i);
 }
 
 // `air` carried over step i of `m`, where the share `sunlit` of the sun's

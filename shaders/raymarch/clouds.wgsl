@@ -85,7 +85,7 @@ fn march(pix: vec2<f32>, ndc: vec2<f32>, jitter: f32) -> MarchOut {
     var out: MarchOut;
     out.color = vec4<f32>(0.0);
     out.depth = 0.0;
-    let ro = frame.camera_pos.xyz;
+    let ro = frame.camera_pos.eye_m;
     let rd = view_dir(ndc);
     // The near plane along this ray (depth 0 in wgpu's clip space).
     let t_near = distance(world_from_ndc(ndc, 0.0), ro);
@@ -96,16 +96,16 @@ fn march(pix: vec2<f32>, ndc: vec2<f32>, jitter: f32) -> MarchOut {
             t_end = distance(world_from_ndc(ndc, depth), ro);
         }
     }
-    let grid_max = frame.grid_min.xyz + frame.grid_cell.xyz * vec3<f32>(frame.grid_dims.xyz);
-    let span = ray_box(ro, rd, frame.grid_min.xyz, grid_max);
+    let grid_max = frame.grid_min + frame.grid_cell * vec3<f32>(frame.grid_dims);
+    let span = ray_box(ro, rd, frame.grid_min, grid_max);
     let t0 = max(span.x, t_near);
     let t1 = min(span.y, t_end);
     if t1 <= t0 {
         return out;
     }
-    let max_steps = u32(frame.march.y);
-    let dt = max(frame.march.x, (t1 - t0) / f32(max_steps));
-    let sigma_max = frame.cloud.z;
+    let max_steps = frame.max_steps;
+    let dt = max(frame.step_m, (t1 - t0) / f32(max_steps));
+    let sigma_max = frame.extinction_per_m;
     // Light that does not depend on the sample, hoisted out of the march.
     let light = ray_lighting(rd, HAS_TERRAIN);
 
@@ -146,7 +146,7 @@ fn march(pix: vec2<f32>, ndc: vec2<f32>, jitter: f32) -> MarchOut {
             radiance += w * source;
             depth_sum += w * t;
             trans *= step_t;
-            if trans < frame.cloud.w {
+            if trans < frame.early_exit_transmittance {
                 break;
             }
         }

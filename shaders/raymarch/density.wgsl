@@ -16,7 +16,7 @@
 
 // ρ from a macro value v at p.
 fn density_from(v: f32, p: vec3<f32>) -> f32 {
-    let k = frame.cloud.x;
+    let k = frame.noise_amplitude;
     // The noise adds at most k/2: skip the texture fetches where it cannot help.
     if v + 0.5 * k <= 0.0 {
         return 0.0;
@@ -45,8 +45,8 @@ fn coarse_density(p: vec3<f32>) -> f32 {
 const FAR_LIGHT_MAX_STEPS: u32 = 256u;
 
 fn far_depth_along(p: vec3<f32>, dir: vec3<f32>, ds: f32) -> f32 {
-    let box_max = frame.grid_min.xyz + frame.grid_cell.xyz * vec3<f32>(frame.grid_dims.xyz);
-    let span = ray_box(p, dir, frame.grid_min.xyz, box_max);
+    let box_max = frame.grid_min + frame.grid_cell * vec3<f32>(frame.grid_dims);
+    let span = ray_box(p, dir, frame.grid_min, box_max);
     // First sample at or past the box's entry, on the lattice (k + ½)·ds.
     var k = max(ceil(max(span.x, 0.0) / ds - 0.5), 0.0);
     var od = 0.0;
@@ -76,5 +76,5 @@ fn far_depth_along(p: vec3<f32>, dir: vec3<f32>, ds: f32) -> f32 {
 // it per texel of the shadow map; terrain.wgsl evaluates it per fragment
 // for ground inside the cloud region.
 fn ground_sun_depth(p: vec3<f32>) -> f32 {
-    return far_depth_along(p, frame.sun_dir.xyz, PLANE_SHELL * frame.cloud.y);
+    return far_depth_along(p, frame.sun_dir, PLANE_SHELL * frame.shell_m);
 }

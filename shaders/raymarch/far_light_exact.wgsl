@@ -11,7 +11,7 @@
 
 // The march's step: one grid cell's shortest side. units: m
 fn far_step() -> f32 {
-    let cell = frame.grid_cell.xyz;
+    let cell = frame.grid_cell;
     return min(cell.x, min(cell.y, cell.z));
 }
 
@@ -19,10 +19,10 @@ fn far_step() -> f32 {
 // box's edge toward the sun (x) and straight up (y).
 fn far_light_depth(p: vec3<f32>) -> vec2<f32> {
     let ds = far_step();
-    return vec2<f32>(far_depth_along(p, frame.sun_dir.xyz, ds), far_depth_along(p, vec3<f32>(0.0, 0.0, 1.0), ds));
+    return vec2<f32>(far_depth_along(p, frame.sun_dir, ds), far_depth_along(p, vec3<f32>(0.0, 0.0, 1.0), ds));
 }
 
 // The same away from the sun.
 fn far_behind_depth(p: vec3<f32>) -> f32 {
-    return far_depth_along(p, -frame.sun_dir.xyz, far_step());
+    return far_depth_along(p, -frame.sun_dir, far_step());
 }

@@ -21,10 +21,10 @@ override GRID_CULLING: bool = true;
 // outside the grid. No parcel's density reaches a cell with an empty list.
 fn cell_list(p: vec3<f32>) -> vec2<u32> {
     if !GRID_CULLING {
-        return vec2<u32>(0u, frame.grid_dims.w);
+        return vec2<u32>(0u, frame.parcel_count);
     }
-    let dims = frame.grid_dims.xyz;
-    let rel = (p - frame.grid_min.xyz) / frame.grid_cell.xyz;
+    let dims = frame.grid_dims;
+    let rel = (p - frame.grid_min) / frame.grid_cell;
     if any(rel < vec3<f32>(0.0)) || any(rel >= vec3<f32>(dims)) {
         return vec2<u32>(0u);
     }
@@ -47,10 +47,10 @@ fn list_parcel(j: u32) -> u32 {
 
 fn field_value(p: vec3<f32>) -> f32 {
     let list = cell_list(p);
-    let shell = frame.cloud.y;
+    let shell = frame.shell_m;
     var v = -1.0;
     for (var j = list.x; j < list.x + list.y; j++) {
-        v = max(v, parcel_value(parcels.p[list_parcel(j)], p, shell));
+        v = max(v, parcel_value(parcels.parcels[list_parcel(j)], p, shell));
         // The union saturates at 1 (paper): stop there.
         if v >= 1.0 {
             break;
@@ -64,14 +64,14 @@ fn field_value(p: vec3<f32>) -> f32 {
 // the lighting knows how far above its base a sample lies. units: -, m
 fn field_sample(p: vec3<f32>) -> vec2<f32> {
     let list = cell_list(p);
-    let shell = frame.cloud.y;
+    let shell = frame.shell_m;
     var v = -1.0;
     var plane = p.z;
     for (var j = list.x; j < list.x + list.y; j++) {
-        let q = parcels.p[list_parcel(j)];
+        let q = parcels.parcels[list_parcel(j)];
         let vi = parcel_value(q, p, shell);
-        if vi > v || (vi >= 1.0 && q.fill_plane.y < plane) {
-            plane = q.fill_plane.y;
+        if vi > v || (vi >= 1.0 && q.plane_z_m < plane) {
+            plane = q.plane_z_m;
         }
         v = max(v, vi);
     }
@@ -83,7 +83,7 @@ fn empty_skip(p: vec3<f32>, rd: vec3<f32>) -> f32 {
     if !GRID_CULLING || cell_list(p).y > 0u {
         return 0.0;
     }
-    let ci = floor((p - frame.grid_min.xyz) / frame.grid_cell.xyz);
-    let lo = frame.grid_min.xyz + ci * frame.grid_cell.xyz;
-    return max(ray_box(p, rd, lo, lo + frame.grid_cell.xyz).y, 1e-3);
+    let ci = floor((p - frame.grid_min) / frame.grid_cell);
+    let lo = frame.grid_min + ci * frame.grid_cell;
+    return max(ray_box(p, rd, lo, lo + frame.grid_cell).y, 1e-3);
 }

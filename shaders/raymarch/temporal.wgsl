@@ -73,7 +73,7 @@ fn cs_resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
     // Where this pixel's cloud point was in the previous frame.
     let pix = vec2<f32>(gid.xy) + 0.5;
     let ndc = vec2<f32>(2.0 * pix.x / f32(full.x) - 1.0, 1.0 - 2.0 * pix.y / f32(full.y));
-    let ro = frame.camera_pos.xyz;
+    let ro = frame.camera_pos.eye_m;
     let point = ro + view_dir(ndc) * select(FAR_M, depth, depth > 0.0);
     let prev = temporal.prev_clip_from_world * vec4<f32>(point, 1.0);
     let prev_ndc = prev.xy / max(prev.w, 1e-6);

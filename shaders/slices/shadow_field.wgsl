@@ -16,7 +16,7 @@ fn slices_density(p: vec3<f32>) -> f32 {
     if f <= 0.0 {
         return 0.0;
     }
-    return f * media_at(p) * params.index_cell.w / frame.cloud.z;
+    return f * media_at(p) * params.index_cell.w / frame.extinction_per_m;
 }
 
 // Slicing planes' shadow march: SHADOW_STEPS samples of slices_density
@@ -25,9 +25,9 @@ fn slices_density(p: vec3<f32>) -> f32 {
 const SHADOW_STEPS: u32 = 48u;
 
 fn ground_sun_depth(p: vec3<f32>) -> f32 {
-    let sun = frame.sun_dir.xyz;
-    let grid_max = frame.grid_min.xyz + frame.grid_cell.xyz * vec3<f32>(frame.grid_dims.xyz);
-    let span = ray_box(p, sun, frame.grid_min.xyz, grid_max);
+    let sun = frame.sun_dir;
+    let grid_max = frame.grid_min + frame.grid_cell * vec3<f32>(frame.grid_dims);
+    let span = ray_box(p, sun, frame.grid_min, grid_max);
     let t0 = max(span.x, 0.0);
     if span.y <= t0 {
         return 0.0;

@@ -54,7 +54,7 @@ fn vs_main(v: SliceIn) -> SliceOut {
     o.world = v.position_m;
     o.density = v.density;
     o.shadow = v.shadow;
-    let from_eye = v.position_m - frame.camera_pos.xyz;
+    let from_eye = v.position_m - frame.camera_pos.eye_m;
     let dist = length(from_eye);
     let air = air_toward(from_eye / max(dist, 1e-3), dist);
     o.air_light = air.light;
@@ -78,7 +78,7 @@ fn fs_main(in: SliceOut) -> @location(0) vec4<f32> {
     let alpha = 1.0 - exp(-tau);
     let lit = exp(-in.shadow * params.opacity.w);
     let c = mix(params.shadow_colour.rgb, params.cloud_colour.rgb, lit)
-        * frame.sun_color.rgb * params.opacity.z;
+        * frame.sun_color * params.opacity.z;
     let seen = seen_through(Air(in.air_light, in.air_transmittance), c * alpha, alpha);
     return vec4<f32>(output_color(seen), alpha);
 }

@@ -10,7 +10,7 @@
 #import "../common.wgsl"
 #import "implicit.wgsl"
 
-// 48 bytes; keep in sync with FieldJob in src/render/slices/gpu_field.rs.
+// FieldJob of src/render/slices/gpu_field.rs.
 struct FieldJob {
     counts: vec4<u32>, // x: vertices; y: rays; z: ray start stride; w: ray start offset
     walk: vec4<i32>,   // x: vertex step along a ray; y: vertices per ray; z: first octave (1) or not (0)

@@ -131,7 +131,7 @@ pub fn default_voxel_m(cfg: &RenderConfig, field: &CloudField) -> f32 {
     let smallest_radius = field
         .parcels()
         .iter()
-        .map(|p| p.center_radius[3])
+        .map(|p| p.radius_m)
         .fold(f32::INFINITY, f32::min);
     sampling
         .min(base_edge)

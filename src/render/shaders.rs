@@ -38,6 +38,8 @@
 //! is removed then.
 
 mod imports;
+#[cfg(test)]
+mod twins;
 
 pub use imports::{Assembly, ImportError, ImportErrorKind, assemble};
 

@@ -23,9 +23,8 @@ use super::texture_2d;
 /// neighbours, and any two consecutive frames cover both rows and columns.
 pub const BAYER_2X2: [[u32; 2]; 4] = [[0, 0], [1, 1], [1, 0], [0, 1]];
 
-/// The uniform of the temporal march and resolve.
-/// Keep in sync with `struct Temporal` in shaders/clouds.wgsl and
-/// shaders/temporal.wgsl.
+/// The uniform of the temporal march and resolve: `struct Temporal` in
+/// shaders/raymarch/temporal_uniform.wgsl (a test compares the layouts).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct TemporalUniform {

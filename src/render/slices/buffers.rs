@@ -13,7 +13,7 @@ use crate::error::Result;
 use crate::render::gpu::GpuContext;
 
 /// One primitive as the shaders take it: WGSL `struct Primitive` in
-/// shaders/implicit.wgsl (64 bytes; keep in sync).
+/// shaders/slices/implicit.wgsl (64 bytes; a test compares the layouts).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct GpuPrimitive {

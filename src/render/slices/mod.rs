@@ -37,7 +37,8 @@ use crate::render::noise::NoiseVolume;
 pub const SUN_TO_COLOUR: f32 = 0.8;
 
 /// The qualitative controls as the shaders take them: WGSL
-/// `struct SlicesParams` in shaders/implicit.wgsl (80 bytes; keep in sync).
+/// `struct SlicesParams` in shaders/slices/implicit.wgsl (80 bytes; a test
+/// compares the layouts).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct SlicesParams {

@@ -18,8 +18,8 @@ use crate::render::gpu::GpuContext;
 pub use build::{SpriteScene, SpriteStats};
 pub use ring::{RingGpu, SpritesConfig};
 
-/// One sprite as the shader reads it (144 bytes; keep in sync with
-/// `SpriteInstance` in shaders/sprites.wgsl).
+/// One sprite as the shader reads it: `SpriteInstance` in
+/// shaders/sprites/sprites.wgsl (144 bytes; a test compares the layouts).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct SpriteInstance {
