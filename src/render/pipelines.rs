@@ -302,6 +302,8 @@ pub struct PipelineKey {
 }
 
 impl PipelineKey {
+    /// Panics on a constant that the pass's module does not declare under
+    /// `method` ([`Pass::overrides`]): wgpu would refuse the pipeline.
     pub fn new(
         pass: Pass,
         method: RenderMethod,
@@ -309,6 +311,13 @@ impl PipelineKey {
         format: wgpu::TextureFormat,
         compute: bool,
     ) -> Self {
+        for (name, _) in constants {
+            assert!(
+                pass.declares(method, name),
+                "{} ({method}) declares no override {name}",
+                pass.name()
+            );
+        }
         Self {
             pass,
             method,

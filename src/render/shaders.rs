@@ -35,11 +35,15 @@
 //!
 //! Variants are WGSL `override` constants set at pipeline creation, so code
 //! that a scene does not need (normals, shadow lookups, brute-force loops)
-//! is removed then.
+//! is removed then; [`Pass::overrides`] reads which ones a module declares
+//! from the module itself (parsed by naga once per pass and method).
 
 mod imports;
 #[cfg(test)]
 mod twins;
+
+use std::collections::HashMap;
+use std::sync::{LazyLock, Mutex};
 
 pub use imports::{Assembly, ImportError, ImportErrorKind, assemble};
 
@@ -242,56 +246,34 @@ impl Pass {
         }
     }
 
-    /// The `override` constants this pass's module declares under `method`
-    /// (every one must be given a value or keep its default; naming an
-    /// absent one is an error).
-    pub fn overrides(self, method: RenderMethod) -> &'static [&'static str] {
-        let exact = method == RenderMethod::Exact;
-        match self {
-            Pass::Bake | Pass::SliceField | Pass::Composite | Pass::Tonemap | Pass::Temporal => {
-                &["ENCODE_SRGB"]
-            }
-            Pass::Shadow if exact => &["ENCODE_SRGB", "GRID_CULLING"],
-            Pass::Shadow => &["ENCODE_SRGB"],
-            Pass::Sky => &["ENCODE_SRGB"],
-            Pass::Terrain if exact => &[
-                "ENCODE_SRGB",
-                "AERIAL_PERSPECTIVE",
-                "HAS_SHADOWS",
-                "SHADOW_IN_REGION",
-                "HAS_WATER",
-                "GRID_CULLING",
-            ],
-            Pass::Terrain => &[
-                "ENCODE_SRGB",
-                "AERIAL_PERSPECTIVE",
-                "HAS_SHADOWS",
-                "SHADOW_IN_REGION",
-                "HAS_WATER",
-            ],
-            Pass::Sprites => &[
-                "ENCODE_SRGB",
-                "AERIAL_PERSPECTIVE",
-                "HAS_TERRAIN",
-                "IMPOSTOR_QUAD",
-                "CLOUD_DEPTH",
-                "SHADOW_SPLAT",
-            ],
-            Pass::Clouds if exact => &[
-                "ENCODE_SRGB",
-                "GRID_CULLING",
-                "USE_NORMALS",
-                "AERIAL_PERSPECTIVE",
-                "HAS_TERRAIN",
-            ],
-            Pass::Clouds => &[
-                "ENCODE_SRGB",
-                "USE_NORMALS",
-                "AERIAL_PERSPECTIVE",
-                "HAS_TERRAIN",
-            ],
-            Pass::Slices => &["ENCODE_SRGB", "AERIAL_PERSPECTIVE", "HAS_TERRAIN"],
-        }
+    /// The `override` constants this pass's module declares under `method`,
+    /// read from the module (parsed once, then cached). A pipeline may set
+    /// any of them and no other (wgpu refuses an undeclared constant, and
+    /// [`crate::render::pipelines::PipelineKey::new`] panics on one).
+    /// Empty for a module that does not parse; building its pipeline
+    /// reports why.
+    pub fn overrides(self, method: RenderMethod) -> &'static [String] {
+        static CACHE: LazyLock<Mutex<HashMap<(Pass, RenderMethod), &'static [String]>>> =
+            LazyLock::new(Default::default);
+        let mut cache = CACHE.lock().unwrap_or_else(|e| e.into_inner());
+        cache.entry((self, method)).or_insert_with(|| {
+            let names: Vec<String> = match naga::front::wgsl::parse_str(&self.source(method)) {
+                Ok(module) => module
+                    .overrides
+                    .iter()
+                    .filter_map(|(_, o)| o.name.clone())
+                    .collect(),
+                Err(_) => Vec::new(),
+            };
+            // One leak per pass and method, for the program's lifetime.
+            Box::leak(names.into_boxed_slice())
+        })
+    }
+
+    /// Whether this pass's module declares the `override` constant `name`
+    /// under `method`.
+    pub fn declares(self, method: RenderMethod, name: &str) -> bool {
+        self.overrides(method).iter().any(|n| n == name)
     }
 }
 
@@ -372,5 +354,45 @@ mod tests {
             assert!(a.source.starts_with(&prelude()));
             assert_eq!(a.files[0], "common.wgsl");
         }
+    }
+
+    #[test]
+    fn overrides_come_from_the_modules() {
+        let mut clouds = Pass::Clouds.overrides(RenderMethod::Exact).to_vec();
+        clouds.sort();
+        assert_eq!(
+            clouds,
+            [
+                "AERIAL_PERSPECTIVE",
+                "ENCODE_SRGB",
+                "GRID_CULLING",
+                "HAS_TERRAIN",
+                "USE_NORMALS"
+            ]
+        );
+        assert!(!Pass::Clouds.declares(RenderMethod::Baked, "GRID_CULLING"));
+        assert!(Pass::Shadow.declares(RenderMethod::Exact, "GRID_CULLING"));
+        assert!(Pass::Terrain.declares(RenderMethod::Slices, "HAS_WATER"));
+        assert!(!Pass::Sky.declares(RenderMethod::Baked, "AERIAL_PERSPECTIVE"));
+        // Cached: the same slice each time.
+        assert!(std::ptr::eq(
+            Pass::Sprites.overrides(RenderMethod::Baked),
+            Pass::Sprites.overrides(RenderMethod::Baked)
+        ));
+    }
+
+    #[test]
+    #[should_panic(expected = "sky (baked) declares no override HAS_TERRAIN")]
+    fn a_pipeline_key_takes_only_declared_constants() {
+        use crate::render::pipelines::PipelineKey;
+        let format = wgpu::TextureFormat::Rgba16Float;
+        PipelineKey::new(Pass::Sky, RenderMethod::Baked, &[], format, false);
+        PipelineKey::new(
+            Pass::Sky,
+            RenderMethod::Baked,
+            &[("HAS_TERRAIN", 1.0)],
+            format,
+            false,
+        );
     }
 }
