@@ -1,6 +1,6 @@
 //! The one CPU evaluation of the cloud density ρ(P) of paper eq. 18, mirroring
-//! shaders/parcel.wgsl (`parcel_value`), the exact method's
-//! shaders/field_exact.wgsl (`cell_list`, `field_value`), shaders/density.wgsl
+//! shaders/raymarch/parcel.wgsl (`parcel_value`), the exact method's
+//! shaders/raymarch/field_exact.wgsl (`cell_list`, `field_value`), shaders/raymarch/density.wgsl
 //! (`cloud_density`) and the noise of shaders/common.wgsl (`noise3`, through
 //! [`noise::NoiseVolume`]), so the
 //! exporter (`crate::export`) writes the field the GPU ray-marches. Keep in

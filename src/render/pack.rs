@@ -17,9 +17,9 @@
 //! `CameraPos`, `FrameNoise`, `Parcel`, `Parcels`, `Grid`), member for
 //! member: a test (src/render/shaders/twins.rs) compares names, offsets
 //! and sizes with naga's layout of the WGSL, and the array sizes are
-//! written into the WGSL from the constants here. Scalars come in fours and a
-//! `vec3` with a scalar after it (`_pad` where none belongs), so every
-//! 16-byte WGSL alignment falls where `#[repr(C)]` puts it.
+//! written into the WGSL from the constants here. Scalars come in fours
+//! and a `vec3` with a scalar after it (`_pad` where none belongs), so
+//! every 16-byte WGSL alignment falls where `#[repr(C)]` puts it.
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;

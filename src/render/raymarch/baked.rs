@@ -1,4 +1,4 @@
-//! The `baked` method's GPU data and its compute bake (shaders/bake.wgsl):
+//! The `baked` method's GPU data and its compute bake (shaders/raymarch/bake.wgsl):
 //! the condensed parcels go up in uniform-buffer chunks of ≤ [`MAX_PARCELS`]
 //! (bound with dynamic offsets, one splat dispatch, in its own compute pass,
 //! per chunk), are splatted

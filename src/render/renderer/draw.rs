@@ -302,7 +302,7 @@ impl Renderer {
             Pass::Shadow => {
                 self.shadow_fresh = true;
                 // The march of the ray-marched clouds' parcels, or of the
-                // slices' implicit field (group 2, see field_slices.wgsl).
+                // slices' implicit field (group 2, see slices/shadow_field.wgsl).
                 match (pipeline.is_some(), slices) {
                     (true, false) => rp.draw(0..3, 0..1),
                     (true, true) => {

@@ -40,7 +40,7 @@ impl Renderer {
 
     /// Whether sprites and ray-marched clouds both draw: the march then
     /// runs in compute (it leaves its cloud depth) and the sprites are
-    /// drawn in two halves around its composite (see shaders/sprites.wgsl).
+    /// drawn in two halves around its composite (see shaders/sprites/sprites.wgsl).
     pub(super) fn split(&self) -> bool {
         self.features.clouds && self.features.sprites
     }

@@ -1,7 +1,7 @@
 //! Temporal amortisation of the cloud march (`[render] temporal`): each
 //! frame marches one pixel of every 2×2 block (clouds.wgsl `cs_temporal`,
 //! the block offset stepping through a 2×2 Bayer order, so four frames
-//! cover every pixel), and the resolve pass (shaders/temporal.wgsl)
+//! cover every pixel), and the resolve pass (shaders/raymarch/temporal.wgsl)
 //! reprojects the previous frame's cloud image with the camera's motion
 //! at the clouds' depth, clamps it to the fresh samples around each pixel
 //! and accumulates. The composite then blends the result like the compute

@@ -1,6 +1,6 @@
 //! GPU buffers of the slices passes: the planes' vertices and indices, the
 //! octave transforms, the controls, and the primitives with their grid
-//! index (group 2, shaders/implicit.wgsl), grown as needed and reused.
+//! index (group 2, shaders/slices/implicit.wgsl), grown as needed and reused.
 
 use bytemuck::{Pod, Zeroable};
 

@@ -1,7 +1,7 @@
 //! The `sprites` render method (Wang 2003) on the GPU: the atlas uploaded
 //! once ([`atlas`]), a frame's sprites shaded and sorted on the CPU
 //! ([`build`], from [`crate::sprites_model`]) and drawn by one instanced
-//! pass (`shaders/sprites.wgsl`): six vertices per sprite, premultiplied
+//! pass (`shaders/sprites/sprites.wgsl`): six vertices per sprite, premultiplied
 //! alpha over the sky and terrain, hidden behind the terrain depth.
 //!
 //! Nothing here exists until a frame has a sprite: the renderer creates
