@@ -1,7 +1,8 @@
-//! WGSL sources of the passes. Each pass's module is its root file in
-//! `shaders/` and the files that file imports (`#import`, assembled by
-//! [`imports`]), after a generated prelude of the array sizes shared with
-//! [`crate::render::pack`] and [`crate::sky`], which every module starts
+//! WGSL sources of the passes, embedded at build time ([`FILES`]). Each
+//! pass's module is its root file in `shaders/` and the files that file
+//! imports (`#import`, resolved by [`imports`], which documents the
+//! rules), after a generated [`prelude`] of the array sizes shared with
+//! [`crate::render::pack`] and [`crate::sky`] that every module starts
 //! with (`common.wgsl` uses them and imports nothing, so the prelude and
 //! `common.wgsl` make a module by themselves).
 //!
@@ -38,7 +39,7 @@
 //! is removed then; [`Pass::overrides`] reads which ones a module declares
 //! from the module itself (parsed by naga once per pass and method).
 
-mod imports;
+pub mod imports;
 #[cfg(test)]
 mod twins;
 
@@ -333,6 +334,42 @@ mod tests {
                 assert_eq!(a.files.last().map(String::as_str), Some(pass.root()));
             }
         }
+    }
+
+    /// Each file names what it uses: assembled with only its own imports
+    /// (under the slots of every method whose passes use it), it parses
+    /// and validates.
+    #[test]
+    fn every_file_stands_on_its_own_imports() {
+        let mut failures = Vec::new();
+        for (path, _) in FILES {
+            for method in RenderMethod::ALL {
+                let used = Pass::ALL.iter().any(|p| {
+                    p.used_by(method) && p.assembly(method).unwrap().files.iter().any(|f| f == path)
+                });
+                if !used {
+                    continue;
+                }
+                let src = assemble(FILES, path, &slots(method), &prelude())
+                    .unwrap()
+                    .source;
+                let checked = naga::front::wgsl::parse_str(&src)
+                    .map_err(|e| e.emit_to_string(&src))
+                    .and_then(|m| {
+                        naga::valid::Validator::new(
+                            naga::valid::ValidationFlags::all(),
+                            naga::valid::Capabilities::default(),
+                        )
+                        .validate(&m)
+                        .map(|_| ())
+                        .map_err(|e| e.emit_to_string(&src))
+                    });
+                if let Err(e) = checked {
+                    failures.push(format!("{path} ({method}): {e}"));
+                }
+            }
+        }
+        assert!(failures.is_empty(), "{}", failures.join("\n"));
     }
 
     #[test]
