@@ -41,7 +41,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 
-# Growth of the light-march steps (shaders/lighting.wgsl LIGHT_GROWTH).
+# Growth of the light-march steps (shaders/raymarch/lighting.wgsl LIGHT_GROWTH).
 LIGHT_GROWTH = 1.6
 
 # Albedo of the `--ground` plane: the mean of the terrain's meadow (0.06,

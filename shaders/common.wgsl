@@ -1,34 +1,63 @@
 // Shared by every pass: uniforms, camera rays, noise, sun and sky.
 //
-// Keep in sync with src/render/pack.rs (FrameUniform, GpuParcel,
-// ParcelsUniform, GridUniform). The array sizes MAX_PARCELS,
-// GRID_CELL_PAIRS, GRID_ENTRY_QUADS, SKY_AZIMUTHS, SKY_ELEVATIONS, AIR_HEIGHTS,
-// AIR_TOP_M and AIR_STEPS are prepended by
-// src/render/shaders.rs from the Rust constants, so they cannot drift.
-// naga has no #include: src/render/shaders.rs concatenates
-// prelude + common.wgsl (+ density.wgsl) + the pass file.
+// Imports nothing: the generated prelude that starts every module
+// (src/render/shaders.rs) gives the array sizes MAX_PARCELS,
+// GRID_CELL_PAIRS, GRID_ENTRY_QUADS, SKY_AZIMUTHS, SKY_ELEVATIONS,
+// AIR_HEIGHTS, AIR_TOP_M and AIR_STEPS from the Rust constants, and the
+// prelude and this file make a module by themselves. The uniform structs
+// are those of src/render/pack.rs, member by member (a test in
+// src/render/shaders/twins.rs compares names, offsets and sizes).
 //
 // Colours are linear RGB; sun irradiance ~2 gives daylight exposure.
 
 // Encode sRGB in the tone-map pass (its target format is not sRGB).
 override ENCODE_SRGB: bool = false;
 
-// 304 + 48·SKY_AZIMUTHS·SKY_ELEVATIONS + 64·AIR_HEIGHTS bytes; keep in sync with FrameUniform in src/render/pack.rs.
+// Where the eye is, and when.
+struct CameraPos {
+    eye_m: vec3<f32>,
+    time_s: f32,
+}
+
+// The density noise (noise3).
+struct FrameNoise {
+    inv_scale_per_m: f32, // 1 / noise scale
+    octaves: f32,
+    _pad: f32,
+    // Noise texels of a pixel's view-cone width per metre of eye distance
+    // (the mip level of noise3; 0: level 0).
+    texels_per_m: f32,
+}
+
 struct Frame {
     clip_from_world: mat4x4<f32>,
     world_from_clip: mat4x4<f32>,
-    camera_pos: vec4<f32>, // xyz: eye (m); w: time (s)
-    sun_dir: vec4<f32>,    // xyz: unit vector toward the sun
-    sun_color: vec4<f32>,  // rgb: sun irradiance scale; w: display exposure k (tone_map)
-    march: vec4<f32>,      // step (m), max steps, light steps, light step (m)
-    cloud: vec4<f32>,      // noise amplitude k, shell (m), extinction (1/m), early-exit T
-    noise: vec4<f32>,      // 1/noise scale (1/m), octaves, HG g, noise texels per m of eye distance
-    grid_min: vec4<f32>,   // xyz: grid origin (m)
-    grid_cell: vec4<f32>,  // xyz: cell size (m)
-    grid_dims: vec4<u32>,  // nx, ny, nz, parcel count
-    shadow_rect: vec4<f32>, // ground rectangle of the shadow map: min x, min y, max x, max y (m)
-    sky_ambient: vec4<f32>, // rgb: sky irradiance on an up-facing surface / π; w: Mie phase g
-    sky_below: vec4<f32>,   // rgb: the sky's lower half on a down-facing surface / π
+    camera_pos: CameraPos,
+    sun_dir: vec3<f32>,          // unit vector toward the sun
+    phase_g: f32,                // the clouds' Henyey–Greenstein g (forward lobe)
+    sun_color: vec3<f32>,        // sun irradiance scale
+    exposure: f32,               // display exposure k (tone_map)
+    step_m: f32,                 // view march step
+    max_steps: u32,              // view march steps across the box
+    light_steps: u32,            // light march samples
+    light_step_m: f32,           // first light march step
+    noise_amplitude: f32,        // k of eq. 18
+    shell_m: f32,                // hypertexture shell thickness
+    extinction_per_m: f32,       // extinction of density 1
+    early_exit_transmittance: f32, // the march stops below it (0: never)
+    noise: FrameNoise,
+    grid_min: vec3<f32>,         // origin of the frame's grid (m)
+    _pad0: f32,
+    grid_cell: vec3<f32>,        // its cell size (m)
+    _pad1: f32,
+    grid_dims: vec3<u32>,        // its cells per axis
+    parcel_count: u32,
+    shadow_min: vec2<f32>,       // ground rectangle of the shadow map: min x, min y (m)
+    shadow_max: vec2<f32>,       // max x, max y (m)
+    sky_ambient: vec3<f32>,      // the sky's irradiance on an up-facing surface / π
+    sky_mie_g: f32,              // asymmetry g of the sky's Mie phase
+    sky_below: vec3<f32>,        // the sky's lower half on a down-facing surface / π
+    _pad2: f32,
     // Sky-view table of src/sky/view.rs, texel k = elevation·SKY_AZIMUTHS + azimuth:
     // [3k] Rayleigh per unit phase, [3k + 1] Mie per unit phase, [3k + 2] multiple (rgb).
     sky_view: array<vec4<f32>, 3u * SKY_AZIMUTHS * SKY_ELEVATIONS>,
@@ -38,18 +67,20 @@ struct Frame {
     air: array<vec4<f32>, 4u * AIR_HEIGHTS>,
 }
 
-// 32 bytes; keep in sync with GpuParcel in src/render/pack.rs.
+// One condensed parcel: a sphere cut flat below at its condensation plane
+// (raymarch/parcel.wgsl).
 struct Parcel {
-    center_radius: vec4<f32>, // xyz: centre (m); w: radius (m)
-    fill_plane: vec4<f32>,    // x: filling ratio f; y: condensation plane z (m)
+    center_m: vec3<f32>,
+    radius_m: f32,
+    fill: f32,      // filling ratio f
+    plane_z_m: f32, // height of the condensation plane
+    _pad: vec2<f32>,
 }
 
-// Keep in sync with ParcelsUniform in src/render/pack.rs.
 struct Parcels {
-    p: array<Parcel, MAX_PARCELS>,
+    parcels: array<Parcel, MAX_PARCELS>,
 }
 
-// Keep in sync with GridUniform in src/render/pack.rs.
 // cells[i / 2]: (start, count) of cell i in .xy (even i) or .zw (odd i);
 // entries[j / 4][j % 4]: the j-th parcel index of all cell lists.
 struct Grid {
@@ -88,7 +119,7 @@ fn world_from_ndc(ndc: vec2<f32>, depth: f32) -> vec3<f32> {
 
 // Unit view direction through a point of the screen.
 fn view_dir(ndc: vec2<f32>) -> vec3<f32> {
-    return normalize(world_from_ndc(ndc, 0.5) - frame.camera_pos.xyz);
+    return normalize(world_from_ndc(ndc, 0.5) - frame.camera_pos.eye_m);
 }
 
 // Slab test: (t_near, t_far) of a ray through an axis-aligned box.
@@ -107,7 +138,7 @@ fn ray_box(ro: vec3<f32>, rd: vec3<f32>, bmin: vec3<f32>, bmax: vec3<f32>) -> ve
 // with 2^c times channel r's frequency), so one fetch gives all four;
 // octaves 5 and 6 are a second fetch at 16x the frequency (the doubling
 // continues), 4 mip levels coarser. The mip level is the footprint of the
-// pixel's view cone at p in texels: frame.noise.w is the cone's width in
+// pixel's view cone at p in texels: frame.noise.texels_per_m is the cone's width in
 // texels per metre of distance from the eye (0: level 0). The weighted mean
 // of the octaves clusters near 0, so it is doubled (then clamped) to use
 // the whole range. Keep in sync with its CPU twin, NoiseVolume::noise3_lod
@@ -117,10 +148,10 @@ fn ray_box(ro: vec3<f32>, rd: vec3<f32>, bmin: vec3<f32>, bmax: vec3<f32>) -> ve
 // pass ~1.8x slower than the four level-0 fetches this replaced (320x240
 // render, default scene); with the level fixed at 0 it is about even.
 fn noise3(p: vec3<f32>) -> f32 {
-    let drift = vec3<f32>(1.5, 0.8, 0.3) * frame.camera_pos.w;
-    let q = (p + drift) * frame.noise.x;
-    let lod = log2(max(distance(p, frame.camera_pos.xyz) * frame.noise.w, 1.0));
-    let octaves = u32(frame.noise.y);
+    let drift = vec3<f32>(1.5, 0.8, 0.3) * frame.camera_pos.time_s;
+    let q = (p + drift) * frame.noise.inv_scale_per_m;
+    let lod = log2(max(distance(p, frame.camera_pos.eye_m) * frame.noise.texels_per_m, 1.0));
+    let octaves = u32(frame.noise.octaves);
     // Weights 2^-c of octave c, zero past the octave count.
     let w = select(vec4<f32>(0.0), vec4<f32>(1.0, 0.5, 0.25, 0.125), vec4<u32>(0u, 1u, 2u, 3u) < vec4<u32>(octaves));
     var sum = dot(w, textureSampleLevel(noise_tex, repeat_sampler, q, lod) - 0.5);
@@ -167,7 +198,7 @@ fn sky_texel(k: u32, part: u32) -> vec3<f32> {
 // haze. CPU twin: SkyLight::radiance in src/sky/view.rs (keep in sync;
 // benches/pathtraced.py mirrors it too).
 fn sky_color(dir: vec3<f32>) -> vec3<f32> {
-    let sun = frame.sun_dir.xyz;
+    let sun = frame.sun_dir;
     let el = asin(clamp(dir.z, 0.0, 1.0));
     let y = sqrt(el / (0.5 * PI)) * f32(SKY_ELEVATIONS - 1u);
     let e = min(u32(y), SKY_ELEVATIONS - 2u);
@@ -185,7 +216,7 @@ fn sky_color(dir: vec3<f32>) -> vec3<f32> {
         part[i] = mix(lo, hi, fe);
     }
     let mu = dot(dir, sun);
-    let c = part[0] * rayleigh_phase(mu) + part[1] * mie_phase(mu, frame.sky_ambient.w) + part[2];
+    let c = part[0] * rayleigh_phase(mu) + part[1] * mie_phase(mu, frame.sky_mie_g) + part[2];
     return c * (1.0 - 0.4 * clamp(-3.0 * dir.z, 0.0, 1.0));
 }
 
@@ -193,7 +224,7 @@ fn sky_color(dir: vec3<f32>) -> vec3<f32> {
 // (the sky's cosine-weighted mean radiance), integrated on the CPU from
 // the same sky (src/sky/view.rs).
 fn sky_ambient() -> vec3<f32> {
-    return frame.sky_ambient.rgb;
+    return frame.sky_ambient;
 }
 
 // Radiance of a Lambertian surface of `albedo` with normal n, in the
@@ -204,8 +235,8 @@ fn sky_ambient() -> vec3<f32> {
 // sky_ambient on an up-facing surface, less on a slope that sees less of
 // the sky).
 fn lambert(albedo: vec3<f32>, n: vec3<f32>, shadow: f32) -> vec3<f32> {
-    let sun = frame.sun_dir.xyz;
-    let direct = 4.0 * frame.sun_color.rgb * max(dot(n, sun), 0.0) * shadow;
+    let sun = frame.sun_dir;
+    let direct = 4.0 * frame.sun_color * max(dot(n, sun), 0.0) * shadow;
     return albedo * (direct + sky_ambient() * (0.6 + 0.4 * n.z));
 }
 
@@ -223,7 +254,7 @@ const FIELD_ALBEDO: vec3<f32> = vec3<f32>(0.10, 0.13, 0.05);
 // encode itself (ENCODE_SRGB). Keep it in sync with benches/pathtraced.py
 // (`tone_map`) and tests/render_cli.rs.
 fn tone_map(c: vec3<f32>) -> vec3<f32> {
-    let t = filmic(max(c, vec3<f32>(0.0)) * frame.sun_color.w);
+    let t = filmic(max(c, vec3<f32>(0.0)) * frame.exposure);
     if ENCODE_SRGB {
         return srgb_encode(t);
     }

@@ -1,7 +1,10 @@
-// Composite of the compute march path: blends the cloud texture written by
-// clouds.wgsl's cs_main (premultiplied colour, alpha = 1 − transmittance)
-// over the sky/terrain with (ONE, ONE_MINUS_SRC_ALPHA), as the fragment
-// path's cloud pass does.
+// Composite of the clouds drawn into a texture of their own (the compute
+// march of raymarch/clouds.wgsl, the temporal resolve, the slicing planes):
+// blends it (premultiplied colour, alpha = 1 − transmittance) over the
+// sky/terrain with (ONE, ONE_MINUS_SRC_ALPHA), as the fragment path's
+// cloud pass does.
+
+#import "common.wgsl"
 
 @group(1) @binding(0) var cloud_tex: texture_2d<f32>;
 

@@ -2,7 +2,13 @@
 // built on the CPU by src/render/terrain.rs) with depth, lit as a
 // Lambertian surface by the sun, darkened by the clouds' transmittance (the
 // cloud-shadow map every method's clouds are marched or splatted into,
-// shadow.wgsl), and by the sky, seen through the air (air.wgsl).
+// shadow.wgsl), and by the sky, seen through the air (air.wgsl), whose
+// sunlight the same map shadows.
+
+#import "common.wgsl"
+#import "air.wgsl"
+// `ground_sun_depth` for ground inside the ray-marched clouds' region.
+#import "raymarch/density.wgsl"
 
 // Darken the sun by the clouds (false: no cloud shadows this frame).
 override HAS_SHADOWS: bool = true;
@@ -47,26 +53,38 @@ fn cloud_shadow(p: vec3<f32>) -> f32 {
         return 1.0;
     }
     if SHADOW_IN_REGION && p.z > frame.grid_min.z {
-        return exp(-ground_sun_depth(p) * frame.cloud.z);
+        return exp(-ground_sun_depth(p) * frame.extinction_per_m);
     }
-    return map_shadow(p, frame.sun_dir.xyz);
+    return map_shadow(p, frame.sun_dir);
 }
 
-// The air's share of the sun (air.wgsl): the clouds shadow it like the
-// ground below it (the map), except within the ray-marched clouds' region
-// and above it, where it counts as sunlit.
-fn air_sunlit(p: vec3<f32>) -> f32 {
+// The share of the sun's light reaching the air at p: the clouds shadow
+// it like the ground below it (the map), except within the ray-marched
+// clouds' region and above it, where it counts as sunlit.
+fn air_sun_share(p: vec3<f32>) -> f32 {
     if !HAS_SHADOWS || (SHADOW_IN_REGION && p.z > frame.grid_min.z) {
         return 1.0;
     }
-    return map_shadow(p, frame.sun_dir.xyz);
+    return map_shadow(p, frame.sun_dir);
+}
+
+// What the air does over `dist` (m) along unit `dir` from the eye, its
+// sunlight shadowed by the clouds (air_sun_share at each step).
+fn shadowed_air(dir: vec3<f32>, dist: f32) -> Air {
+    let m = air_march(dir, dist);
+    var air = clear_air();
+    for (var i = 0u; i < AIR_STEPS; i++) {
+        air = air_step(air, m, i, air_sun_share(air_step_point(m, i)));
+    }
+    return air;
 }
 
 // Transmittance over p from the cloud-shadow map.
 fn map_shadow(p: vec3<f32>, sun: vec3<f32>) -> f32 {
     let g = p.xy - p.z * sun.xy / max(sun.z, 0.03);
-    let r = frame.shadow_rect;
-    let uv = vec2<f32>((g.x - r.x) / max(r.z - r.x, 1.0), (r.w - g.y) / max(r.w - r.y, 1.0));
+    let lo = frame.shadow_min;
+    let hi = frame.shadow_max;
+    let uv = vec2<f32>((g.x - lo.x) / max(hi.x - lo.x, 1.0), (hi.y - g.y) / max(hi.y - lo.y, 1.0));
     if any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) {
         return 1.0;
     }
@@ -78,14 +96,14 @@ fn map_shadow(p: vec3<f32>, sun: vec3<f32>) -> f32 {
 // at normal incidence, all of it at grazing angles), and the sun's glint,
 // both in the clouds' shadow. The mirror shows the sky, not the clouds.
 fn water(p: vec3<f32>) -> vec3<f32> {
-    let v = normalize(frame.camera_pos.xyz - p);
-    let sun = frame.sun_dir.xyz;
+    let v = normalize(frame.camera_pos.eye_m - p);
+    let sun = frame.sun_dir;
     let fresnel = 0.02 + 0.98 * pow(1.0 - max(v.z, 0.0), 5.0);
     let shadow = cloud_shadow(p);
     let body = lambert(vec3<f32>(0.01, 0.025, 0.03), vec3<f32>(0.0, 0.0, 1.0), shadow);
     // Glint: a Blinn–Phong lobe of a slightly rippled surface.
     let h = normalize(v + sun);
-    let glint = frame.sun_color.rgb * shadow * 2.0 * pow(max(h.z, 0.0), 600.0);
+    let glint = frame.sun_color * shadow * 2.0 * pow(max(h.z, 0.0), 600.0);
     let sky = sky_color(reflect(-v, vec3<f32>(0.0, 0.0, 1.0)));
     return mix(body, sky, fresnel) + fresnel * glint;
 }
@@ -115,9 +133,11 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     if HAS_WATER && in.normal.z < 0.0 {
         c = water(in.world);
     }
-    // The air between the eye and the ground (air.wgsl).
-    let from_eye = in.world - frame.camera_pos.xyz;
-    let dist = length(from_eye);
-    c = through_air(c, 1.0, from_eye / dist, dist);
+    // The air between the eye and the ground.
+    if AERIAL_PERSPECTIVE {
+        let from_eye = in.world - frame.camera_pos.eye_m;
+        let dist = length(from_eye);
+        c = seen_through(shadowed_air(from_eye / dist, dist), c, 1.0);
+    }
     return vec4<f32>(output_color(c), 1.0);
 }

@@ -3,6 +3,8 @@
 // and writes tone_map() of it (common.wgsl) into the output, which is the
 // window's surface or the headless target alike.
 
+#import "common.wgsl"
+
 @group(1) @binding(0) var scene_tex: texture_2d<f32>;
 
 @vertex

@@ -41,8 +41,8 @@ impl MediaFilter {
         }
     }
 
-    /// The id the shaders switch on: the slices pass's WGSL filter must
-    /// number them the same (keep in sync).
+    /// The id the shaders switch on: the slices pass's WGSL filter numbers
+    /// them the same (tests/render_slices.rs checks it).
     pub fn gpu_id(self) -> u32 {
         self as u32
     }

@@ -242,11 +242,8 @@ pub fn octave_weights(octaves: usize) -> Vec<f32> {
     raw.into_iter().map(|w| w / total).collect()
 }
 
-/// One tier as the shaders take it: WGSL
-/// `struct SlicesTier { texture_from_world: array<mat4x4<f32>, 8>,
-/// bottom_m: vec4<f32>, media: vec4<u32> }` (544 bytes). Keep in sync with
-/// that struct in shaders/slices.wgsl (tests/cumulus/render/slices.rs checks sizes
-/// and offsets against naga's layout).
+/// One tier as the shaders take it: WGSL `struct SlicesTier` in
+/// shaders/slices/implicit.wgsl (544 bytes; a test compares the layouts).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct TierUniform {
@@ -259,8 +256,8 @@ pub struct TierUniform {
 }
 
 /// Every tier's octave transforms for one frame: WGSL
-/// `struct SlicesOctaves { tiers: array<SlicesTier, 4>, counts: vec4<u32> }`
-/// (2192 bytes). Keep in sync with that struct (see [`TierUniform`]).
+/// `struct SlicesOctaves` in shaders/slices/implicit.wgsl (2192 bytes; a
+/// test compares the layouts).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct OctaveUniform {

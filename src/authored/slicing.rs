@@ -185,7 +185,7 @@ pub fn slice_grid(
 /// at vertex `r · start_stride + start_offset` (the one nearest the light)
 /// and visits `count` vertices `step` apart; each adds `shadow_step` ×
 /// density (× the octave weight) to the running shadow. The CPU walk below
-/// and the compute pass (shaders/slices_field.wgsl) both follow it.
+/// and the compute pass (shaders/slices/vertex_field.wgsl) both follow it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ShadowRays {
     pub rays: u32,

@@ -26,8 +26,8 @@ pub const REFERENCE_OCTAVES: u32 = 6;
 /// light, so the finest octave averages out instead of aliasing.
 pub const REFERENCE_SUPERSAMPLE: u32 = 2;
 
-/// Growth of the light-march steps. Keep in sync with `LIGHT_GROWTH` in
-/// shaders/lighting.wgsl (a test reads it from there).
+/// Growth of the light-march steps: `LIGHT_GROWTH` of
+/// shaders/raymarch/lighting.wgsl (a test reads it from there).
 pub const LIGHT_GROWTH: f32 = 1.6;
 
 /// Shortest first light step the configuration accepts (`render.light_step_m`). units: m
@@ -462,7 +462,7 @@ mod tests {
 
     #[test]
     fn light_growth_matches_the_shader() {
-        let wgsl = include_str!("../../shaders/lighting.wgsl");
+        let wgsl = crate::render::shaders::LIGHTING_WGSL;
         let line = wgsl
             .lines()
             .find(|l| l.trim_start().starts_with("const LIGHT_GROWTH"))

@@ -108,7 +108,7 @@ pub struct RenderConfig {
     pub radius_scale: f32,
     /// Thickness of the soft shell of the sphere, over which the
     /// pseudo-distance d goes from 0 to 1 (the condensation plane's shell is
-    /// 0.3× this; see shaders/density.wgsl). units: m
+    /// 0.3× this; see shaders/raymarch/density.wgsl). units: m
     pub shell_m: f32,
     /// Extinction coefficient of fully dense cloud. units: m^-1
     pub extinction_per_m: f32,

@@ -1,5 +1,5 @@
 //! Export of one frame's cloud density to other renderers: the field of
-//! paper eq. 18 ([`CloudField`], the CPU mirror of shaders/density.wgsl)
+//! paper eq. 18 ([`CloudField`], the CPU mirror of shaders/raymarch/density.wgsl)
 //! sampled on a regular grid at cell centres, written as Mitsuba 3's
 //! `gridvolume` `.vol` ([`vol`]) with a JSON sidecar ([`sidecar`]) giving the
 //! world box, camera, sun, sky, phase function, albedo and extinction scale
@@ -131,7 +131,7 @@ pub fn default_voxel_m(cfg: &RenderConfig, field: &CloudField) -> f32 {
     let smallest_radius = field
         .parcels()
         .iter()
-        .map(|p| p.center_radius[3])
+        .map(|p| p.radius_m)
         .fold(f32::INFINITY, f32::min);
     sampling
         .min(base_edge)

@@ -2,10 +2,13 @@
 //! to reproduce our frame from the `.vol` (world box, camera, sun, sky,
 //! medium, tone curve), with units. Field names carry their units.
 //!
-//! The lighting constants below mirror the WGSL of the cloud pass; keep in
-//! sync with shaders/lighting.wgsl (`sun_phase_weights`, `HG_BACK_G`, `HG_BACK_WEIGHT`, `LIGHT_DENSITY`) and
-//! shaders/common.wgsl (`sky_color`, `tone_map`); the sky itself is the
-//! frame's sky-view table from the atmosphere model (src/sky).
+//! The lighting constants below are those of the cloud pass
+//! (shaders/raymarch/lighting.wgsl `HG_BACK_G`, `HG_BACK_WEIGHT`,
+//! `LIGHT_DENSITY`; a test compares them); what the sidecar says of the
+//! phase, the sky and the tone curve describes `sun_phase_weights` there
+//! and `sky_color` and `tone_map` of shaders/common.wgsl (keep in sync);
+//! the sky itself is the frame's sky-view table from the atmosphere model
+//! (src/sky).
 
 use serde::{Deserialize, Serialize};
 

@@ -1,6 +1,6 @@
 //! The one CPU evaluation of the cloud density ρ(P) of paper eq. 18, mirroring
-//! shaders/parcel.wgsl (`parcel_value`), the exact method's
-//! shaders/field_exact.wgsl (`cell_list`, `field_value`), shaders/density.wgsl
+//! shaders/raymarch/parcel.wgsl (`parcel_value`), the exact method's
+//! shaders/raymarch/field_exact.wgsl (`cell_list`, `field_value`), shaders/raymarch/density.wgsl
 //! (`cloud_density`) and the noise of shaders/common.wgsl (`noise3`, through
 //! [`noise::NoiseVolume`]), so the
 //! exporter (`crate::export`) writes the field the GPU ray-marches. Keep in
@@ -21,8 +21,8 @@ use crate::noise;
 use crate::physics::CloudParcel;
 use crate::render::pack::{GpuParcel, GridInfo, Packed, pack};
 
-/// Plane shell thickness relative to the sphere's shell. Keep in sync with
-/// `PLANE_SHELL` in shaders/parcel.wgsl.
+/// Plane shell thickness relative to the sphere's shell: `PLANE_SHELL` of
+/// shaders/raymarch/parcel.wgsl (a test compares them).
 pub const PLANE_SHELL: f32 = 0.3;
 
 /// GLSL/WGSL `smoothstep(0, 1, x)`.
@@ -96,11 +96,11 @@ impl CloudField {
 
     /// `parcel_value` of parcel.wgsl: f·(d + 1) − 1.
     fn parcel_value(&self, q: &GpuParcel, p: Vec3) -> f32 {
-        let c = Vec3::new(q.center_radius[0], q.center_radius[1], q.center_radius[2]);
-        let d_sphere = (q.center_radius[3] - p.distance(c)) / self.shell_m;
-        let d_plane = (p.z - q.fill_plane[1]) / (PLANE_SHELL * self.shell_m);
+        let c = Vec3::from(q.center_m);
+        let d_sphere = (q.radius_m - p.distance(c)) / self.shell_m;
+        let d_plane = (p.z - q.plane_z_m) / (PLANE_SHELL * self.shell_m);
         let d = d_sphere.min(d_plane).clamp(-1.0, 1.0);
-        q.fill_plane[0] * (d + 1.0) - 1.0
+        q.fill * (d + 1.0) - 1.0
     }
 
     /// `cell_list` of field_exact.wgsl: the parcels listed in p's cell (none

@@ -22,7 +22,7 @@
 //! ```
 //!
 //! The passes and their shaders are described in `shaders/*.wgsl` headers;
-//! the density of the hypertexture (paper eq. 18) in `shaders/density.wgsl`.
+//! the density of the hypertexture (paper eq. 18) in `shaders/raymarch/density.wgsl`.
 
 pub mod auto_march;
 pub mod field;

@@ -13,8 +13,13 @@
 //!   once, which always fits because `MAX_PARCELS ≤ MAX_GRID_ENTRIES`.
 //!   [`GridInfo::coarsened`] says how often this happened.
 //!
-//! Keep in sync with shaders/common.wgsl (struct Frame, Parcels, Grid); the
-//! array sizes are written into the WGSL by [`crate::render::shaders`].
+//! The structs here are the uniforms of shaders/common.wgsl (`Frame`,
+//! `CameraPos`, `FrameNoise`, `Parcel`, `Parcels`, `Grid`), member for
+//! member: a test (src/render/shaders/twins.rs) compares names, offsets
+//! and sizes with naga's layout of the WGSL, and the array sizes are
+//! written into the WGSL from the constants here. Scalars come in fours
+//! and a `vec3` with a scalar after it (`_pad` where none belongs), so
+//! every 16-byte WGSL alignment falls where `#[repr(C)]` puts it.
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
@@ -39,40 +44,93 @@ const _: () = assert!(MAX_PARCELS <= MAX_GRID_ENTRIES);
 const _: () =
     assert!(MAX_GRID_CELLS == (MAX_GRID_DIMS[0] * MAX_GRID_DIMS[1] * MAX_GRID_DIMS[2]) as usize);
 
-/// Per-frame constants. Keep in sync with `struct Frame` in shaders/common.wgsl.
+/// Where the eye is, and when: `camera_pos` of [`FrameUniform`].
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable, PartialEq)]
+pub struct CameraPos {
+    /// The eye. units: m
+    pub eye_m: [f32; 3],
+    /// Simulation time (the noise drifts with it). units: s
+    pub time_s: f32,
+}
+
+/// The density noise (`noise3` in shaders/common.wgsl): `noise` of
+/// [`FrameUniform`].
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable, PartialEq)]
+pub struct FrameNoise {
+    /// 1 / `render.noise_scale_m`. units: 1/m
+    pub inv_scale_per_m: f32,
+    /// Octaves summed (1–6).
+    pub octaves: f32,
+    pub _pad: f32,
+    /// Noise texels of a pixel's view-cone width per metre of eye distance,
+    /// the mip level of the noise (0: level 0).
+    pub texels_per_m: f32,
+}
+
+/// Per-frame constants: `struct Frame` of shaders/common.wgsl.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable, PartialEq)]
 pub struct FrameUniform {
     pub clip_from_world: [[f32; 4]; 4],
     pub world_from_clip: [[f32; 4]; 4],
-    /// xyz: eye position (m); w: simulation time (s).
+    /// A [`CameraPos`] (`bytemuck::cast` one), as four floats for the
+    /// callers that write it as `eye.extend(time)`.
     pub camera_pos: [f32; 4],
-    /// xyz: unit vector toward the sun; w: unused.
-    pub sun_dir: [f32; 4],
-    /// rgb: sun irradiance scale; w: display exposure k, the scale of L
-    /// before the filmic tone curve (`RenderConfig::tone_exposure`).
-    pub sun_color: [f32; 4],
-    /// step (m), max steps, light steps, light step (m).
-    pub march: [f32; 4],
-    /// noise amplitude k, shell thickness (m), extinction (m^-1), early-exit transmittance.
-    pub cloud: [f32; 4],
-    /// 1 / noise scale (m^-1), octaves, HG g, noise texels of view-cone width
-    /// per metre of eye distance (the mip level of `noise3`).
+    /// Unit vector toward the sun.
+    pub sun_dir: [f32; 3],
+    /// Henyey–Greenstein g of the clouds' forward lobe (`render.phase_g`).
+    pub phase_g: f32,
+    /// Sun irradiance scale (linear RGB).
+    pub sun_color: [f32; 3],
+    /// Display exposure k, the scale of L before the filmic tone curve
+    /// (`RenderConfig::tone_exposure`).
+    pub exposure: f32,
+    /// View-march step. units: m
+    pub step_m: f32,
+    /// View-march steps across the cloud box (the step stretches to it).
+    pub max_steps: u32,
+    /// Light-march samples toward the sun.
+    pub light_steps: u32,
+    /// The light march's first step. units: m
+    pub light_step_m: f32,
+    /// Noise amplitude k of eq. 18.
+    pub noise_amplitude: f32,
+    /// Hypertexture shell thickness. units: m
+    pub shell_m: f32,
+    /// Extinction of density 1. units: 1/m
+    pub extinction_per_m: f32,
+    /// The march stops below this transmittance (0: never).
+    pub early_exit_transmittance: f32,
+    /// A [`FrameNoise`] (`bytemuck::cast` one), as four floats for the
+    /// callers that write it as an array.
     pub noise: [f32; 4],
-    /// xyz: grid origin (m); w: unused.
-    pub grid_min: [f32; 4],
-    /// xyz: cell size (m); w: unused.
-    pub grid_cell: [f32; 4],
-    /// nx, ny, nz, parcel count.
-    pub grid_dims: [u32; 4],
-    /// Ground rectangle the cloud-shadow map covers: min x, min y, max x, max y (m).
-    pub shadow_rect: [f32; 4],
-    /// rgb: ambient light, the sky's irradiance on an up-facing surface
-    /// over π; w: asymmetry g of the sky's Mie phase (src/sky/view.rs `SkyLight`).
-    pub sky_ambient: [f32; 4],
-    /// rgb: the sky's lower half on a down-facing surface over π
-    /// (`SkyLight::below`); w unused.
-    pub sky_below: [f32; 4],
+    /// The frame grid's origin (the exact method's culling grid, the baked
+    /// method's occupancy grid). units: m
+    pub grid_min: [f32; 3],
+    pub _pad0: f32,
+    /// Its cell size. units: m
+    pub grid_cell: [f32; 3],
+    pub _pad1: f32,
+    /// Its cells per axis.
+    pub grid_dims: [u32; 3],
+    /// Parcels packed ([`GridInfo::parcel_count`]).
+    pub parcel_count: u32,
+    /// Lowest corner (x, y) of the ground rectangle the cloud-shadow map
+    /// covers. units: m
+    pub shadow_min: [f32; 2],
+    /// Its highest corner. units: m
+    pub shadow_max: [f32; 2],
+    /// Ambient light: the sky's irradiance on an up-facing surface over π
+    /// (src/sky/view.rs `SkyLight`).
+    pub sky_ambient: [f32; 3],
+    /// Asymmetry g of the sky's Mie phase.
+    pub sky_mie_g: f32,
+    /// The sky's lower half on a down-facing surface over π
+    /// (`SkyLight::below`).
+    pub sky_below: [f32; 3],
+    pub _pad2: f32,
     /// The sky-view table (src/sky/view.rs `SkyLight`), three vec4 per
     /// texel (texel k = elevation·SKY_AZIMUTHS + azimuth): [3k] Rayleigh
     /// radiance per unit phase, [3k + 1] Mie per unit phase, [3k + 2]
@@ -85,24 +143,29 @@ pub struct FrameUniform {
     pub air: [[f32; 4]; 4 * AIR_HEIGHTS],
 }
 
-/// One parcel. Keep in sync with `struct Parcel` in shaders/common.wgsl.
+/// One parcel: `struct Parcel` of shaders/common.wgsl.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable, PartialEq)]
 pub struct GpuParcel {
-    /// xyz: centre (m); w: radius (m).
-    pub center_radius: [f32; 4],
-    /// x: filling ratio f; y: condensation-plane height (m); zw: unused.
-    pub fill_plane: [f32; 4],
+    /// Centre. units: m
+    pub center_m: [f32; 3],
+    /// Radius (as drawn, × `render.radius_scale`). units: m
+    pub radius_m: f32,
+    /// Filling ratio f.
+    pub fill: f32,
+    /// Height of the condensation plane. units: m
+    pub plane_z_m: f32,
+    pub _pad: [f32; 2],
 }
 
-/// All parcels. Keep in sync with `struct Parcels` in shaders/common.wgsl.
+/// All parcels: `struct Parcels` of shaders/common.wgsl.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct ParcelsUniform {
     pub parcels: [GpuParcel; MAX_PARCELS],
 }
 
-/// Grid cell lists. Keep in sync with `struct Grid` in shaders/common.wgsl.
+/// Grid cell lists: `struct Grid` of shaders/common.wgsl.
 /// `cells[i / 2]` holds (start, count) of cell i in xy (even i) or zw (odd i);
 /// `entries[j / 4][j % 4]` is the j-th parcel index.
 #[repr(C)]
@@ -192,11 +255,11 @@ fn zeroed_box<T: Zeroable>() -> Box<T> {
 /// Axis-aligned box a parcel's density can reach: the sphere padded by the
 /// shell, cut below at the condensation plane minus the shell.
 fn parcel_bounds(p: &GpuParcel, shell_m: f32) -> (Vec3, Vec3) {
-    let c = Vec3::new(p.center_radius[0], p.center_radius[1], p.center_radius[2]);
-    let r = p.center_radius[3] + shell_m;
+    let c = Vec3::from(p.center_m);
+    let r = p.radius_m + shell_m;
     let mut lo = c - Vec3::splat(r);
     let hi = c + Vec3::splat(r);
-    lo.z = lo.z.max(p.fill_plane[1] - shell_m).min(hi.z);
+    lo.z = lo.z.max(p.plane_z_m - shell_m).min(hi.z);
     (lo, hi)
 }
 
@@ -237,13 +300,11 @@ pub fn gpu_parcels(
             continue;
         }
         out.push(GpuParcel {
-            center_radius: [
-                p.center_m.x,
-                p.center_m.y,
-                p.center_m.z,
-                p.radius_m * radius_scale,
-            ],
-            fill_plane: [p.fill.min(1.0), p.cond_plane_z_m, 0.0, 0.0],
+            center_m: p.center_m.to_array(),
+            radius_m: p.radius_m * radius_scale,
+            fill: p.fill.min(1.0),
+            plane_z_m: p.cond_plane_z_m,
+            _pad: [0.0; 2],
         });
     }
     Ok(out)
@@ -328,8 +389,8 @@ fn fill_grid(
     let ncells = (dims[0] * dims[1] * dims[2]) as usize;
     let mut lists: Vec<Vec<u32>> = vec![Vec::new(); ncells];
     for (i, (p, (a, b))) in live.iter().zip(bounds).enumerate() {
-        let c = Vec3::new(p.center_radius[0], p.center_radius[1], p.center_radius[2]);
-        let r = p.center_radius[3] + shell_m;
+        let c = Vec3::from(p.center_m);
+        let r = p.radius_m + shell_m;
         let first = ((*a - lo) / cell).floor();
         let last = ((*b - lo) / cell).floor();
         let range = |ax: usize| {
@@ -402,9 +463,9 @@ mod tests {
     fn parcel_fields_land_in_place() {
         let p = pack(&[parcel(10.0, 20.0, 1500.0, 300.0)], 50.0, 1.0).unwrap();
         let g = p.parcels.parcels[0];
-        assert_eq!(g.center_radius, [10.0, 20.0, 1500.0, 300.0]);
-        assert_eq!(g.fill_plane[0], 0.8);
-        assert_eq!(g.fill_plane[1], 1350.0);
+        assert_eq!((g.center_m, g.radius_m), ([10.0, 20.0, 1500.0], 300.0));
+        assert_eq!(g.fill, 0.8);
+        assert_eq!(g.plane_z_m, 1350.0);
         // Grid bottom is the plane minus the shell, not the sphere bottom.
         assert!((p.info.min.z - 1300.0).abs() < 1e-3, "{:?}", p.info);
     }

@@ -132,8 +132,9 @@ pub(crate) fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
 #[derive(Clone)]
 pub struct PassLayouts {
     /// Group 0: frame, parcels, grid (exact), noise, samplers, baked field,
-    /// occupancy and light volume (baked). Keep in sync with
-    /// shaders/common.wgsl and shaders/field_baked.wgsl.
+    /// occupancy and light volume (baked): the bindings of
+    /// shaders/common.wgsl and shaders/raymarch/field_baked.wgsl (wgpu
+    /// checks them against each pipeline's shader).
     pub common: wgpu::BindGroupLayout,
     /// Group 1 of the terrain: the cloud-shadow map.
     pub shadow_tex: wgpu::BindGroupLayout,
@@ -142,21 +143,21 @@ pub struct PassLayouts {
     /// Group 2 of the compute march: its output texture and cloud depth.
     pub cloud_out: wgpu::BindGroupLayout,
     /// Group 1 of the sprites: the terrain depth and the march's cloud
-    /// depth (shaders/sprites.wgsl).
+    /// depth (shaders/sprites/sprites.wgsl).
     pub sprite_depth: wgpu::BindGroupLayout,
     /// Group 1 of the composite (the compute march's or the slices'
     /// texture) and of the tone map (the HDR scene target): one sampled
     /// float 2D texture.
     pub texture_in: wgpu::BindGroupLayout,
     /// Group 2 of the sprites: the atlas, its sampler and the sprite
-    /// instances (shaders/sprites.wgsl).
+    /// instances (shaders/sprites/sprites.wgsl).
     pub sprites: wgpu::BindGroupLayout,
     /// Group 2 of the slices pass: octave transforms and controls.
     pub slices: wgpu::BindGroupLayout,
     /// Group 2 of the temporal march (clouds.wgsl `cs_temporal`): quarter
     /// colour and depth outputs, the temporal uniform.
     pub temporal_out: wgpu::BindGroupLayout,
-    /// Group 1 of the temporal resolve (shaders/temporal.wgsl).
+    /// Group 1 of the temporal resolve (shaders/raymarch/temporal.wgsl).
     pub temporal_in: wgpu::BindGroupLayout,
 }
 
@@ -302,6 +303,8 @@ pub struct PipelineKey {
 }
 
 impl PipelineKey {
+    /// Panics on a constant that the pass's module does not declare under
+    /// `method` ([`Pass::overrides`]): wgpu would refuse the pipeline.
     pub fn new(
         pass: Pass,
         method: RenderMethod,
@@ -309,6 +312,13 @@ impl PipelineKey {
         format: wgpu::TextureFormat,
         compute: bool,
     ) -> Self {
+        for (name, _) in constants {
+            assert!(
+                pass.declares(method, name),
+                "{} ({method}) declares no override {name}",
+                pass.name()
+            );
+        }
         Self {
             pass,
             method,
@@ -490,7 +500,7 @@ impl ShaderModules {
             layouts_list.push(Some(&layouts.slices));
         }
         if pass == Pass::Shadow && key.method == RenderMethod::Slices {
-            // The implicit field's group 2 (field_slices.wgsl); no group 1.
+            // The implicit field's group 2 (slices/shadow_field.wgsl); no group 1.
             layouts_list.extend([None, Some(&layouts.slices)]);
         }
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {

@@ -25,8 +25,8 @@ use glam::{DVec3, Vec3};
 
 use super::{SkyLight, SkyLuts, mie_phase, rayleigh_phase};
 
-/// Heights of the air table. Keep in sync with the WGSL prelude
-/// (src/render/shaders.rs writes it).
+/// Heights of the air table (the WGSL prelude, src/render/shaders.rs,
+/// writes it into the shaders).
 pub const AIR_HEIGHTS: usize = 24;
 /// Height of the table's top node; the air above reads as the top's (the
 /// clouds stay below 16 km, so rays to them never leave the table). units: m
@@ -144,7 +144,7 @@ impl SkyLight {
 
     /// [`SkyLight::aerial`] with the clouds' shadow in the air:
     /// `sunlit(t)` is the share of the sun's light reaching the air `t`
-    /// metres from the eye (`air_sunlit` in shaders/air.wgsl); it scales
+    /// metres from the eye (`sunlit` of `air_step` in shaders/air.wgsl); it scales
     /// the single-scattered parts.
     pub fn aerial_shadowed(
         &self,

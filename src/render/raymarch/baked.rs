@@ -1,4 +1,4 @@
-//! The `baked` method's GPU data and its compute bake (shaders/bake.wgsl):
+//! The `baked` method's GPU data and its compute bake (shaders/raymarch/bake.wgsl):
 //! the condensed parcels go up in uniform-buffer chunks of ≤ [`MAX_PARCELS`]
 //! (bound with dynamic offsets, one splat dispatch, in its own compute pass,
 //! per chunk), are splatted
@@ -62,8 +62,8 @@ use crate::render::pack::{self, GpuParcel, GridInfo, MAX_PARCELS, ParcelsUniform
 use crate::render::pipelines::storage_texture_entry_of;
 use crate::render::raymarch::region::{Region, region};
 
-/// Voxels per coarse occupancy cell along each axis. Keep in sync with
-/// BAKE_BLOCK in shaders/bake.wgsl.
+/// Voxels per coarse occupancy cell along each axis: BAKE_BLOCK of
+/// shaders/raymarch/bake.wgsl (a test compares them).
 pub const BAKE_BLOCK: u32 = 4;
 /// Most voxels of the baked field.
 pub const MAX_BAKE_VOXELS: u64 = 1 << 23;
@@ -80,8 +80,8 @@ pub const FIELD_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// for the same reason as [`FIELD_FORMAT`]; half floats hold depths up to
 /// 65504 (a 60 km path through solid cloud) to 3 significant digits.
 pub const LIGHT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-/// Plane shell over sphere shell. Keep in sync with PLANE_SHELL in
-/// shaders/parcel.wgsl.
+/// Plane shell over sphere shell: PLANE_SHELL of
+/// shaders/raymarch/parcel.wgsl (a test compares them).
 pub const PLANE_SHELL: f32 = 0.3;
 const CHUNK_BYTES: u64 = std::mem::size_of::<ParcelsUniform>() as u64;
 

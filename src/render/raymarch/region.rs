@@ -36,18 +36,18 @@ impl Region {
 
 /// Region and voxel size for `live` parcels (not empty), see the module docs.
 pub(crate) fn region(live: &[GpuParcel], shell_m: f32) -> Region {
-    let mut radii: Vec<f32> = live.iter().map(|p| p.center_radius[3]).collect();
+    let mut radii: Vec<f32> = live.iter().map(|p| p.radius_m).collect();
     radii.sort_by(f32::total_cmp);
     let median = radii[radii.len() / 2];
     let raw = (0.25 * median).min(PLANE_SHELL * shell_m).max(1.0);
     let wanted = 2f32.powf((raw.log2() * 4.0).round() / 4.0);
     let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
     for p in live {
-        let c = Vec3::from_slice(&p.center_radius[..3]);
-        let reach = p.center_radius[3] + shell_m;
+        let c = Vec3::from(p.center_m);
+        let reach = p.radius_m + shell_m;
         let mut a = c - Vec3::splat(reach);
         let b = c + Vec3::splat(reach);
-        a.z = a.z.max(p.fill_plane[1] - PLANE_SHELL * shell_m).min(b.z);
+        a.z = a.z.max(p.plane_z_m - PLANE_SHELL * shell_m).min(b.z);
         lo = lo.min(a);
         hi = hi.max(b);
     }
@@ -83,8 +83,11 @@ mod tests {
 
     fn parcel(x: f32, r: f32) -> GpuParcel {
         GpuParcel {
-            center_radius: [x, 0.0, 2000.0, r],
-            fill_plane: [1.0, 1800.0, 0.0, 0.0],
+            center_m: [x, 0.0, 2000.0],
+            radius_m: r,
+            fill: 1.0,
+            plane_z_m: 1800.0,
+            _pad: [0.0; 2],
         }
     }
 
@@ -106,13 +109,15 @@ mod tests {
         for i in 0..41 {
             for j in 0..41 {
                 live.push(GpuParcel {
-                    center_radius: [
+                    center_m: [
                         i as f32 * 1000.0 - 20_000.0,
                         j as f32 * 1000.0 - 20_000.0,
                         1000.0 + (i * j % 12) as f32 * 1000.0,
-                        400.0,
                     ],
-                    fill_plane: [1.0, 900.0, 0.0, 0.0],
+                    radius_m: 400.0,
+                    fill: 1.0,
+                    plane_z_m: 900.0,
+                    _pad: [0.0; 2],
                 });
             }
         }

@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use crate::render::FrameInput;
 use crate::render::gpu::GpuContext;
-use crate::render::pack::FrameUniform;
+use crate::render::pack::{CameraPos, FrameNoise, FrameUniform};
 use crate::render::pipelines::Pipeline;
 use crate::render::shaders::Pass;
 use crate::render::timing::{FrameTimings, TimingMode};
@@ -21,37 +21,46 @@ impl Renderer {
         // Width of one pixel's view cone per metre of distance (rad), in
         // noise texels: the mip level of the noise (noise3 in common.wgsl).
         let pixel_rad = 2.0 * (0.5 * input.camera.vfov_rad).tan() / self.height as f32;
-        let noise_texels_per_m = pixel_rad * c.noise_texels as f32 / c.noise_scale_m;
+        let camera = CameraPos {
+            eye_m: input.camera.position.to_array(),
+            time_s: input.time_s,
+        };
+        let noise = FrameNoise {
+            inv_scale_per_m: 1.0 / c.noise_scale_m,
+            octaves: c.noise_octaves as f32,
+            _pad: 0.0,
+            texels_per_m: pixel_rad * c.noise_texels as f32 / c.noise_scale_m,
+        };
+        let [min_x, min_y, max_x, max_y] = self.shadow_rect(input.sun.direction);
         FrameUniform {
             clip_from_world: clip_from_world.to_cols_array_2d(),
             world_from_clip: clip_from_world.inverse().to_cols_array_2d(),
-            camera_pos: input.camera.position.extend(input.time_s).to_array(),
-            sun_dir: input.sun.direction.normalize().extend(0.0).to_array(),
-            sun_color: input.sun.color.extend(c.tone_exposure()).to_array(),
-            march: [
-                c.step_m,
-                c.max_steps as f32,
-                c.light_steps as f32,
-                c.light_step_m,
-            ],
-            cloud: [
-                c.noise_amplitude,
-                c.shell_m,
-                c.extinction_per_m,
-                c.early_exit_transmittance,
-            ],
-            noise: [
-                1.0 / c.noise_scale_m,
-                c.noise_octaves as f32,
-                c.phase_g,
-                noise_texels_per_m,
-            ],
-            grid_min: g.min.extend(0.0).to_array(),
-            grid_cell: g.cell.extend(0.0).to_array(),
-            grid_dims: [g.dims[0], g.dims[1], g.dims[2], g.parcel_count],
-            shadow_rect: self.shadow_rect(input.sun.direction),
-            sky_ambient: input.sun.sky.ambient.extend(input.sun.sky.mie_g).to_array(),
-            sky_below: input.sun.sky.below.extend(0.0).to_array(),
+            camera_pos: bytemuck::cast(camera),
+            sun_dir: input.sun.direction.normalize().to_array(),
+            phase_g: c.phase_g,
+            sun_color: input.sun.color.to_array(),
+            exposure: c.tone_exposure(),
+            step_m: c.step_m,
+            max_steps: c.max_steps,
+            light_steps: c.light_steps,
+            light_step_m: c.light_step_m,
+            noise_amplitude: c.noise_amplitude,
+            shell_m: c.shell_m,
+            extinction_per_m: c.extinction_per_m,
+            early_exit_transmittance: c.early_exit_transmittance,
+            noise: bytemuck::cast(noise),
+            grid_min: g.min.to_array(),
+            _pad0: 0.0,
+            grid_cell: g.cell.to_array(),
+            _pad1: 0.0,
+            grid_dims: g.dims,
+            parcel_count: g.parcel_count,
+            shadow_min: [min_x, min_y],
+            shadow_max: [max_x, max_y],
+            sky_ambient: input.sun.sky.ambient.to_array(),
+            sky_mie_g: input.sun.sky.mie_g,
+            sky_below: input.sun.sky.below.to_array(),
+            _pad2: 0.0,
             sky_view: sky_view(&input.sun.sky),
             air: air_table(&input.sun.sky.air),
         }
@@ -353,7 +362,7 @@ impl Renderer {
             Pass::Shadow => {
                 self.shadow_fresh = true;
                 // The march of the ray-marched clouds' parcels, or of the
-                // slices' implicit field (group 2, see field_slices.wgsl).
+                // slices' implicit field (group 2, see slices/shadow_field.wgsl).
                 match (pipeline.is_some(), slices) {
                     (true, false) => rp.draw(0..3, 0..1),
                     (true, true) => {

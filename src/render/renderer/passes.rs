@@ -40,7 +40,7 @@ impl Renderer {
 
     /// Whether sprites and ray-marched clouds both draw: the march then
     /// runs in compute (it leaves its cloud depth) and the sprites are
-    /// drawn in two halves around its composite (see shaders/sprites.wgsl).
+    /// drawn in two halves around its composite (see shaders/sprites/sprites.wgsl).
     pub(super) fn split(&self) -> bool {
         self.features.clouds && self.features.sprites
     }
@@ -77,7 +77,6 @@ impl Renderer {
         let b = |v: bool| if v { 1.0 } else { 0.0 };
         let f = self.features;
         let srgb = b(!self.format.is_srgb());
-        let exact = self.cfg.method == RenderMethod::Exact;
         // Only the tone map depends on the output format; the scene passes
         // are the same pipelines for every target.
         let mut c = match pass {
@@ -100,14 +99,15 @@ impl Renderer {
             Pass::Clouds => vec![("USE_NORMALS", b(f.normals)), ("HAS_TERRAIN", b(f.terrain))],
             Pass::Slices => vec![("HAS_TERRAIN", b(f.terrain))],
         };
-        if matches!(
-            pass,
-            Pass::Terrain | Pass::Clouds | Pass::Sprites | Pass::Slices
-        ) {
-            c.push(("AERIAL_PERSPECTIVE", b(self.cfg.aerial_perspective)));
-        }
-        if exact && matches!(pass, Pass::Shadow | Pass::Clouds | Pass::Terrain) {
-            c.push(("GRID_CULLING", b(self.cfg.grid_culling)));
+        // The shared libraries' switches, wherever the pass's module
+        // imports them (air.wgsl, raymarch/field_exact.wgsl).
+        for (name, v) in [
+            ("AERIAL_PERSPECTIVE", b(self.cfg.aerial_perspective)),
+            ("GRID_CULLING", b(self.cfg.grid_culling)),
+        ] {
+            if pass.declares(self.cfg.method, name) {
+                c.push((name, v));
+            }
         }
         c
     }

@@ -1,7 +1,7 @@
 //! Temporal amortisation of the cloud march (`[render] temporal`): each
 //! frame marches one pixel of every 2×2 block (clouds.wgsl `cs_temporal`,
 //! the block offset stepping through a 2×2 Bayer order, so four frames
-//! cover every pixel), and the resolve pass (shaders/temporal.wgsl)
+//! cover every pixel), and the resolve pass (shaders/raymarch/temporal.wgsl)
 //! reprojects the previous frame's cloud image with the camera's motion
 //! at the clouds' depth, clamps it to the fresh samples around each pixel
 //! and accumulates. The composite then blends the result like the compute
@@ -23,9 +23,8 @@ use super::texture_2d;
 /// neighbours, and any two consecutive frames cover both rows and columns.
 pub const BAYER_2X2: [[u32; 2]; 4] = [[0, 0], [1, 1], [1, 0], [0, 1]];
 
-/// The uniform of the temporal march and resolve.
-/// Keep in sync with `struct Temporal` in shaders/clouds.wgsl and
-/// shaders/temporal.wgsl.
+/// The uniform of the temporal march and resolve: `struct Temporal` in
+/// shaders/raymarch/temporal_uniform.wgsl (a test compares the layouts).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct TemporalUniform {

@@ -1,6 +1,6 @@
 //! GPU buffers of the slices passes: the planes' vertices and indices, the
 //! octave transforms, the controls, and the primitives with their grid
-//! index (group 2, shaders/implicit.wgsl), grown as needed and reused.
+//! index (group 2, shaders/slices/implicit.wgsl), grown as needed and reused.
 
 use bytemuck::{Pod, Zeroable};
 
@@ -13,7 +13,7 @@ use crate::error::Result;
 use crate::render::gpu::GpuContext;
 
 /// One primitive as the shaders take it: WGSL `struct Primitive` in
-/// shaders/implicit.wgsl (64 bytes; keep in sync).
+/// shaders/slices/implicit.wgsl (64 bytes; a test compares the layouts).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct GpuPrimitive {

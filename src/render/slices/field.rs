@@ -1,6 +1,6 @@
 //! The CPU twin of the slices pass's density: the implicit field of every
 //! primitive times the tier's media filter of the composited noise octaves,
-//! exactly the product `shaders/slices.wgsl` multiplies the plane opacity
+//! exactly the product `shaders/slices/slices.wgsl` multiplies the plane opacity
 //! by (keep in sync with `tier_at`, `composite_noise` and `media_filter`
 //! there). `cumulus export` samples it for authored scenes, so an
 //! animation's frames leave for offline renderers with the detail the
@@ -95,7 +95,7 @@ fn octave_noise(
 /// w₀·n₀ + (1 − w₀)·½, divided by the filter at ½, so the weight is 1 on
 /// average and Dirtiness keeps its calibration while the first octave's
 /// lumps shade what lies behind them. `first_octave_weight` in
-/// shaders/implicit.wgsl is the GPU twin.
+/// shaders/slices/implicit.wgsl is the GPU twin.
 pub fn first_octave_weight(octaves: &OctaveUniform, noise: &NoiseVolume, p: Vec3) -> f32 {
     let tier = tier_at(octaves, p.z);
     let w0 = octaves.tiers[tier].bottom_m[1];

@@ -1,5 +1,5 @@
 //! The slice vertices' field and shadow in a compute pass (`[render.slices]
-//! vertex_field = "gpu"`, shaders/slices_field.wgsl): one dispatch
+//! vertex_field = "gpu"`, shaders/slices/vertex_field.wgsl): one dispatch
 //! evaluates the Wyvill sum at every vertex, a second walks every light
 //! ray of [`ShadowRays`] accumulating eq. 2, both into the vertex buffer
 //! the planes are then drawn from. The CPU's `SliceGeometry::evaluate` is
@@ -22,7 +22,7 @@ const WORKGROUP: u32 = 64;
 /// Most workgroups along x (WebGPU's minimum limit); more go along y.
 const MAX_GROUPS_X: u32 = 65535;
 
-/// WGSL `struct FieldJob` in shaders/slices_field.wgsl (48 bytes).
+/// WGSL `struct FieldJob` in shaders/slices/vertex_field.wgsl (48 bytes).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct FieldJob {

@@ -5,11 +5,11 @@
 //! stores field and shadow at the vertices; this module uploads those
 //! vertices, the noise-octave transforms ([`OctaveUniform`]) and the
 //! qualitative controls ([`SlicesParams`]), and the renderer draws them
-//! with `shaders/slices.wgsl` into the float cloud target, which the
+//! with `shaders/slices/slices.wgsl` into the float cloud target, which the
 //! composite pass blends over sky and terrain. With `vertex_field =
 //! "gpu"` the vertex values come from a compute pass instead
 //! ([`gpu_field`]); the same primitives and grid index feed the
-//! cloud-shadow map on the terrain (shaders/field_slices.wgsl).
+//! cloud-shadow map on the terrain (shaders/slices/shadow_field.wgsl).
 
 pub mod buffers;
 pub mod field;
@@ -37,7 +37,8 @@ use crate::physics::CloudParcel;
 pub const SUN_TO_COLOUR: f32 = 0.8;
 
 /// The qualitative controls as the shaders take them: WGSL
-/// `struct SlicesParams` in shaders/implicit.wgsl (80 bytes; keep in sync).
+/// `struct SlicesParams` in shaders/slices/implicit.wgsl (80 bytes; a test
+/// compares the layouts).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct SlicesParams {
@@ -268,7 +269,9 @@ pub fn slices_frame(
 }
 
 /// Group 2 of the slices passes: the octave transforms, the controls, the
-/// primitives and their grid index. Keep in sync with shaders/implicit.wgsl.
+/// primitives and their grid index: the bindings of
+/// shaders/slices/implicit.wgsl (wgpu checks them against each pipeline's
+/// shader).
 pub fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     use crate::render::pipelines::{storage_entry, uniform_entry};
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

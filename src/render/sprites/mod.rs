@@ -1,7 +1,7 @@
 //! The `sprites` render method (Wang 2003) on the GPU: the atlas uploaded
 //! once ([`atlas`]), a frame's sprites shaded and sorted on the CPU
 //! ([`build`], from [`crate::sprites_model`]) and drawn by one instanced
-//! pass (`shaders/sprites.wgsl`): six vertices per sprite, premultiplied
+//! pass (`shaders/sprites/sprites.wgsl`): six vertices per sprite, premultiplied
 //! alpha over the sky and terrain, hidden behind the terrain depth.
 //!
 //! Nothing here exists until a frame has a sprite: the renderer creates
@@ -18,8 +18,8 @@ use crate::render::gpu::GpuContext;
 pub use build::{SpriteScene, SpriteStats};
 pub use ring::RingGpu;
 
-/// One sprite as the shader reads it (144 bytes; keep in sync with
-/// `SpriteInstance` in shaders/sprites.wgsl).
+/// One sprite as the shader reads it: `SpriteInstance` in
+/// shaders/sprites/sprites.wgsl (144 bytes; a test compares the layouts).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct SpriteInstance {

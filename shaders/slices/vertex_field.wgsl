@@ -7,7 +7,10 @@
 //              vertices from the light: shadow += step × density (× the
 //              first octave's weight when enabled), eq. 2.
 
-// 48 bytes; keep in sync with FieldJob in src/render/slices/gpu_field.rs.
+#import "../common.wgsl"
+#import "implicit.wgsl"
+
+// FieldJob of src/render/slices/gpu_field.rs.
 struct FieldJob {
     counts: vec4<u32>, // x: vertices; y: rays; z: ray start stride; w: ray start offset
     walk: vec4<i32>,   // x: vertex step along a ray; y: vertices per ray; z: first octave (1) or not (0)

@@ -15,13 +15,17 @@
 //     v(P) = f·(d(P) + 1) − 1  ∈ [−1, 1],
 // and density.wgsl turns it into the density ρ = smoothstep(0, 1, v + k·noise).
 
-// Plane shell thickness relative to the sphere's shell.
+#import "../common.wgsl"
+
+// Plane shell thickness relative to the sphere's shell; PLANE_SHELL of
+// src/render/field.rs and src/render/raymarch/baked.rs (a test compares
+// them).
 const PLANE_SHELL: f32 = 0.3;
 
 // f·(d + 1) − 1 of parcel q at p, for a shell of `shell` metres.
 fn parcel_value(q: Parcel, p: vec3<f32>, shell: f32) -> f32 {
-    let d_sphere = (q.center_radius.w - distance(p, q.center_radius.xyz)) / shell;
-    let d_plane = (p.z - q.fill_plane.y) / (PLANE_SHELL * shell);
+    let d_sphere = (q.radius_m - distance(p, q.center_m)) / shell;
+    let d_plane = (p.z - q.plane_z_m) / (PLANE_SHELL * shell);
     let d = clamp(min(d_sphere, d_plane), -1.0, 1.0);
-    return q.fill_plane.x * (d + 1.0) - 1.0;
+    return q.fill * (d + 1.0) - 1.0;
 }

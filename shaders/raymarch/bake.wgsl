@@ -28,11 +28,13 @@
 // 3. `resolve`, one thread per voxel: writes (v, plane) into the field
 //    texture, folds v into the coarse cells whose trilinear footprint holds
 //    the voxel (so a cell's value bounds every filtered fetch in it), and
-//    zeroes the voxel's accumulators for the next bake. (It used to also
-//    upsample the light volume into the field's B and A, 8 storage reads a
-//    voxel: most of the bake's time.)
+//    zeroes the voxel's accumulators for the next bake.
 
-// Keep in sync with BAKE_BLOCK in src/render/raymarch/baked.rs.
+#import "../common.wgsl"
+#import "parcel.wgsl"
+
+// Voxels per coarse cell along each axis: BAKE_BLOCK of
+// src/render/raymarch/baked.rs (a test compares them).
 const BAKE_BLOCK: u32 = 4u;
 // A voxel's key: v + 1 ∈ [0, 2] in the high 16 bits (steps of 3·10⁻⁵,
 // finer than the field texture's half floats keep) and the voxel's height
@@ -44,11 +46,8 @@ const BAKE_BLOCK: u32 = 4u;
 const KEY_LEVELS: f32 = 65535.0;
 const PLANE_RANGE_M: f32 = 2048.0;
 
-struct Chunk {
-    p: array<Parcel, MAX_PARCELS>,
-}
-
-@group(1) @binding(0) var<uniform> chunk: Chunk;
+// The chunk's parcels, at its offset of the parcel buffer.
+@group(1) @binding(0) var<uniform> chunk: Parcels;
 @group(1) @binding(1) var<storage, read_write> voxel_keys: array<atomic<u32>>;
 @group(1) @binding(2) var<storage, read_write> occupancy_bits: array<atomic<u32>>;
 @group(1) @binding(3) var field_out: texture_storage_3d<rgba16float, write>;
@@ -67,7 +66,7 @@ fn voxel_m() -> f32 {
 }
 
 fn voxel_dims() -> vec3<u32> {
-    return frame.grid_dims.xyz * BAKE_BLOCK;
+    return frame.grid_dims * BAKE_BLOCK;
 }
 
 fn voxel_index(v: vec3<u32>, dims: vec3<u32>) -> u32 {
@@ -95,22 +94,22 @@ fn key_above(key: u32) -> f32 {
 }
 
 fn voxel_centre(v: vec3<u32>) -> vec3<f32> {
-    return frame.grid_min.xyz + (vec3<f32>(v) + 0.5) * voxel_m();
+    return frame.grid_min + (vec3<f32>(v) + 0.5) * voxel_m();
 }
 
 @compute @workgroup_size(64)
 fn splat(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_index) li: u32) {
-    let q = chunk.p[wg.x];
-    let shell = frame.cloud.y;
+    let q = chunk.parcels[wg.x];
+    let shell = frame.shell_m;
     let h = voxel_m();
     let dims = voxel_dims();
     // v > −1 only inside the sphere's shell and above the plane's shell.
-    let reach = q.center_radius.w + shell;
-    var lo = q.center_radius.xyz - vec3<f32>(reach);
-    let hi = q.center_radius.xyz + vec3<f32>(reach);
-    lo.z = min(max(lo.z, q.fill_plane.y - PLANE_SHELL * shell), hi.z);
-    let first = vec3<i32>(floor((lo - frame.grid_min.xyz) / h - 0.5));
-    let last = vec3<i32>(ceil((hi - frame.grid_min.xyz) / h - 0.5));
+    let reach = q.radius_m + shell;
+    var lo = q.center_m - vec3<f32>(reach);
+    let hi = q.center_m + vec3<f32>(reach);
+    lo.z = min(max(lo.z, q.plane_z_m - PLANE_SHELL * shell), hi.z);
+    let first = vec3<i32>(floor((lo - frame.grid_min) / h - 0.5));
+    let last = vec3<i32>(ceil((hi - frame.grid_min) / h - 0.5));
     let a = vec3<u32>(clamp(first, vec3<i32>(0), vec3<i32>(dims) - 1));
     let b = vec3<u32>(clamp(last, vec3<i32>(0), vec3<i32>(dims) - 1));
     let n = b - a + 1u;
@@ -118,7 +117,7 @@ fn splat(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_index) 
     for (var j = li; j < count; j += 64u) {
         let v = a + vec3<u32>(j % n.x, (j / n.x) % n.y, j / (n.x * n.y));
         let c = voxel_centre(v);
-        let key = voxel_key(parcel_value(q, c, shell), c.z - q.fill_plane.y);
+        let key = voxel_key(parcel_value(q, c, shell), c.z - q.plane_z_m);
         if key != 0u {
             atomicMax(&voxel_keys[voxel_index(v, dims)], key);
         }
@@ -130,7 +129,7 @@ fn splat(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_index) 
 // texture exists); 0 outside the region.
 fn splatted_density(p: vec3<f32>) -> f32 {
     let dims = voxel_dims();
-    let rel = (p - frame.grid_min.xyz) / voxel_m();
+    let rel = (p - frame.grid_min) / voxel_m();
     if any(rel < vec3<f32>(0.0)) || any(rel >= vec3<f32>(dims)) {
         return 0.0;
     }
@@ -143,8 +142,8 @@ fn splatted_density(p: vec3<f32>) -> f32 {
 
 // ∫ ρ ds from p along unit `dir` to the region's edge (density × m).
 fn splatted_depth(p: vec3<f32>, dir: vec3<f32>) -> f32 {
-    let region_max = frame.grid_min.xyz + frame.grid_cell.xyz * vec3<f32>(frame.grid_dims.xyz);
-    let exit = ray_box(p, dir, frame.grid_min.xyz, region_max).y;
+    let region_max = frame.grid_min + frame.grid_cell * vec3<f32>(frame.grid_dims);
+    let exit = ray_box(p, dir, frame.grid_min, region_max).y;
     let ds = LIGHT_STEP_VOXELS * voxel_m();
     var od = 0.0;
     var t = 0.5 * ds;
@@ -157,14 +156,14 @@ fn splatted_depth(p: vec3<f32>, dir: vec3<f32>) -> f32 {
 
 @compute @workgroup_size(4, 4, 4)
 fn light(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let cells = frame.grid_dims.xyz;
+    let cells = frame.grid_dims;
     if any(gid >= cells) {
         return;
     }
-    let centre = frame.grid_min.xyz + (vec3<f32>(gid) + 0.5) * frame.grid_cell.xyz;
-    let sun = splatted_depth(centre, frame.sun_dir.xyz);
+    let centre = frame.grid_min + (vec3<f32>(gid) + 0.5) * frame.grid_cell;
+    let sun = splatted_depth(centre, frame.sun_dir);
     let up = splatted_depth(centre, vec3<f32>(0.0, 0.0, 1.0));
-    let behind = splatted_depth(centre, -frame.sun_dir.xyz);
+    let behind = splatted_depth(centre, -frame.sun_dir);
     textureStore(light_out, gid, vec4<f32>(sun, up, behind, 0.0));
 }
 
@@ -192,7 +191,7 @@ fn resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
     // is value order; 0 = nothing).
     let bits = bitcast<u32>(value + 1.0);
     // A trilinear fetch within one voxel of this one's centre can see it.
-    let cells = frame.grid_dims.xyz;
+    let cells = frame.grid_dims;
     let c0 = (max(gid, vec3<u32>(1u)) - 1u) / BAKE_BLOCK;
     let c1 = min((gid + 1u) / BAKE_BLOCK, cells - 1u);
     for (var z = c0.z; z <= c1.z; z++) {

@@ -4,7 +4,7 @@
 // composite pass then blends over sky and terrain.
 //
 // The CPU (src/authored/slicing.rs) tessellates the planes; the CPU, or the
-// compute pass of slices_field.wgsl, stores at every vertex the implicit
+// compute pass of vertex_field.wgsl, stores at every vertex the implicit
 // field (Σ Wyvill blends, eq. 1 before the plane opacity) and the shadow
 // accumulated toward the light (eq. 2). Here:
 //   vertex   : world → clip; field and shadow interpolated across the plane;
@@ -20,13 +20,15 @@
 // Seen through the air per vertex (air.wgsl). Output is premultiplied,
 // through output_color() like every pass.
 
+#import "../common.wgsl"
+#import "../air.wgsl"
+// The octave transforms, controls and media filters (group 2).
+#import "implicit.wgsl"
+
 // Read the terrain depth (false: no terrain pass, nothing hides the planes).
 override HAS_TERRAIN: bool = true;
 
 @group(1) @binding(0) var depth_tex: texture_depth_2d;
-
-// The octave transforms, controls and media filters (group 2) are in
-// implicit.wgsl, assembled before this file.
 
 struct SliceIn {
     @location(0) position_m: vec3<f32>,
@@ -52,7 +54,7 @@ fn vs_main(v: SliceIn) -> SliceOut {
     o.world = v.position_m;
     o.density = v.density;
     o.shadow = v.shadow;
-    let from_eye = v.position_m - frame.camera_pos.xyz;
+    let from_eye = v.position_m - frame.camera_pos.eye_m;
     let dist = length(from_eye);
     let air = air_toward(from_eye / max(dist, 1e-3), dist);
     o.air_light = air.light;
@@ -76,12 +78,7 @@ fn fs_main(in: SliceOut) -> @location(0) vec4<f32> {
     let alpha = 1.0 - exp(-tau);
     let lit = exp(-in.shadow * params.opacity.w);
     let c = mix(params.shadow_colour.rgb, params.cloud_colour.rgb, lit)
-        * frame.sun_color.rgb * params.opacity.z;
+        * frame.sun_color * params.opacity.z;
     let seen = seen_through(Air(in.air_light, in.air_transmittance), c * alpha, alpha);
     return vec4<f32>(output_color(seen), alpha);
-}
-
-// The air's share of the sun (air.wgsl): no cloud-shadow map in this pass.
-fn air_sunlit(p: vec3<f32>) -> f32 {
-    return 1.0;
 }

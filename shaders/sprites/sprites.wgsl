@@ -7,16 +7,19 @@
 // is seen through the air like the ray-marched clouds and writes premultiplied
 // colour, blended with (ONE, ONE_MINUS_SRC_ALPHA) as the cloud pass does.
 // Depth against ray-marched clouds in the same frame: the march runs first
-// and leaves its cloud depth per pixel (clouds.wgsl, the opacity-weighted
+// and leaves its cloud depth per pixel (raymarch/clouds.wgsl, the opacity-weighted
 // mean distance along the ray); the sprite pass keeps the fragments
 // farther than it (CLOUD_DEPTH = 1), the clouds are blended over them, and
 // a second draw after the composite keeps the nearer ones (CLOUD_DEPTH =
 // 2), so each sprite fragment lands on its side of the clouds.
 // Shadows (SHADOW_SPLAT): the same instances, turned to face the sun and
 // projected along it onto the ground plane into the cloud-shadow map (the
-// rectangle and lookup of shadow.wgsl and terrain.wgsl), each multiplying
+// rectangle and lookup of ../shadow.wgsl and ../terrain.wgsl), each multiplying
 // the sun's transmittance there by (1 − its opacity). Only the sprites
 // drawn directly cast shadows (not those in the impostor ring).
+
+#import "../common.wgsl"
+#import "../air.wgsl"
 
 // Compare with the terrain depth (false: no terrain pass this frame).
 override HAS_TERRAIN: bool = true;
@@ -31,7 +34,7 @@ override CLOUD_DEPTH: u32 = 0u;
 // Splat into the cloud-shadow map instead of drawing.
 override SHADOW_SPLAT: bool = false;
 
-// 144 bytes; keep in sync with SpriteInstance in src/render/sprites/mod.rs.
+// SpriteInstance of src/render/sprites/mod.rs.
 struct SpriteInstance {
     corners: array<vec4<f32>, 4>, // xyz (m), counter-clockwise from bottom-left
     colors: array<vec4<f32>, 4>,  // linear RGBA per corner (alpha: formation × facing)
@@ -81,7 +84,7 @@ fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> Sp
 // carried along the sun ray to the ground plane and placed in the shadow
 // map's clip space (texel row 0 at the rectangle's north edge).
 fn shadow_splat_position(s: SpriteInstance, right: bool, top: bool) -> vec4<f32> {
-    let sun = frame.sun_dir.xyz;
+    let sun = frame.sun_dir;
     let centre = 0.5 * (s.corners[0].xyz + s.corners[2].xyz);
     // A sprite under the ground plane shades nothing (carried "up" the
     // sun ray it would land on the wrong side): a point outside the clip
@@ -99,8 +102,9 @@ fn shadow_splat_position(s: SpriteInstance, right: bool, top: bool) -> vec4<f32>
     let up = cross(sun, side);
     let p = centre + side * select(-half_w, half_w, right) + up * select(-half_h, half_h, top);
     let g = p.xy - p.z * sun.xy / max(sun.z, 0.03);
-    let r = frame.shadow_rect;
-    let uv = vec2<f32>((g.x - r.x) / max(r.z - r.x, 1.0), (r.w - g.y) / max(r.w - r.y, 1.0));
+    let lo = frame.shadow_min;
+    let hi = frame.shadow_max;
+    let uv = vec2<f32>((g.x - lo.x) / max(hi.x - lo.x, 1.0), (hi.y - g.y) / max(hi.y - lo.y, 1.0));
     return vec4<f32>(2.0 * uv.x - 1.0, 1.0 - 2.0 * uv.y, 0.5, 1.0);
 }
 
@@ -112,7 +116,7 @@ fn fs_main(in: SpriteOut) -> @location(0) vec4<f32> {
         return vec4<f32>(1.0 - clamp(in.color.a * tex.a, 0.0, 1.0));
     }
     if CLOUD_DEPTH != 0u {
-        let behind = length(in.world - frame.camera_pos.xyz)
+        let behind = length(in.world - frame.camera_pos.eye_m)
             > textureLoad(cloud_depth_tex, vec2<i32>(in.pos.xy), 0).r;
         if behind != (CLOUD_DEPTH == 1u) {
             discard;
@@ -127,12 +131,12 @@ fn fs_main(in: SpriteOut) -> @location(0) vec4<f32> {
     if IMPOSTOR_QUAD {
         return tex * in.color.a;
     }
-    let to_eye = in.world - frame.camera_pos.xyz;
+    let to_eye = in.world - frame.camera_pos.eye_m;
     // Near fade: a quad the camera flies into reaches zero alpha before
     // the near plane clips it (a fragment at view depth `near` lies within
     // 1.3 × near of the eye at our fields of view), instead of vanishing
     // at once while still partly opaque.
-    let near = distance(world_from_ndc(vec2<f32>(0.0), 0.0), frame.camera_pos.xyz);
+    let near = distance(world_from_ndc(vec2<f32>(0.0), 0.0), frame.camera_pos.eye_m);
     let near_fade = smoothstep(1.5 * near, 6.0 * near, length(to_eye));
     let alpha = clamp(in.color.a * tex.a, 0.0, 1.0) * near_fade;
     if alpha < 1e-3 {
@@ -144,9 +148,4 @@ fn fs_main(in: SpriteOut) -> @location(0) vec4<f32> {
     let dist = length(to_eye);
     let seen = through_air(rgb * alpha, alpha, to_eye / max(dist, 1e-3), dist);
     return vec4<f32>(output_color(seen), alpha);
-}
-
-// The air's share of the sun (air.wgsl): no cloud-shadow map in this pass.
-fn air_sunlit(p: vec3<f32>) -> f32 {
-    return 1.0;
 }

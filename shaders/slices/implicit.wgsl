@@ -1,26 +1,28 @@
 // The authored clouds' field on the GPU (Schpok et al. 2003 §3.1, §3.2,
 // Table 2), shared by the slices passes: the slicing planes (their noise
 // and media filter), the compute pass that evaluates the field and shadow
-// at the slice vertices (slices_field.wgsl) and, under the `slices`
-// method, the cloud-shadow map (field_slices.wgsl). The CPU twin of every
+// at the slice vertices (vertex_field.wgsl) and, under the `slices`
+// method, the cloud-shadow map (shadow_field.wgsl). The CPU twin of every
 // routine here is the reference: src/authored/ellipsoid.rs (Wyvill blend,
 // s², the grid index) and src/render/slices/field.rs (tiers, octaves,
 // media filters, the first-octave shadow weight). Keep them in sync.
+// The structs below are TierUniform and OctaveUniform of
+// src/authored/octaves.rs, SlicesParams of src/render/slices/mod.rs and
+// GpuPrimitive of src/render/slices/buffers.rs.
 
-// 544 bytes; keep in sync with TierUniform in src/authored/octaves.rs.
+#import "../common.wgsl"
+
 struct SlicesTier {
     texture_from_world: array<mat4x4<f32>, 8>, // per octave; unused are zero
     bottom_m: vec4<f32>,  // x: bottom of the tier (m); y: first octave's weight
     media: vec4<u32>,     // x: media filter id (MediaFilter::gpu_id)
 }
 
-// 2192 bytes; keep in sync with OctaveUniform in src/authored/octaves.rs.
 struct SlicesOctaves {
     tiers: array<SlicesTier, 4>,
     counts: vec4<u32>,    // x: tiers in use; y: octaves in use
 }
 
-// 80 bytes; keep in sync with SlicesParams in src/render/slices/mod.rs.
 struct SlicesParams {
     opacity: vec4<f32>,       // x: plane opacity; y: alpha cutoff; z: sun to colour scale; w: shadow scale
     cloud_colour: vec4<f32>,  // rgb: lit cloud (linear)
@@ -29,12 +31,11 @@ struct SlicesParams {
     index_cell: vec4<f32>,    // xyz: its cell size (m); w: shadow-map extinction per unit density (1/m)
 }
 
-// 64 bytes; keep in sync with GpuPrimitive in src/render/slices/buffers.rs.
 // s² = |unit_from_world · (p − centre)|² (EllipsoidState::unit_from_world).
 struct Primitive {
-    row0: vec4<f32>,   // xyz: first row of unit_from_world; w: strength
-    row1: vec4<f32>,   // xyz: second row; w: flat base altitude (m)
-    row2: vec4<f32>,   // xyz: third row
+    // xyz: the rows of unit_from_world; w: strength (rows[0]), flat base
+    // altitude (m, rows[1]).
+    rows: array<vec4<f32>, 3>,
     centre: vec4<f32>, // xyz: centre (m)
 }
 
@@ -125,12 +126,12 @@ fn implicit_field(p: vec3<f32>) -> f32 {
     var sum = 0.0;
     for (var k = cell_lists[cell]; k < cell_lists[cell + 1u]; k++) {
         let e = primitives[cell_lists[k]];
-        if p.z < e.row1.w {
+        if p.z < e.rows[1].w {
             continue;
         }
         let d = p - e.centre.xyz;
-        let u = vec3<f32>(dot(e.row0.xyz, d), dot(e.row1.xyz, d), dot(e.row2.xyz, d));
-        sum += e.row0.w * wyvill(dot(u, u));
+        let u = vec3<f32>(dot(e.rows[0].xyz, d), dot(e.rows[1].xyz, d), dot(e.rows[2].xyz, d));
+        sum += e.rows[0].w * wyvill(dot(u, u));
     }
     return sum;
 }

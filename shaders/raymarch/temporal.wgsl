@@ -23,6 +23,9 @@
 // composite.wgsl; and per pixel the samples averaged into it: with the
 // colour, the next frame's history.
 
+#import "../common.wgsl"
+#import "temporal_uniform.wgsl"
+
 // Most frames averaged into a pixel: past this the history weighs
 // (MAX_SAMPLES − 1)/MAX_SAMPLES, so the average still follows slow changes
 // (clouds evolve) within ~MAX_SAMPLES marched frames (4× as many frames).
@@ -34,14 +37,6 @@ const FAR_M: f32 = 100000.0;
 // a different surface: its average restarts (the pixel's next marched
 // sample replaces it; until then it shows the clamped value).
 const REJECT: f32 = 0.1;
-
-// Keep in sync with the struct of the same name in clouds.wgsl and
-// TemporalUniform in src/render/renderer/temporal.rs.
-struct Temporal {
-    prev_clip_from_world: mat4x4<f32>,
-    params: vec4<u32>, // x, y: offset of the marched pixel in its 2×2 block; z: frame index; w: history valid
-    size: vec4<u32>,   // frame width, height; quarter width, height
-}
 
 @group(1) @binding(0) var fresh_color: texture_2d<f32>;
 @group(1) @binding(1) var fresh_depth: texture_2d<f32>;
@@ -78,7 +73,7 @@ fn cs_resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
     // Where this pixel's cloud point was in the previous frame.
     let pix = vec2<f32>(gid.xy) + 0.5;
     let ndc = vec2<f32>(2.0 * pix.x / f32(full.x) - 1.0, 1.0 - 2.0 * pix.y / f32(full.y));
-    let ro = frame.camera_pos.xyz;
+    let ro = frame.camera_pos.eye_m;
     let point = ro + view_dir(ndc) * select(FAR_M, depth, depth > 0.0);
     let prev = temporal.prev_clip_from_world * vec4<f32>(point, 1.0);
     let prev_ndc = prev.xy / max(prev.w, 1e-6);

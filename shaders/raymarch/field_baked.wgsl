@@ -3,23 +3,27 @@
 // (R: v, G: condensation plane (m)), read with one trilinear fetch, so a
 // sample costs the same whatever the parcel count. The light volume
 // (`light_tex`, R, G and B: optical depths toward the sun, straight up and
-// away from the sun) is
-// a second 3D texture over the same region, one texel per coarse cell, so
-// the same coordinates address both and the sampler interpolates between
-// the cells' centres. The frame's grid (grid_min, grid_cell, grid_dims) is
-// the bake's coarse occupancy grid (BAKE_BLOCK³ voxels a cell) over the
-// same region; `occupancy` holds, per coarse cell, the largest v that
-// trilinear filtering can return in it (bit pattern of v + 1; 0 = nothing),
-// so rays cross empty cells in one step. Same functions as
-// field_exact.wgsl; see there.
+// away from the sun) is a second 3D texture over the same region, one
+// texel per coarse cell, so the same coordinates address both and the
+// sampler interpolates between the cells' centres. The frame's grid
+// (grid_min, grid_cell, grid_dims) is the bake's coarse occupancy grid
+// (BAKE_BLOCK³ voxels a cell) over the same region; `occupancy` holds, per
+// coarse cell, the largest v that trilinear filtering can return in it
+// (bit pattern of v + 1; 0 = nothing), so rays cross empty cells in one
+// step. Bound to both the `<field>` slot (field_value, field_sample,
+// empty_skip: as field_exact.wgsl, see there) and the `<far_light>` slot
+// (far_light_depth, far_behind_depth: as far_light_exact.wgsl) of the
+// method (src/render/shaders.rs).
+
+#import "../common.wgsl"
 
 @group(0) @binding(6) var field_tex: texture_3d<f32>;
 @group(0) @binding(7) var<storage, read> occupancy: array<u32>;
 @group(0) @binding(8) var light_tex: texture_3d<f32>;
 
 fn field_uvw(p: vec3<f32>) -> vec3<f32> {
-    let size = frame.grid_cell.xyz * vec3<f32>(frame.grid_dims.xyz);
-    return (p - frame.grid_min.xyz) / size;
+    let size = frame.grid_cell * vec3<f32>(frame.grid_dims);
+    return (p - frame.grid_min) / size;
 }
 
 fn field_value(p: vec3<f32>) -> f32 {
@@ -43,8 +47,8 @@ fn far_behind_depth(p: vec3<f32>) -> f32 {
 }
 
 fn empty_skip(p: vec3<f32>, rd: vec3<f32>) -> f32 {
-    let dims = frame.grid_dims.xyz;
-    let rel = (p - frame.grid_min.xyz) / frame.grid_cell.xyz;
+    let dims = frame.grid_dims;
+    let rel = (p - frame.grid_min) / frame.grid_cell;
     if any(rel < vec3<f32>(0.0)) || any(rel >= vec3<f32>(dims)) {
         return 0.0;
     }
@@ -52,9 +56,9 @@ fn empty_skip(p: vec3<f32>, rd: vec3<f32>) -> f32 {
     let bits = occupancy[ci.x + dims.x * (ci.y + dims.y * ci.z)];
     // The noise adds at most k/2 (density.wgsl): below that, nothing shows.
     let v_max = select(-1.0, bitcast<f32>(bits) - 1.0, bits != 0u);
-    if v_max + 0.5 * frame.cloud.x > 0.0 {
+    if v_max + 0.5 * frame.noise_amplitude > 0.0 {
         return 0.0;
     }
-    let lo = frame.grid_min.xyz + vec3<f32>(ci) * frame.grid_cell.xyz;
-    return max(ray_box(p, rd, lo, lo + frame.grid_cell.xyz).y, 1e-3);
+    let lo = frame.grid_min + vec3<f32>(ci) * frame.grid_cell;
+    return max(ray_box(p, rd, lo, lo + frame.grid_cell).y, 1e-3);
 }

@@ -1,8 +1,9 @@
 // Cloud pass (paper §6.2): a full-screen ray-march through the box of the
 // frame's grid, evaluating the density of density.wgsl (eq. 18) from the
-// method's macro field (field_exact.wgsl or field_baked.wgsl) at fixed
-// steps (stretched so `max steps` always cross the box), stopping at the
-// terrain depth written by the terrain pass, lit by lighting.wgsl.
+// method's macro field (the `<field>` slot: field_exact.wgsl or
+// field_baked.wgsl) at fixed steps (stretched so `max_steps` always cross
+// the box), stopping at the terrain depth written by the terrain pass, lit
+// by lighting.wgsl.
 // Energy-conserving step integration:
 // L += T·S·(1 − exp(−σΔt)), T *= exp(−σΔt), with Δt growing to 2 and 4
 // steps as T falls (`march_stride`). Early exit when T drops below
@@ -10,18 +11,26 @@
 // crossed in one jump to the first sample past it on the same dt lattice,
 // so the samples kept are the unskipped march's, same positions. Output is
 // premultiplied (rgb = L, a = 1 − T) and blended over the sky/terrain with
-// (ONE, ONE_MINUS_SRC_ALPHA) in the HDR scene target. `march` is the one march routine; the
-// entry points only supply the pixel: `fs_main` (fragment path) returns it,
-// `cs_main` (compute path) stores it into `cloud_out`, which composite.wgsl
-// then blends over the target the same way; `cs_temporal` (temporal
-// amortisation, `[render] temporal`) marches one pixel of each 2×2 block
-// per frame into quarter-size textures, with its cloud depth, for
-// temporal.wgsl to reproject and accumulate. The full-size compute path
-// stores its cloud depth too (`cloud_depth_out`): the sprites of a frame
-// that has both sort against it (shaders/sprites.wgsl).
+// (ONE, ONE_MINUS_SRC_ALPHA) in the HDR scene target. `march` is the one
+// march routine; the entry points only supply the pixel: `fs_main`
+// (fragment path) returns it, `cs_main` (compute path) stores it into
+// `cloud_out`, which composite.wgsl then blends over the target the same
+// way; `cs_temporal` (temporal amortisation, `[render] temporal`) marches
+// one pixel of each 2×2 block per frame into quarter-size textures, with
+// its cloud depth, for temporal.wgsl to reproject and accumulate. The
+// full-size compute path stores its cloud depth too (`cloud_depth_out`):
+// the sprites of a frame that has both sort against it
+// (sprites/sprites.wgsl).
 // Rays start at the near plane (not at the eye), so a camera inside a
 // cloud sees the cloud from its first visible point on, as the terrain
 // does: flying into a cloud and out of it is continuous.
+
+#import "../common.wgsl"
+#import "../air.wgsl"
+#import <field>
+#import "density.wgsl"
+#import "lighting.wgsl"
+#import "temporal_uniform.wgsl"
 
 // Read the terrain depth (false: no terrain pass, rays run to the box end).
 override HAS_TERRAIN: bool = true;
@@ -76,7 +85,7 @@ fn march(pix: vec2<f32>, ndc: vec2<f32>, jitter: f32) -> MarchOut {
     var out: MarchOut;
     out.color = vec4<f32>(0.0);
     out.depth = 0.0;
-    let ro = frame.camera_pos.xyz;
+    let ro = frame.camera_pos.eye_m;
     let rd = view_dir(ndc);
     // The near plane along this ray (depth 0 in wgpu's clip space).
     let t_near = distance(world_from_ndc(ndc, 0.0), ro);
@@ -87,18 +96,18 @@ fn march(pix: vec2<f32>, ndc: vec2<f32>, jitter: f32) -> MarchOut {
             t_end = distance(world_from_ndc(ndc, depth), ro);
         }
     }
-    let grid_max = frame.grid_min.xyz + frame.grid_cell.xyz * vec3<f32>(frame.grid_dims.xyz);
-    let span = ray_box(ro, rd, frame.grid_min.xyz, grid_max);
+    let grid_max = frame.grid_min + frame.grid_cell * vec3<f32>(frame.grid_dims);
+    let span = ray_box(ro, rd, frame.grid_min, grid_max);
     let t0 = max(span.x, t_near);
     let t1 = min(span.y, t_end);
     if t1 <= t0 {
         return out;
     }
-    let max_steps = u32(frame.march.y);
-    let dt = max(frame.march.x, (t1 - t0) / f32(max_steps));
-    let sigma_max = frame.cloud.z;
+    let max_steps = frame.max_steps;
+    let dt = max(frame.step_m, (t1 - t0) / f32(max_steps));
+    let sigma_max = frame.extinction_per_m;
     // Light that does not depend on the sample, hoisted out of the march.
-    let light = ray_lighting(rd);
+    let light = ray_lighting(rd, HAS_TERRAIN);
 
     // Samples sit at t_first + k·dt, k = 0, 1, …
     let t_first = t0 + dt * jitter;
@@ -137,7 +146,7 @@ fn march(pix: vec2<f32>, ndc: vec2<f32>, jitter: f32) -> MarchOut {
             radiance += w * source;
             depth_sum += w * t;
             trans *= step_t;
-            if trans < frame.cloud.w {
+            if trans < frame.early_exit_transmittance {
                 break;
             }
         }
@@ -190,14 +199,7 @@ fn cs_main(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 // Temporal path: quarter-size outputs (one texel per 2×2 block of the
-// frame) and the frame's block offset; keep in sync with TemporalUniform
-// in src/render/renderer/temporal.rs.
-struct Temporal {
-    prev_clip_from_world: mat4x4<f32>,
-    params: vec4<u32>, // x, y: offset of the marched pixel in its 2×2 block; z: frame index; w: history valid
-    size: vec4<u32>,   // frame width, height; quarter width, height
-}
-
+// frame) and the frame's block offset.
 @group(2) @binding(2) var<uniform> temporal: Temporal;
 
 // Interleaved gradient noise (Jimenez 2014), a cheap blue-noise-like
@@ -223,9 +225,4 @@ fn cs_temporal(@builtin(global_invocation_id) gid: vec3<u32>) {
     let m = march(pix, ndc_of(pix, full), temporal_jitter(pix, temporal.params.z));
     textureStore(cloud_out, gid.xy, m.color);
     textureStore(cloud_depth_out, gid.xy, vec4<f32>(m.depth, 0.0, 0.0, 0.0));
-}
-
-// The air's share of the sun (air.wgsl): no cloud-shadow map in this pass.
-fn air_sunlit(p: vec3<f32>) -> f32 {
-    return 1.0;
 }

@@ -1,17 +1,21 @@
 // Lighting of a cloud sample, tuned so clouds read as cumulus (sunlit
 // domes bright, bases grey-blue): the sun, attenuated by a short light
-// march toward it (the noise detail) and the light volume beyond it (the
-// whole cloud region), through the same medium the view rays see,
-// scattered once with a two-lobe Henyey–Greenstein phase and many times
-// with a diffusion-like falloff, dimmed where the cloud ends behind the
-// sample (`sun_scattering`); plus sky
-// ambient shaded by the light volume's look upward and, with the multiple scattering,
-// darkened toward the sample's condensation plane (the flat base); plus the
-// sunlit ground's light from below (without terrain, the sky's lower half),
-// at the base. Kept apart from the march
-// (clouds.wgsl) so that a
-// lighting model (e.g. a light volume) can replace it: the march calls only
-// `ray_lighting` and `sample_source`.
+// march toward it (the noise detail) and the far light beyond it (the
+// `<far_light>` slot: the whole cloud region), through the same medium the
+// view rays see, scattered once with a two-lobe Henyey–Greenstein phase
+// and many times with a diffusion-like falloff, dimmed where the cloud
+// ends behind the sample (`sun_scattering`); plus sky ambient shaded by
+// the far light's look upward and, with the multiple scattering, darkened
+// toward the sample's condensation plane (the flat base); plus the sunlit
+// ground's light from below (without terrain, the sky's lower half), at
+// the base. Kept apart from the march (clouds.wgsl) so that a lighting
+// model can replace it: the march calls only `ray_lighting` and
+// `sample_source`.
+
+#import "../common.wgsl"
+#import <field>
+#import "density.wgsl"
+#import <far_light>
 
 // Finite-difference normals of ρ for extra (voxel) shading: paper Table 1
 // "with FDM normals". Off: this code is removed at pipeline creation.
@@ -24,17 +28,19 @@ fn henyey_greenstein(cos_theta: f32, g: f32) -> f32 {
 
 // Growth of the light-march steps: step i is `light step`·LIGHT_GROWTH^i
 // long, so a few samples reach across a whole cloud (≈1.4 km with the
-// defaults) while the first ones resolve the crisp sunlit edge.
+// defaults) while the first ones resolve the crisp sunlit edge. The
+// bench's light-march length (src/bench/accuracy.rs) uses it too.
 const LIGHT_GROWTH: f32 = 1.6;
 
 // Extinction toward the sun over the view rays' extinction: 1, the same
 // medium both ways (as the path tracer sees it). A denser light march
-// (2.5 before) darkened cloud interiors well below the path tracer's.
+// darkens cloud interiors well below the path tracer's.
 const LIGHT_DENSITY: f32 = 1.0;
 
 // The phase's back lobe: g and weight in the mix with the forward lobe
-// (whose g is the scene's phase_g). Keep in sync with BACK_LOBE_G and
-// BACK_LOBE_WEIGHT in src/export/sidecar.rs (the path tracer uses them).
+// (whose g is the scene's phase_g). The export sidecar gives the path
+// tracer these (src/export/sidecar.rs) and LIGHT_DENSITY; a test compares
+// the values.
 const HG_BACK_G: f32 = -0.3;
 const HG_BACK_WEIGHT: f32 = 0.25;
 
@@ -49,13 +55,13 @@ const BASE_MS_FLOOR: f32 = 0.4;
 const SKY_SOFTENING: f32 = 0.35;
 
 // Short march from p along unit `dir`: up to `steps` samples at the light
-// march's steps (the first `frame.march.w` long, each LIGHT_GROWTH× the
+// march's steps (the first `frame.light_step_m` long, each LIGHT_GROWTH× the
 // one before), the first `detailed` of them with the noise detail and the
 // rest of the parcels alone (no texture fetches), stopping once the sum
 // reaches `enough`. (density sum × step (× extinction gives the
 // exponent), length covered).
 fn short_depth(p: vec3<f32>, dir: vec3<f32>, steps: u32, detailed: u32, enough: f32) -> vec2<f32> {
-    var ds = frame.march.w;
+    var ds = frame.light_step_m;
     var t = 0.0;
     var sum = 0.0;
     for (var i = 0u; i < steps && sum < enough; i++) {
@@ -75,12 +81,12 @@ fn short_depth(p: vec3<f32>, dir: vec3<f32>, steps: u32, detailed: u32, enough: 
 // extinction gives the exponent): a short march of `light steps` samples
 // resolves the noise detail near p (only its first step sees the noise:
 // past it the detail no longer shows in the shadow), then the light volume
-// (field file's far_light_depth: the parcels alone, over the whole cloud
+// (the `<far_light>` file's far_light_depth: the parcels alone, over the whole cloud
 // region) adds everything beyond, so a tower's top shadows its base and its
 // neighbours.
 fn light_density_sum(p: vec3<f32>) -> f32 {
-    let sun = frame.sun_dir.xyz;
-    let near = short_depth(p, sun, u32(frame.march.z), 1u, 3.4e38);
+    let sun = frame.sun_dir;
+    let near = short_depth(p, sun, frame.light_steps, 1u, 3.4e38);
     return near.x + far_light_depth(p + sun * near.y).x;
 }
 
@@ -101,7 +107,7 @@ const BEHIND_ENOUGH: f32 = 4.0;
 // where the boundary's dimming no longer shows; `rate` converts it to
 // 2·falloff·od (sun_scattering).
 fn behind_density_sum(p: vec3<f32>, rate: f32) -> f32 {
-    let away = -frame.sun_dir.xyz;
+    let away = -frame.sun_dir;
     let enough = BEHIND_ENOUGH / rate;
     let near = short_depth(p, away, BEHIND_STEPS, 0u, enough);
     if near.x >= enough {
@@ -116,7 +122,7 @@ fn behind_density_sum(p: vec3<f32>, rate: f32) -> f32 {
 // zenith. Cloud bases, with the whole cloud above them, see little sky and
 // turn grey-blue.
 fn sky_visibility(p: vec3<f32>) -> f32 {
-    return exp(-SKY_SOFTENING * far_light_depth(p).y * frame.cloud.z);
+    return exp(-SKY_SOFTENING * far_light_depth(p).y * frame.extinction_per_m);
 }
 
 // Sun light scattered toward the eye at a sample with optical depth `od`
@@ -169,7 +175,7 @@ fn exit_rate(w: vec3<f32>) -> f32 {
 }
 
 fn sun_phase_weights(mu: f32) -> vec3<f32> {
-    let g = frame.noise.z;
+    let g = frame.phase_g;
     let phase = mix(henyey_greenstein(mu, g), henyey_greenstein(mu, HG_BACK_G), HG_BACK_WEIGHT);
     let mean_cos = mix(g, HG_BACK_G, HG_BACK_WEIGHT);
     return vec3<f32>(4.0 * PI * phase, MS_GAIN, 0.75 * (1.0 - mean_cos));
@@ -191,7 +197,7 @@ fn sun_scattering(w: vec3<f32>, od: f32, behind: f32) -> vec2<f32> {
 // 0.026, 256×192). The noise octaves finer than the step could not shape
 // the normal anyway.
 fn density_normal(p: vec3<f32>) -> vec3<f32> {
-    let h = 0.5 * frame.cloud.y;
+    let h = 0.5 * frame.shell_m;
     let k = vec2<f32>(1.0, -1.0);
     let g = k.xyy * field_value(p + k.xyy * h) + k.yyx * field_value(p + k.yyx * h)
         + k.yxy * field_value(p + k.yxy * h) + k.xxx * field_value(p + k.xxx * h);
@@ -209,9 +215,11 @@ struct RayLight {
     bounce: vec3<f32>,
 }
 
-fn ray_lighting(rd: vec3<f32>) -> RayLight {
+// `over_terrain`: a terrain lies below the clouds (else the sky's lower
+// half).
+fn ray_lighting(rd: vec3<f32>, over_terrain: bool) -> RayLight {
     var l: RayLight;
-    l.phase_weights = sun_phase_weights(dot(rd, frame.sun_dir.xyz));
+    l.phase_weights = sun_phase_weights(dot(rd, frame.sun_dir));
     l.sky_base = 0.8 * sky_ambient();
     // Over terrain: the sunlit ground's radiance (the terrain's own
     // Lambert), seen by a cloud base over its lower hemisphere and
@@ -228,11 +236,11 @@ fn ray_lighting(rd: vec3<f32>) -> RayLight {
     // scattered the same way. A fixed 0.03 × sun before, about a tenth of
     // it: against Mitsuba, fair weather at 384×288 (64 spp) went from mean
     // FLIP 0.075 to 0.047.
-    if HAS_TERRAIN {
+    if over_terrain {
         let ground_albedo = 0.5 * (MEADOW_ALBEDO + FIELD_ALBEDO);
         l.bounce = 0.8 * lambert(ground_albedo, vec3<f32>(0.0, 0.0, 1.0), 1.0);
     } else {
-        l.bounce = 0.8 * frame.sky_below.rgb;
+        l.bounce = 0.8 * frame.sky_below;
     }
     return l;
 }
@@ -240,14 +248,14 @@ fn ray_lighting(rd: vec3<f32>) -> RayLight {
 // Light scattered toward the eye per unit extinction at a cloudy sample p
 // whose cloud has its condensation plane at `plane_z` (m).
 fn sample_source(l: RayLight, p: vec3<f32>, plane_z: f32) -> vec3<f32> {
-    let sigma_max = frame.cloud.z;
+    let sigma_max = frame.extinction_per_m;
     let od = light_density_sum(p) * sigma_max * LIGHT_DENSITY;
     let rate = exit_rate(l.phase_weights) * sigma_max * LIGHT_DENSITY;
     let behind = behind_density_sum(p, rate) * sigma_max * LIGHT_DENSITY;
     var sun_light = sun_scattering(l.phase_weights, od, behind);
     if USE_NORMALS {
         let n = density_normal(p);
-        sun_light *= 0.55 + 0.45 * max(dot(n, frame.sun_dir.xyz), 0.0);
+        sun_light *= 0.55 + 0.45 * max(dot(n, frame.sun_dir), 0.0);
     }
     // Diffuse light (skylight and the multiply scattered part of the sun)
     // is weaker the deeper the sample sits toward its cloud's flat base:
@@ -262,5 +270,5 @@ fn sample_source(l: RayLight, p: vec3<f32>, plane_z: f32) -> vec3<f32> {
     let a2 = above_base * above_base;
     let sky = l.sky_base * mix(0.5, 1.0, a2) * mix(0.5, 1.0, sky_visibility(p));
     let multiple = sun_light.y * mix(BASE_MS_FLOOR, 1.0, a2);
-    return frame.sun_color.rgb * (sun_light.x + multiple) + sky + l.bounce * (1.0 - a2);
+    return frame.sun_color * (sun_light.x + multiple) + sky + l.bounce * (1.0 - a2);
 }

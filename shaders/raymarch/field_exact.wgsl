@@ -1,36 +1,17 @@
 // Macro field of the `exact` method (the paper's path, §6.2): the union
 // over parcels of parcel_value (parcel.wgsl), evaluated per sample from the
 // parcels listed in the sample's cell of the CPU-built grid (uniform
-// buffers). Cost per sample ∝ the cell's list length. The other method,
-// field_baked.wgsl, provides the same five functions from a baked texture:
+// buffers). Cost per sample ∝ the cell's list length. One of the two files
+// bound to the `<field>` slot (src/render/shaders.rs); the other,
+// field_baked.wgsl, reads the same functions from a baked texture:
 //   field_value(p)          v(P) ∈ [−1, 1]
 //   field_sample(p)         (v(P), condensation plane under P (m))
-//   far_light_depth(p)      optical depth ∫ρ ds of the parcels alone (no
-//                           noise; density × m) from P to the cloud
-//                           region's edge toward the sun (x) and up (y)
-//   far_behind_depth(p)     the same away from the sun
 //   empty_skip(p, rd)       > 0: distance along rd over which v + k/2 ≤ 0
 //                           (no density can appear); 0: p may be cloudy.
+// The method's far light (the `<far_light>` slot) is far_light_exact.wgsl.
 
-// The exact method's far light march (the baked method reads a light
-// volume instead): far_depth_along (density.wgsl) at a step of one grid
-// cell's shortest side.
-fn far_step() -> f32 {
-    let cell = frame.grid_cell.xyz;
-    return min(cell.x, min(cell.y, cell.z));
-}
-
-// Optical depths (density × m) of the parcels alone from P to the grid
-// box's edge toward the sun (x) and straight up (y).
-fn far_light_depth(p: vec3<f32>) -> vec2<f32> {
-    let ds = far_step();
-    return vec2<f32>(far_depth_along(p, frame.sun_dir.xyz, ds), far_depth_along(p, vec3<f32>(0.0, 0.0, 1.0), ds));
-}
-
-// The same away from the sun.
-fn far_behind_depth(p: vec3<f32>) -> f32 {
-    return far_depth_along(p, -frame.sun_dir.xyz, far_step());
-}
+#import "../common.wgsl"
+#import "parcel.wgsl"
 
 // Evaluate only the parcels listed in the sample's grid cell (paper §6.2).
 // false: every parcel at every sample (brute force, for the bench).
@@ -40,10 +21,10 @@ override GRID_CULLING: bool = true;
 // outside the grid. No parcel's density reaches a cell with an empty list.
 fn cell_list(p: vec3<f32>) -> vec2<u32> {
     if !GRID_CULLING {
-        return vec2<u32>(0u, frame.grid_dims.w);
+        return vec2<u32>(0u, frame.parcel_count);
     }
-    let dims = frame.grid_dims.xyz;
-    let rel = (p - frame.grid_min.xyz) / frame.grid_cell.xyz;
+    let dims = frame.grid_dims;
+    let rel = (p - frame.grid_min) / frame.grid_cell;
     if any(rel < vec3<f32>(0.0)) || any(rel >= vec3<f32>(dims)) {
         return vec2<u32>(0u);
     }
@@ -66,10 +47,10 @@ fn list_parcel(j: u32) -> u32 {
 
 fn field_value(p: vec3<f32>) -> f32 {
     let list = cell_list(p);
-    let shell = frame.cloud.y;
+    let shell = frame.shell_m;
     var v = -1.0;
     for (var j = list.x; j < list.x + list.y; j++) {
-        v = max(v, parcel_value(parcels.p[list_parcel(j)], p, shell));
+        v = max(v, parcel_value(parcels.parcels[list_parcel(j)], p, shell));
         // The union saturates at 1 (paper): stop there.
         if v >= 1.0 {
             break;
@@ -83,14 +64,14 @@ fn field_value(p: vec3<f32>) -> f32 {
 // the lighting knows how far above its base a sample lies. units: -, m
 fn field_sample(p: vec3<f32>) -> vec2<f32> {
     let list = cell_list(p);
-    let shell = frame.cloud.y;
+    let shell = frame.shell_m;
     var v = -1.0;
     var plane = p.z;
     for (var j = list.x; j < list.x + list.y; j++) {
-        let q = parcels.p[list_parcel(j)];
+        let q = parcels.parcels[list_parcel(j)];
         let vi = parcel_value(q, p, shell);
-        if vi > v || (vi >= 1.0 && q.fill_plane.y < plane) {
-            plane = q.fill_plane.y;
+        if vi > v || (vi >= 1.0 && q.plane_z_m < plane) {
+            plane = q.plane_z_m;
         }
         v = max(v, vi);
     }
@@ -102,7 +83,7 @@ fn empty_skip(p: vec3<f32>, rd: vec3<f32>) -> f32 {
     if !GRID_CULLING || cell_list(p).y > 0u {
         return 0.0;
     }
-    let ci = floor((p - frame.grid_min.xyz) / frame.grid_cell.xyz);
-    let lo = frame.grid_min.xyz + ci * frame.grid_cell.xyz;
-    return max(ray_box(p, rd, lo, lo + frame.grid_cell.xyz).y, 1e-3);
+    let ci = floor((p - frame.grid_min) / frame.grid_cell);
+    let lo = frame.grid_min + ci * frame.grid_cell;
+    return max(ray_box(p, rd, lo, lo + frame.grid_cell).y, 1e-3);
 }

@@ -1,16 +1,22 @@
 // Cloud density (paper eq. 18) from the macro field of the scene's method
-// (field_exact.wgsl or field_baked.wgsl, both giving v ∈ [−1, 1]):
+// (the `<field>` slot: field_exact.wgsl or field_baked.wgsl, both giving
+// v ∈ [−1, 1]):
 //     ρ(P) = smoothstep(0, 1, v(P) + k·noise(P)),
 // with noise(P) ∈ [−0.5, 0.5] tiling fBm and k the noise amplitude: smoothstep
 // has edges 0 and 1, so a full parcel (f = 1) is opaque one shell inside its
 // surface, its edge is noise-eroded over about k/2 shells, and a parcel with
 // f < 1 never reaches full density and turns sponge-like as f drops. Below
 // the plane d rises at most to −k/2 before ρ vanishes: the base is flat to
-// within k/2 · PLANE_SHELL · shell.
+// within k/2 · PLANE_SHELL · shell. Also the ray-marching methods' file of
+// the `<ground_shadow>` slot (shadow.wgsl): `ground_sun_depth`, below.
+
+#import "../common.wgsl"
+#import "parcel.wgsl"
+#import <field>
 
 // ρ from a macro value v at p.
 fn density_from(v: f32, p: vec3<f32>) -> f32 {
-    let k = frame.cloud.x;
+    let k = frame.noise_amplitude;
     // The noise adds at most k/2: skip the texture fetches where it cannot help.
     if v + 0.5 * k <= 0.0 {
         return 0.0;
@@ -39,8 +45,8 @@ fn coarse_density(p: vec3<f32>) -> f32 {
 const FAR_LIGHT_MAX_STEPS: u32 = 256u;
 
 fn far_depth_along(p: vec3<f32>, dir: vec3<f32>, ds: f32) -> f32 {
-    let box_max = frame.grid_min.xyz + frame.grid_cell.xyz * vec3<f32>(frame.grid_dims.xyz);
-    let span = ray_box(p, dir, frame.grid_min.xyz, box_max);
+    let box_max = frame.grid_min + frame.grid_cell * vec3<f32>(frame.grid_dims);
+    let span = ray_box(p, dir, frame.grid_min, box_max);
     // First sample at or past the box's entry, on the lattice (k + ½)·ds.
     var k = max(ceil(max(span.x, 0.0) / ds - 0.5), 0.0);
     var od = 0.0;
@@ -70,5 +76,5 @@ fn far_depth_along(p: vec3<f32>, dir: vec3<f32>, ds: f32) -> f32 {
 // it per texel of the shadow map; terrain.wgsl evaluates it per fragment
 // for ground inside the cloud region.
 fn ground_sun_depth(p: vec3<f32>) -> f32 {
-    return far_depth_along(p, frame.sun_dir.xyz, PLANE_SHELL * frame.cloud.y);
+    return far_depth_along(p, frame.sun_dir, PLANE_SHELL * frame.shell_m);
 }
