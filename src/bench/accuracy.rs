@@ -441,6 +441,19 @@ pub fn render_sweep(
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn the_light_growth_matches_the_cloud_shader() {
+        use crate::config::RenderMethod;
+        use crate::render::shaders::Pass;
+        use crate::render::shaders::twins::{module, wgsl_const};
+        let clouds = module(Pass::Clouds, RenderMethod::Baked);
+        assert_eq!(
+            wgsl_const(&clouds, "LIGHT_GROWTH"),
+            super::LIGHT_GROWTH as f64
+        );
+    }
+
     use super::*;
 
     #[test]

@@ -199,3 +199,24 @@ impl Sidecar {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::config::RenderMethod;
+    use crate::render::shaders::Pass;
+    use crate::render::shaders::twins::{module, wgsl_const};
+
+    #[test]
+    fn the_lighting_constants_match_the_cloud_shader() {
+        let clouds = module(Pass::Clouds, RenderMethod::Baked);
+        assert_eq!(wgsl_const(&clouds, "HG_BACK_G"), super::BACK_LOBE_G as f64);
+        assert_eq!(
+            wgsl_const(&clouds, "HG_BACK_WEIGHT"),
+            super::BACK_LOBE_WEIGHT as f64
+        );
+        assert_eq!(
+            wgsl_const(&clouds, "LIGHT_DENSITY"),
+            super::LIGHT_DENSITY as f64
+        );
+    }
+}

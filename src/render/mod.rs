@@ -29,6 +29,7 @@ pub mod field;
 mod frame;
 pub mod gpu;
 pub mod headless;
+pub mod layouts;
 pub mod noise;
 pub mod pack;
 pub mod pipelines;

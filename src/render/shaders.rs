@@ -41,7 +41,7 @@
 
 pub mod imports;
 #[cfg(test)]
-mod twins;
+pub(crate) mod twins;
 
 use std::collections::HashMap;
 use std::sync::{LazyLock, Mutex};

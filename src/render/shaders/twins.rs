@@ -36,7 +36,7 @@ fn wgsl_layout(module: &naga::Module, name: &str) -> (usize, Vec<(String, usize)
     (layouter[handle].size as usize, members)
 }
 
-fn module(pass: Pass, method: RenderMethod) -> naga::Module {
+pub(crate) fn module(pass: Pass, method: RenderMethod) -> naga::Module {
     let src = pass.source(method);
     naga::front::wgsl::parse_str(&src).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&src)))
 }
@@ -204,7 +204,7 @@ fn sprite_instance_matches() {
 }
 
 /// The value of WGSL constant `name` in `module`.
-fn wgsl_const(module: &naga::Module, name: &str) -> f64 {
+pub(crate) fn wgsl_const(module: &naga::Module, name: &str) -> f64 {
     let (_, c) = module
         .constants
         .iter()
@@ -220,7 +220,6 @@ fn wgsl_const(module: &naga::Module, name: &str) -> f64 {
 
 #[test]
 fn constants_shared_with_rust_match() {
-    use crate::export::sidecar;
     use crate::render::raymarch::baked;
     let bake = module(Pass::Bake, RenderMethod::Baked);
     assert_eq!(wgsl_const(&bake, "BAKE_BLOCK"), baked::BAKE_BLOCK as f64);
@@ -228,22 +227,5 @@ fn constants_shared_with_rust_match() {
     assert_eq!(
         wgsl_const(&bake, "PLANE_SHELL"),
         crate::render::field::PLANE_SHELL as f64
-    );
-    let clouds = module(Pass::Clouds, RenderMethod::Baked);
-    assert_eq!(
-        wgsl_const(&clouds, "HG_BACK_G"),
-        sidecar::BACK_LOBE_G as f64
-    );
-    assert_eq!(
-        wgsl_const(&clouds, "HG_BACK_WEIGHT"),
-        sidecar::BACK_LOBE_WEIGHT as f64
-    );
-    assert_eq!(
-        wgsl_const(&clouds, "LIGHT_DENSITY"),
-        sidecar::LIGHT_DENSITY as f64
-    );
-    assert_eq!(
-        wgsl_const(&clouds, "LIGHT_GROWTH"),
-        crate::bench::accuracy::LIGHT_GROWTH as f64
     );
 }
