@@ -2,6 +2,32 @@
 //! Neyret 2016) and renders them on the GPU, with Wang 2003's sprites and
 //! Schpok 2003's slices as further render methods of the same cloud field.
 //!
+//! # Entry points
+//!
+//! - A scene: [`scene::SceneProfile::load`] reads a profile (TOML), checks
+//!   every table and names the file, line and key of a bad value;
+//!   [`scene::SceneProfile::embedded_default`] is the built-in one.
+//! - The physics: [`physics::ParcelWorld::new`] from the scene's
+//!   atmosphere (`scene.atmosphere.build(dir)`) and
+//!   [`scene::SceneProfile::world_config`]; [`physics::ParcelWorld::step`]
+//!   advances it, [`physics::ParcelWorld::cloud_parcels`] gives the
+//!   condensed parcels the renderer draws.
+//! - The renderer: [`render::GpuContext`] opens a device (or wraps another
+//!   program's, [`render::GpuContext::from_host`]);
+//!   [`render::Renderer::new`] takes a [`config::RenderConfig`];
+//!   [`render::Renderer::prepare`] uploads a [`render::FrameInput`] (the
+//!   parcels, a [`config::Camera`], a [`sky::Sun`], the time) and
+//!   [`render::Renderer::render`] draws sky, terrain, clouds and the tone
+//!   map into a texture view, or [`render::Renderer::render_clouds_over`]
+//!   only the clouds into another program's HDR target
+//!   (`examples/embed.rs`). [`render::headless::Headless`] renders to
+//!   memory.
+//! - Aerology without a GPU: [`atmosphere`] (soundings, lifted parcels,
+//!   CAPE/CIN); the stiff cases: [`stability`]; tables: [`bench`](mod@bench).
+//!
+//! docs/ARCHITECTURE.md in the repository describes the pass order, the
+//! shaders and how to add a pass, a render method or a setting.
+//!
 //! # Layers
 //!
 //! Each top-level module may import only the modules listed before it
@@ -24,7 +50,7 @@
 //! 14. [`render`]: the wgpu renderer (headless or to a window surface);
 //! 15. [`export`]: the cloud density for offline renderers;
 //! 16. [`stability`]: the matrix of stiff and extreme physics cases;
-//! 17. [`bench`]: performance and error tables;
+//! 17. [`bench`](mod@bench): performance and error tables;
 //! 18. [`app`]: the window.
 //!
 //! The CPU models (layers 3–10) import no configuration, scene, renderer

@@ -1,5 +1,5 @@
 //! GPU renderer (paper §6): draws the cloud field by one of the four
-//! [`RenderMethod`]s (the ray-march's `baked` and `exact` paths, Wang's
+//! [`RenderMethod`](crate::config::RenderMethod)s (the ray-march's `baked` and `exact` paths, Wang's
 //! `sprites`, Schpok's `slices`) over a sky and a terrain with cloud
 //! shadows. One `render` path serves the window, headless commands and
 //! tests. Its settings are plain data in [`crate::config`].

@@ -367,7 +367,7 @@ pub fn load_scene(path: Option<&Path>) -> Result<(SceneProfile, SceneSource)> {
 }
 
 /// [`load_scene`] with `--set TABLE.KEY=VALUE` overrides applied to the
-/// TOML before validation (see [`crate::scene_set`]).
+/// TOML before validation (see [`set`]).
 pub fn load_scene_with(
     path: Option<&Path>,
     overrides: &[String],

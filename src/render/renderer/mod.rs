@@ -442,7 +442,7 @@ impl Renderer {
     }
 
     /// Sets the scene's own sprite clouds (`[[sprite_clouds]]` and
-    /// `[[layers]]`, from [`crate::sprites_model::scene_clouds`]), drawn
+    /// `[[layers]]`, from [`crate::scene::SceneProfile::build_sprite_clouds`]), drawn
     /// under every method from the next `prepare`.
     pub fn set_sprite_clouds(
         &mut self,

@@ -179,7 +179,7 @@ fn z_span(cloud: &SpriteCloud) -> (f32, f32) {
 }
 
 impl SpriteScene {
-    /// The scene's clouds (from [`crate::sprites_model::scene_clouds`]).
+    /// The scene's clouds (from [`crate::scene::SceneProfile::build_sprite_clouds`]).
     pub fn new(clouds: Vec<SpriteCloud>) -> Self {
         let facing = clouds
             .iter()

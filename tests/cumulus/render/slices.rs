@@ -10,11 +10,9 @@ use crate::common;
 
 use std::path::{Path, PathBuf};
 
-use cumulus::authored::octaves::{OctaveUniform, TierUniform};
 use cumulus::config::{Camera, RenderConfig, RenderMethod};
 use cumulus::render::headless::Headless;
 use cumulus::render::shaders::Pass;
-use cumulus::render::slices::SlicesParams;
 use cumulus::render::{FrameInput, GpuContext, standin};
 use cumulus::scene::{SceneProfile, load_scene_with};
 
@@ -86,101 +84,6 @@ fn mean_change(img: &[u8], sky: &[u8]) -> f64 {
 
 fn context() -> Option<GpuContext> {
     common::context("GPU slices test")
-}
-
-/// Size of a named struct and the offsets of its members, as naga lays
-/// them out.
-fn wgsl_layout(module: &naga::Module, name: &str) -> (u32, Vec<u32>) {
-    let mut layouter = naga::proc::Layouter::default();
-    layouter.update(module.to_ctx()).unwrap();
-    let (handle, ty) = module
-        .types
-        .iter()
-        .find(|(_, t)| t.name.as_deref() == Some(name))
-        .unwrap_or_else(|| panic!("no struct {name}"));
-    let offsets = match &ty.inner {
-        naga::TypeInner::Struct { members, .. } => members.iter().map(|m| m.offset).collect(),
-        other => panic!("{name} is not a struct: {other:?}"),
-    };
-    (layouter[handle].size, offsets)
-}
-
-#[test]
-fn slices_uniforms_match_wgsl_layout() {
-    let src = Pass::Slices.source(RenderMethod::Slices);
-    let module = naga::front::wgsl::parse_str(&src).unwrap();
-    let tier = wgsl_layout(&module, "SlicesTier");
-    assert_eq!(tier.0 as usize, std::mem::size_of::<TierUniform>());
-    assert_eq!(
-        tier.1,
-        vec![
-            std::mem::offset_of!(TierUniform, texture_from_world) as u32,
-            std::mem::offset_of!(TierUniform, bottom_m) as u32,
-            std::mem::offset_of!(TierUniform, media) as u32,
-        ]
-    );
-    let octaves = wgsl_layout(&module, "SlicesOctaves");
-    assert_eq!(octaves.0 as usize, std::mem::size_of::<OctaveUniform>());
-    assert_eq!(
-        octaves.1,
-        vec![
-            std::mem::offset_of!(OctaveUniform, tiers) as u32,
-            std::mem::offset_of!(OctaveUniform, counts) as u32,
-        ]
-    );
-    let params = wgsl_layout(&module, "SlicesParams");
-    assert_eq!(params.0 as usize, std::mem::size_of::<SlicesParams>());
-    assert_eq!(
-        params.1,
-        vec![
-            std::mem::offset_of!(SlicesParams, opacity) as u32,
-            std::mem::offset_of!(SlicesParams, cloud_colour) as u32,
-            std::mem::offset_of!(SlicesParams, shadow_colour) as u32,
-            std::mem::offset_of!(SlicesParams, index_min) as u32,
-            std::mem::offset_of!(SlicesParams, index_cell) as u32,
-        ]
-    );
-}
-
-#[test]
-fn the_field_index_gives_the_field() {
-    use cumulus::authored::ellipsoid::FieldIndex;
-    use cumulus::authored::{cumulonimbus, field_at, states_at};
-    use glam::Vec3;
-    let mut ellipsoids = cumulonimbus([0.0, 0.0, 1500.0], 9500.0);
-    // A rotated one and many small overlapping spheres, like parcels.
-    ellipsoids.push(cumulus::authored::Ellipsoid {
-        centre_m: [3000.0, 1000.0, 2000.0],
-        radii_m: [1500.0, 400.0, 300.0],
-        rotation_deg: [10.0, 20.0, 35.0],
-        ..Default::default()
-    });
-    for i in 0..60 {
-        let f = i as f32;
-        ellipsoids.push(cumulus::authored::Ellipsoid {
-            centre_m: [
-                (f * 97.0) % 4000.0 - 2000.0,
-                (f * 53.0) % 3000.0,
-                1500.0 + (f * 31.0) % 800.0,
-            ],
-            radii_m: [300.0; 3],
-            ..Default::default()
-        });
-    }
-    let states = states_at(&ellipsoids, &Default::default(), 900.0);
-    let index = FieldIndex::new(&states);
-    let mut worst = 0.0f32;
-    for i in 0..20_000 {
-        let f = i as f32;
-        let p = Vec3::new(
-            (f * 7.31).sin() * 6000.0,
-            (f * 3.17).cos() * 5000.0 + 1000.0,
-            (f * 1.13).sin().abs() * 12000.0,
-        );
-        worst = worst.max((index.field(p) - field_at(&states, p)).abs());
-    }
-    // Float rounding at a box's face only: the blend there is ~1e-7.
-    assert!(worst < 1e-5, "worst difference {worst}");
 }
 
 #[test]
