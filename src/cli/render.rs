@@ -389,9 +389,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             },
             timings.upload_ms
         );
+        // A bar drawn to no terminal (stderr into a file or a pipe) drops
+        // what it is asked to print: the frame's line goes to stderr then.
         match &bar {
-            Some(b) => {
+            Some(b) if !b.is_hidden() => {
                 b.println(line);
+                b.inc(1);
+            }
+            Some(b) => {
+                eprintln!("{line}");
                 b.inc(1);
             }
             None => eprintln!("{line}"),

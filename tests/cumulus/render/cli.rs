@@ -34,7 +34,7 @@ fn several_frames_are_numbered() {
     }
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("anim.png");
-    cli::run_command(
+    let stderr = cli::run_command(
         cli::command()
             .args([
                 "render",
@@ -58,6 +58,10 @@ fn several_frames_are_numbered() {
         let p = dir.path().join(format!("anim-{i:04}.png"));
         let img = image::open(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
         assert_eq!((img.width(), img.height()), (64, 48));
+        // Each frame's line (passes and timings) reaches stderr, also when
+        // stderr is no terminal (here a pipe) and the progress bar is hidden.
+        let line = format!("anim-{i:04}.png: t = ");
+        assert!(stderr.contains(&line), "no line for frame {i}:\n{stderr}");
     }
     assert!(!out.exists(), "single-frame name written for a sequence");
     assert!(!dir.path().join("anim-0003.png").exists());
