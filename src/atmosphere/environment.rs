@@ -4,7 +4,7 @@
 //!
 //! Pressure comes from one of three models ([`PressureModel`]): hydrostatic
 //! integration of the profile itself (default for scene profiles), the
-//! observed pressures of a sounding, or the paper's P0·exp(−0.143 h[km])
+//! observed pressures of a sounding, or the paper's `P0·exp(−0.143 h[km])`
 //! (eq. 2), kept as an option. Hydrostatic pressure is tabulated once on a
 //! uniform grid so that a lookup costs O(1) on the physics hot path.
 //!

@@ -228,7 +228,7 @@ pub fn bounds_m(states: &[EllipsoidState]) -> Option<(Vec3, Vec3)> {
         .reduce(|(a0, a1), (b0, b1)| (a0.min(b0), a1.max(b1)))
 }
 
-/// Checks one `[[ellipsoids]]` entry; `name` is its place ("ellipsoids[2]").
+/// Checks one `[[ellipsoids]]` entry; `name` is its place (`"ellipsoids[2]"`).
 pub fn validate(e: &Ellipsoid, name: &str) -> Result<()> {
     for (k, v) in e.centre_m.iter().enumerate() {
         finite_in(

@@ -50,7 +50,7 @@ pub struct SceneProfile {
     pub ellipsoids: Vec<Ellipsoid>,
     /// Particle dynamics of the ellipsoids (the uniform wind).
     pub particles: ParticleConfig,
-    /// Place and clock of the sun; absent = the sun pinned by [render].
+    /// Place and clock of the sun; absent = the sun pinned by `[render]`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sun: Option<SunConfig>,
     /// Where a run starts.
@@ -279,7 +279,7 @@ pub(crate) fn locate(e: Error, text: &str, path: &Path) -> Error {
 }
 
 /// 1-based (line, column) of the key a dotted parameter name
-/// ("physics.stiffness", "wind.aloft_m_s[0]", "atmosphere.points[1].t_c")
+/// (`"physics.stiffness"`, `"wind.aloft_m_s[0]"`, `"atmosphere.points[1].t_c"`)
 /// sets in a profile's TOML text, when it is written there as `key = value`
 /// under its `[table]` or `[[array.of.tables]]` header.
 pub fn locate_key(text: &str, name: &str) -> Option<(usize, usize)> {
