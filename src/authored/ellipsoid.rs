@@ -10,8 +10,8 @@ use super::animation::{Keyframe, Motion};
 use super::finite_in;
 use crate::error::{Error, Result};
 
-/// Most ellipsoids one scene may hold: every slice vertex evaluates all of
-/// them on the CPU, and 256 already costs seconds per frame at Quality 128.
+/// Most ellipsoids one scene may hold (docs/notes.md, "Authored clouds",
+/// says where the number comes from).
 pub const MAX_ELLIPSOIDS: usize = 256;
 
 /// One implicit ellipsoid as written in a scene's `[[ellipsoids]]` table.

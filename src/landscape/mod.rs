@@ -45,10 +45,9 @@ fn value2(x: f32, y: f32, seed: u32) -> f32 {
 /// relief 18 km out, in [0, height_scale_m]. The sum of six value-noise
 /// octaves stays within about ±0.2 of its mean, so it is stretched 2.5×
 /// about 0.5 and clipped: the relief fills the scale, valley floors and
-/// hilltops flatten where it clips. Unstretched, the landscape scene's
-/// hills spanned 27–574 m of its 700 at slopes of 2.8° (median) and 5.9°
-/// (p90) and read as a plain in its panorama; stretched, 0–700 m at 5.8°
-/// and 13.7° (max 33°). units: m
+/// hilltops flatten where it clips. On the landscape scene the hills span
+/// 0–700 m at slopes of 5.8° (median) and 13.7° (p90), 33° at most.
+/// units: m
 pub fn procedural_height(x: f32, y: f32, seed: u32, height_scale_m: f32) -> f32 {
     let mut sum = 0.0;
     let mut amp = 1.0;

@@ -61,11 +61,10 @@ pub struct SceneProfile {
     pub layers: Vec<crate::sprites_model::LayerSpec>,
 }
 
-/// Simulated time a scene opens at when nothing else says: the old default
-/// of `cumulus render --time`. The shipped scenes' first cloud forms after
-/// 270–540 s and by 1800 s each shows a developed field (fair_weather 118
-/// condensed parcels, towering_cumulus 250, high_based 169; `cumulus
-/// simulate`, seed 1, 2-s frames). units: s
+/// Simulated time a scene opens at when nothing else says. The shipped
+/// scenes' first cloud forms after 270–540 s and by 1800 s each shows a
+/// developed field (fair_weather 118 condensed parcels, towering_cumulus
+/// 250, high_based 169; `cumulus simulate`, seed 1, 2-s frames). units: s
 pub const DEFAULT_START_S: f64 = 1800.0;
 
 /// The `[simulation]` table.

@@ -43,9 +43,10 @@ pub use view::{SKY_AZIMUTHS, SKY_ELEVATIONS, SKY_TEXELS, SkyLight};
 
 /// The sun's colour above the atmosphere, in the renderer's units (linear
 /// RGB; the cloud march's irradiance is 4π times it, see
-/// src/export/sidecar.rs). White, and chosen so that the sun at 60°
-/// elevation, (2.3, 2.1, 1.8), matches the fixed sun the renderer had before
-/// the sky model (2.2, 2.1, 2.0).
+/// src/export/sidecar.rs). White, and scaled so that the sun at 60°
+/// elevation, (2.3, 2.1, 1.8), is close to the nominal daylight
+/// irradiance (2.2, 2.1, 2.0) the exposure and the cloud lighting are set
+/// for.
 pub const SUN_ABOVE_AIR: f64 = 2.5;
 
 /// ln 50: Koschmieder's visibility is where the contrast falls to 2 %.

@@ -37,7 +37,7 @@
 //! evaluation per sub-step. Observed (`tests/cumulus/physics/order.rs`): order ≈ 2
 //! without the two terms that jump by the paper's design (the tessellated
 //! hidden-cap pressure, detrainment switching on at the condensation
-//! level), ≈ 1.45 with everything on (it was ≈ 1.1).
+//! level), ≈ 1.45 with everything on.
 //!
 //! Parallel and deterministic: every stage is in gather form (rayon), each
 //! parcel's new value computed from the state before the stage, pair terms
