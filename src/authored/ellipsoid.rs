@@ -1,7 +1,9 @@
 //! Implicit ellipsoids (Schpok et al. 2003 §3.1): the artist's coarse shape
 //! of a cloud. Each `[[ellipsoids]]` of a scene is one soft primitive; the
 //! cloud's density skeleton is the sum of Wyvill's cubic soft-object
-//! blending of every primitive, evaluated on the CPU at slice vertices.
+//! blending of every primitive, evaluated at the slice vertices (on the
+//! CPU through the grid index [`FieldIndex`], or by the renderer's compute
+//! pass).
 
 use glam::{EulerRot, Mat3, Vec3};
 use serde::{Deserialize, Serialize};
@@ -88,7 +90,7 @@ impl EllipsoidState {
 
     /// The map from world offsets (p − centre) to the unit ball's
     /// coordinates: diag(1/radii) · rotationᵀ. The GPU's primitives carry
-    /// it (src/render/slices/gpu_field.rs), so both sides compute s² alike.
+    /// it (src/render/slices/buffers.rs), so both sides compute s² alike.
     pub fn unit_from_world(&self) -> glam::Mat3 {
         Mat3::from_diagonal(self.radii_m.recip()) * self.rotation.transpose()
     }

@@ -10,7 +10,7 @@ use std::path::Path;
 use crate::error::{Error, Result};
 
 /// Integer lattice hash to [0, 1]: the terrain's 2D hills (z = seed, seed =
-/// 0) and the 3D noise texture of the hypertexture (`render::noise`).
+/// 0) and the 3D noise texture of the hypertexture (`noise`).
 pub fn lattice_hash(x: u32, y: u32, z: u32, seed: u32) -> f32 {
     let mut h = x.wrapping_mul(0x8da6_b343)
         ^ y.wrapping_mul(0xd816_3841)
