@@ -1,7 +1,11 @@
 //! Scene profiles (`profiles/*.toml`): atmosphere, ground, emission, wind,
-//! physics switches, camera and render settings in one file. Loading parses
-//! the TOML (errors name the file, line and column), validates every part and
-//! builds the environment.
+//! physics switches, the sun's clock, the start time, camera and render
+//! settings and the authored clouds (ellipsoids, sprite clouds, layers) in
+//! one file. Loading parses the TOML (errors name the file, line and
+//! column) and validates every part; the profile then gives the models
+//! their inputs ([`SceneProfile::world_config`],
+//! [`SceneProfile::build_sprite_clouds`]), and its atmosphere builds the
+//! environment. [`set`] applies `--set` overrides before validation.
 
 pub mod set;
 

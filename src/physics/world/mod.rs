@@ -2,7 +2,8 @@
 //!
 //! One frame ([`ParcelWorld::step`]) = emission, then n equal sub-steps
 //! (n from the CFL, acceleration and SPH sound-speed limits, capped by a
-//! budget), then deaths and condensation planes. One sub-step:
+//! budget), then deaths and condensation planes. One sub-step (the stage
+//! numbers of the submodules' docs):
 //!
 //! 1. kick: v ← v + a dt/2; drift: x ← x + v dt; the mixed scalars (dry
 //!    mass, q_v, q_l, θ, θ_l) take the whole step at their last rates G
