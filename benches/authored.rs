@@ -1,7 +1,7 @@
 //! CPU cost of the slice renderer's per-frame work (Schpok 2003 Table 1:
 //! slicing geometry, implicit sampling, shadow accumulation, octave
 //! matrices) on `profiles/authored.toml`, at the Quality (planes) and
-//! tessellation the paper and issue 14 use (Quality 128 is the target).
+//! tessellation the paper uses (Quality 128 is the target).
 
 use std::hint::black_box;
 use std::path::Path;

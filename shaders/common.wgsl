@@ -142,11 +142,11 @@ fn ray_box(ro: vec3<f32>, rd: vec3<f32>, bmin: vec3<f32>, bmax: vec3<f32>) -> ve
 // texels per metre of distance from the eye (0: level 0). The weighted mean
 // of the octaves clusters near 0, so it is doubled (then clamped) to use
 // the whole range. Keep in sync with its CPU twin, NoiseVolume::noise3_lod
-// and noise::lod in src/render/noise.rs.
+// and lod in src/noise.rs.
 // Cost: on GPUs a per-sample level is free. llvmpipe selects mip levels
-// lane by lane when the level differs across lanes, which made its cloud
-// pass ~1.8x slower than the four level-0 fetches this replaced (320x240
-// render, default scene); with the level fixed at 0 it is about even.
+// lane by lane when the level differs across lanes, which makes its cloud
+// pass ~1.8x slower than with the level fixed at 0 (320x240 render,
+// default scene).
 fn noise3(p: vec3<f32>) -> f32 {
     let drift = vec3<f32>(1.5, 0.8, 0.3) * frame.camera_pos.time_s;
     let q = (p + drift) * frame.noise.inv_scale_per_m;
@@ -249,10 +249,10 @@ const FIELD_ALBEDO: vec3<f32> = vec3<f32>(0.10, 0.13, 0.05);
 
 // The one display transform, applied once per frame by tonemap.wgsl to the
 // HDR scene target: exposure k (`RenderConfig::tone_exposure` in
-// src/render/mod.rs, also written to the export sidecar), then a filmic
+// src/config/render.rs, also written to the export sidecar), then a filmic
 // curve, then the exact sRGB encoding when the output format does not
 // encode itself (ENCODE_SRGB). Keep it in sync with benches/pathtraced.py
-// (`tone_map`) and tests/render_cli.rs.
+// (`tone_map`) and tests/cumulus/render/cli.rs.
 fn tone_map(c: vec3<f32>) -> vec3<f32> {
     let t = filmic(max(c, vec3<f32>(0.0)) * frame.exposure);
     if ENCODE_SRGB {
@@ -266,10 +266,7 @@ fn tone_map(c: vec3<f32>) -> vec3<f32> {
 // [0, 1] (its limit is 2.51/2.43). An S-curve: a toe (slope 0.21 at 0)
 // keeps sunlit ground and the sky's blue from washing out, and a long
 // shoulder (0.80 at x = 1, 0.95 at 3, 1 from 7.2 on) keeps the shading of
-// sunlit cloud domes, which are 4–6× the ground's radiance. The curve
-// 1 − exp(−x) it replaced has no toe: with the ground lit as a Lambertian
-// surface it put the meadows at 0.76 sRGB, and its shoulder flattened
-// every sunlit dome to white.
+// sunlit cloud domes, which are 4–6× the ground's radiance.
 fn filmic(x: vec3<f32>) -> vec3<f32> {
     return clamp(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14), vec3<f32>(0.0), vec3<f32>(1.0));
 }
@@ -283,7 +280,7 @@ fn srgb_encode(t: vec3<f32>) -> vec3<f32> {
 
 // Per-pass output hook. Every scene pass (sky, terrain, clouds, composite
 // and any new one) draws into the Rgba16Float HDR scene target
-// (SCENE_FORMAT in src/render/pipelines.rs), so a pass returns linear
+// (SCENE_FORMAT in src/render/layouts.rs), so a pass returns linear
 // radiance and this is the identity; the display transform is tone_map,
 // once, at the end. Passes call it so the hook stays in one place.
 fn output_color(c: vec3<f32>) -> vec3<f32> {

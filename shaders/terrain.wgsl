@@ -1,5 +1,5 @@
 // Terrain pass: the heightfield mesh (procedural fBm or a heightmap PNG,
-// built on the CPU by src/render/terrain.rs) with depth, lit as a
+// built on the CPU by src/landscape/terrain.rs) with depth, lit as a
 // Lambertian surface by the sun, darkened by the clouds' transmittance (the
 // cloud-shadow map every method's clouds are marched or splatted into,
 // shadow.wgsl), and by the sky, seen through the air (air.wgsl), whose
@@ -19,7 +19,7 @@ override HAS_SHADOWS: bool = true;
 // slicing planes).
 override SHADOW_IN_REGION: bool = false;
 // The mesh has a water plane (`[render.terrain] water_level_m`), whose
-// vertices have the normal (0, 0, −1) (src/render/terrain.rs WATER_NORMAL).
+// vertices have the normal (0, 0, −1) (src/landscape/terrain.rs WATER_NORMAL).
 override HAS_WATER: bool = false;
 
 @group(1) @binding(0) var shadow_tex: texture_2d<f32>;

@@ -26,7 +26,9 @@
 //!   CAPE/CIN); the stiff cases: [`stability`]; tables: [`bench`](mod@bench).
 //!
 //! docs/ARCHITECTURE.md in the repository describes the pass order, the
-//! shaders and how to add a pass, a render method or a setting.
+//! shaders and how to add a pass, a render method or a setting;
+//! docs/notes.md keeps the variants that were tried and not kept, with
+//! their numbers.
 //!
 //! # Layers
 //!

@@ -58,22 +58,9 @@ struct MarchOut {
 // points are unchanged) and each one's extinction covers its whole
 // stretch (exp(−σρ·m·dt)), so the opacity is the same integral and only
 // the lighting behind the front half of the opacity is sampled coarser.
-// Measured on the bench's cloud field (160×120, llvmpipe, loaded 2-core
-// machine; counts per pixel of the frame with a temporary counter): at
-// 1024 parcels 3.5 lit samples a pixel, 1.9 of them behind T < 0.5 (0.9
-// at 85 parcels, 0.4 behind T < 0.5), each lit sample costing a light
-// march of 5 field fetches and a noise fetch, plus two light-volume
-// fetches. With the lighting left out the pass took 15 → 28 ms (85 →
-// 1024), with it 52 → 93: most of the growth is the lit samples, the rest
-// the unskipped empty samples (11 → 21 a pixel, one fetch each, in the
-// 362 m occupancy cells).
-// Cloud pass, old → this, two interleaved runs: 85 parcels 49.0 / 45.6 →
-// 41.1 / 47.5 ms, 1024: 86.1 / 85.9 → 73.2 / 76.6 ms; mean FLIP of the
-// frames against the old march 0.002 (85), 0.008 (1024), 0.009 (4096);
-// baked vs exact (tests/render_methods.rs) 0.015 / 0.011, the image
-// references 0.002 / 0.003. A schedule twice as steep (2, 4, 8 from T <
-// 0.6, 0.3, 0.1) measured about the same (67.8 / 73.8 ms at 1024) at
-// FLIP 0.009–0.010.
+// The lit samples (a short light march each) are most of what the pass
+// costs as the parcel count grows, and about half of them lie behind
+// T < 0.5 (docs/notes.md, "Cloud march").
 fn march_stride(trans: f32) -> f32 {
     return select(select(1.0, 2.0, trans < 0.5), 4.0, trans < 0.25);
 }

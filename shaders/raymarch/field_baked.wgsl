@@ -37,8 +37,7 @@ fn field_sample(p: vec3<f32>) -> vec2<f32> {
 }
 
 fn far_light_depth(p: vec3<f32>) -> vec2<f32> {
-    // Clamped at the region's edge to the outermost cells, as the bake's
-    // own upsampling did.
+    // Clamped at the region's edge to the outermost cells.
     return textureSampleLevel(light_tex, clamp_sampler, field_uvw(p), 0.0).rg;
 }
 

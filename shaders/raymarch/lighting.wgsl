@@ -93,9 +93,8 @@ fn light_density_sum(p: vec3<f32>) -> f32 {
 // Samples of the march away from the sun before the light volume takes
 // over: four (about 830 m with the default light step, the reach of the
 // march toward the sun) find where the cloud ends behind a sample, which
-// the light volume's cells (one every four voxels) blur. With two, `baked`
-// and `exact` differed by mean FLIP 0.021 on the mixed-fill test frame
-// (0.018 with four, 0.015 without the term).
+// the light volume's cells (one every four voxels) blur (docs/notes.md,
+// "Cloud lighting", compares the counts).
 const BEHIND_STEPS: u32 = 4u;
 // Behind this much (as 2·falloff·od) the boundary's dimming is under 1 %
 // (½·e⁻⁴): the march stops there and the light volume is not read. In
@@ -134,16 +133,14 @@ fn sky_visibility(p: vec3<f32>) -> f32 {
 //   cloud (the path tracer's) is nearly isotropic and falls off with depth
 //   like diffusion, not like exp(−od): the two-stream (Eddington) diffuse
 //   transmission of a conservatively scattering slab, 1 / (1 + ¾(1 − ḡ)·od)
-//   with ḡ the phase's mean cosine, times MS_GAIN. Exponential octaves
-//   (Wrenninge's, a = b = 0.7 before) left cloud interiors far darker than
-//   the path tracer. A powder term takes out part of it within the first
-//   mean free paths of the sunlit surface, where the many-times-scattered
-//   light has not built up yet.
+//   with ḡ the phase's mean cosine, times MS_GAIN. A powder term takes out
+//   part of it within the first mean free paths of the sunlit surface,
+//   where the many-times-scattered light has not built up yet.
 // MS_GAIN and POWDER were fitted against Mitsuba's volpath (albedo 1, up to
 // 64–256 bounces) on the stand-in and fair-weather frames of
-// benches/pathtraced.py: mean FLIP 0.064 → 0.030 and 0.078 → 0.044 (gain
-// 2–4 and powder 0–0.5 all land within 0.005 of that); the falloff is the
-// two-stream value, not fitted.
+// benches/pathtraced.py, where the fit reached mean FLIP 0.030 and 0.044
+// (gain 2–4 and powder 0–0.5 all land within 0.005 of that); the falloff
+// is the two-stream value, not fitted.
 // The phase depends only on the ray (mu): `sun_phase_weights` gives it once
 // per ray and `sun_scattering` only adds the per-sample attenuation.
 // Brightness of the multiply scattered sun over an isotropic single
@@ -163,7 +160,7 @@ const POWDER: f32 = 0.5;
 // The falloff used above for depth toward the sun fixes the recovery rate
 // (one extrapolation length, ⅔ of a transport length); EXIT_DIP = ½ is the
 // boundary's value, not fitted. Without it the lit rims and shaded sides
-// of narrow clouds glowed with the multiple scattering of a deep one.
+// of narrow clouds would glow with the multiple scattering of a deep one.
 const EXIT_DIP: f32 = 0.5;
 
 // (single-scattering weight 4π·phase(mu), multiple-scattering weight,
@@ -190,12 +187,11 @@ fn sun_scattering(w: vec3<f32>, od: f32, behind: f32) -> vec2<f32> {
 
 // Outward normal: the tetrahedral 4-tap gradient of the macro field v
 // (field_value: one filtered fetch on the baked path, no noise) over half
-// a shell. Central differences of ρ (6 cloud_density calls, each with
-// its noise fetch at a per-sample mip level) made normals cost 2.3–3.3× the
-// cloud pass on llvmpipe; this costs 1.2–1.6× (bench frame, 85 parcels, 160×120),
-// and its picture is mean FLIP 0.006 from theirs (normals on against off:
-// 0.026, 256×192). The noise octaves finer than the step could not shape
-// the normal anyway.
+// a shell: normals cost 1.2–1.6× the cloud pass on llvmpipe (bench frame,
+// 85 parcels, 160×120; on against off: mean FLIP 0.026 at 256×192).
+// Central differences of ρ (6 cloud_density calls, each with its noise
+// fetch) cost about twice that for nearly the same picture: the noise
+// octaves finer than the step cannot shape the normal anyway.
 fn density_normal(p: vec3<f32>) -> vec3<f32> {
     let h = 0.5 * frame.shell_m;
     let k = vec2<f32>(1.0, -1.0);
@@ -226,16 +222,13 @@ fn ray_lighting(rd: vec3<f32>, over_terrain: bool) -> RayLight {
     // scattered like the sky's light (0.8 of the mean radiance, as
     // sky_base). The ground taken as sunlit: a cloud's own shadow falls
     // beside its base unless the sun is high, and the wider ground a base
-    // sees is mostly in the sun. Against Mitsuba with the same flat ground
-    // (benches/pathtraced.py --ground), whose clouds take a green tint on
-    // their shaded sides too, mean FLIP above the horizon 0.107 → 0.100.
-    // Without terrain, what a cloud sees below it is what the sky pass
-    // draws there (and what benches/pathtraced.py gives Mitsuba without
-    // --ground): the sky's lower half, the horizon's radiance darkening
-    // toward the ground haze (frame.sky_below, integrated on the CPU),
-    // scattered the same way. A fixed 0.03 × sun before, about a tenth of
-    // it: against Mitsuba, fair weather at 384×288 (64 spp) went from mean
-    // FLIP 0.075 to 0.047.
+    // sees is mostly in the sun (Mitsuba with the same flat ground,
+    // benches/pathtraced.py --ground, gives its clouds a green tint on
+    // their shaded sides too). Without terrain, what a cloud sees below
+    // it is what the sky pass draws there (and what benches/pathtraced.py
+    // gives Mitsuba without --ground): the sky's lower half, the horizon's
+    // radiance darkening toward the ground haze (frame.sky_below,
+    // integrated on the CPU), scattered the same way.
     if over_terrain {
         let ground_albedo = 0.5 * (MEADOW_ALBEDO + FIELD_ALBEDO);
         l.bounce = 0.8 * lambert(ground_albedo, vec3<f32>(0.0, 0.0, 1.0), 1.0);

@@ -2,9 +2,10 @@
 //! method; the math is `authored::pick`): a left click on an ellipsoid
 //! selects it in the panel and dragging moves it in the plane through the
 //! grabbed point facing the camera (a click beside every ellipsoid orbits
-//! the camera as before); Shift + scroll resizes the selected one. With
-//! `[render.slices] outlines` the ellipsoids' principal ellipses are drawn
-//! over the 3D view by egui's painter (no render pass exists for them).
+//! the camera, as anywhere else); Shift + scroll resizes the selected one.
+//! With `[render.slices] outlines` the ellipsoids' principal ellipses are
+//! drawn over the 3D view by egui's painter (no render pass exists for
+//! them).
 
 use glam::Vec3;
 

@@ -8,6 +8,8 @@
 //! - [`panel`]: the egui side panel;
 //! - [`slices_panel`]: the slices method's qualitative controls and the
 //!   authored ellipsoids' editor;
+//! - [`ellipsoid_mouse`]: picking, moving and resizing the ellipsoids with
+//!   the mouse, and their outlines;
 //! - [`skewt_panel`]: the profile diagram's height–T and Skew-T views, the
 //!   panel's hodograph;
 //! - [`progress`]: the pre-simulation to the start time on a terminal bar;

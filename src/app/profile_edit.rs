@@ -215,10 +215,9 @@ impl ProfileEditor {
     }
 }
 
-/// The environment of inline points (with `wind`), its surface parcel's
-/// ascent and that parcel's CAPE and CIN.
-/// What [`build`] makes of a profile: the environment, the surface parcel's
-/// ascent and the three (CAPE, CIN) pairs.
+/// What [`build`] makes of a profile: the environment of its inline points
+/// (with `wind`), the surface parcel's ascent and the three (CAPE, CIN)
+/// pairs.
 type Built = (Environment, ParcelAscent, [(f64, f64); 3]);
 
 fn build(spec: &AtmosphereSpec, lift: &LiftOptions, wind: Option<WindProfile>) -> Result<Built> {

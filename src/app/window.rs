@@ -39,7 +39,7 @@ pub struct WatchOptions {
     pub size: (u32, u32),
     /// Render method overriding the scene's `[render] method`.
     pub method: Option<crate::config::RenderMethod>,
-    /// `--set TABLE.KEY=VALUE` scene overrides (see `crate::scene_set`).
+    /// `--set TABLE.KEY=VALUE` scene overrides (see `crate::scene::set`).
     pub set: Vec<String>,
     /// Destroy the GPU device (`wgpu::Device::destroy`) after this frame,
     /// so the device-loss recovery runs (a test hook: real losses come from

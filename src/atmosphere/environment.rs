@@ -4,7 +4,7 @@
 //!
 //! Pressure comes from one of three models ([`PressureModel`]): hydrostatic
 //! integration of the profile itself (default for scene profiles), the
-//! observed pressures of a sounding, or the paper's P0·exp(−0.143 h[km])
+//! observed pressures of a sounding, or the paper's `P0·exp(−0.143 h[km])`
 //! (eq. 2), kept as an option. Hydrostatic pressure is tabulated once on a
 //! uniform grid so that a lookup costs O(1) on the physics hot path.
 //!
@@ -265,7 +265,7 @@ impl Environment {
         // gradient, but only a stable one, up to the largest θ a level may
         // have: a superadiabatic top segment extrapolated without end reaches
         // 0 K (a sounding whose last two levels are 9 m apart with 49 K of θ
-        // between them gave T = −825 K 1.6 km above its top).
+        // between them would give T = −825 K 1.6 km above its top).
         if w > 1.0 && b.theta_k < a.theta_k {
             return b.theta_k;
         }
@@ -291,7 +291,7 @@ impl Environment {
     /// together: the hydrostatic model holds Π and takes P from the table's
     /// pressure by a power near 1 (`thermo::pow_1p`), so Π costs nothing
     /// more (the physics needs both at every parcel every sub-step, and a
-    /// general power was a large part of its cost). units: m → (Pa, 1)
+    /// general power would be a large part of its cost). units: m → (Pa, 1)
     pub fn pressure_exner(&self, z_m: f64) -> (f64, f64) {
         match self.model {
             PressureModel::Hydrostatic => {
@@ -308,7 +308,7 @@ impl Environment {
                     // Above the table, an isothermal layer at the table top's
                     // T_v: dΠ/dz = −g/(c_p θ_v) with θ_v = T_v/Π, so Π decays
                     // exponentially and stays positive (a linear extrapolation
-                    // reached Π = 0 and needed a floor).
+                    // would reach Π = 0).
                     let (z_top, pi_top) = (last as f64 * TABLE_DZ_M, self.exner_table[last]);
                     let tv_top = self.theta_v_k(z_top) * pi_top;
                     let pi = pi_top

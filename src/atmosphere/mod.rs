@@ -1,5 +1,6 @@
-//! The atmosphere: thermodynamics, the implicit environment profile, and the
-//! readers that build it from real soundings or scene profiles. Nothing here
+//! The atmosphere: thermodynamics, the implicit environment profile and its
+//! wind, the readers that build it from real soundings or scene profiles,
+//! and parcel theory on it (lifted parcels, CAPE and CIN). Nothing here
 //! knows about the GPU or a window.
 
 pub mod cape;

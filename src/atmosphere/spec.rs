@@ -355,9 +355,9 @@ fn theta_qv(pt: &AtmospherePoint, t_k: f64, p_pa: f64) -> (f64, f64) {
 /// temperature. θ_v at the top depends on the unknown pressure, so Π₁ solves
 /// Π₁ = Π₀ − (g/c_p) Δz · mean(1/θ_v)(Π₁). The residual falls strictly as Π₁
 /// rises (a lower Π₁ means a warmer, moister θ_v₁), from Π₀ > 0 at Π₁ → 0 to
-/// below 0 at Π₁ = Π₀: bisection always finds the root. (Fixed-point passes
-/// did not converge for deep layers: points at 0, 1 km and 30 km over
-/// 500 hPa oscillated onto Π's floor and gave θ = 1.7e8 K at 30 km.)
+/// below 0 at Π₁ = Π₀: bisection always finds the root, where a fixed-point
+/// iteration does not converge for deep layers (docs/notes.md,
+/// "Atmosphere").
 fn hydrostatic_step(below: &EnvLevel, p_below: f64, pt: &AtmospherePoint, t_k: f64) -> f64 {
     let pi0 = thermo::exner(p_below);
     let thv0 = thermo::virtual_potential_temperature_k(below.theta_k, below.qv_kg_per_kg, 0.0);

@@ -62,9 +62,8 @@ pub const GROWTH_PER_S: f32 = 0.003;
 pub const DECAY_PER_S: f32 = 0.004;
 /// Relative spreading rate of an `anvil`'s horizontal radii: ×2 in about
 /// 12 minutes, so a 2 km anvil reaches ~10 km across in half an hour, as
-/// thunderstorm anvils do (0.004/s spread it ×24 by the time the paper's
-/// tower reaches it, and its bounds then swallowed every slicing plane).
-/// units: 1/s
+/// thunderstorm anvils do (a much faster spread makes its bounds swallow
+/// every slicing plane). units: 1/s
 pub const ANVIL_SPREAD_PER_S: f32 = 0.001;
 
 /// Scene-wide particle dynamics: the `[particles]` table.

@@ -1,7 +1,9 @@
 //! Implicit ellipsoids (Schpok et al. 2003 §3.1): the artist's coarse shape
 //! of a cloud. Each `[[ellipsoids]]` of a scene is one soft primitive; the
 //! cloud's density skeleton is the sum of Wyvill's cubic soft-object
-//! blending of every primitive, evaluated on the CPU at slice vertices.
+//! blending of every primitive, evaluated at the slice vertices (on the
+//! CPU through the grid index [`FieldIndex`], or by the renderer's compute
+//! pass).
 
 use glam::{EulerRot, Mat3, Vec3};
 use serde::{Deserialize, Serialize};
@@ -10,8 +12,8 @@ use super::animation::{Keyframe, Motion};
 use super::finite_in;
 use crate::error::{Error, Result};
 
-/// Most ellipsoids one scene may hold: every slice vertex evaluates all of
-/// them on the CPU, and 256 already costs seconds per frame at Quality 128.
+/// Most ellipsoids one scene may hold (docs/notes.md, "Authored clouds",
+/// says where the number comes from).
 pub const MAX_ELLIPSOIDS: usize = 256;
 
 /// One implicit ellipsoid as written in a scene's `[[ellipsoids]]` table.
@@ -88,7 +90,7 @@ impl EllipsoidState {
 
     /// The map from world offsets (p − centre) to the unit ball's
     /// coordinates: diag(1/radii) · rotationᵀ. The GPU's primitives carry
-    /// it (src/render/slices/gpu_field.rs), so both sides compute s² alike.
+    /// it (src/render/slices/buffers.rs), so both sides compute s² alike.
     pub fn unit_from_world(&self) -> glam::Mat3 {
         Mat3::from_diagonal(self.radii_m.recip()) * self.rotation.transpose()
     }
@@ -228,7 +230,7 @@ pub fn bounds_m(states: &[EllipsoidState]) -> Option<(Vec3, Vec3)> {
         .reduce(|(a0, a1), (b0, b1)| (a0.min(b0), a1.max(b1)))
 }
 
-/// Checks one `[[ellipsoids]]` entry; `name` is its place ("ellipsoids[2]").
+/// Checks one `[[ellipsoids]]` entry; `name` is its place (`"ellipsoids[2]"`).
 pub fn validate(e: &Ellipsoid, name: &str) -> Result<()> {
     for (k, v) in e.centre_m.iter().enumerate() {
         finite_in(

@@ -1,7 +1,10 @@
-//! One frame of an authored scene for the slice renderer: the ellipsoids at
-//! a time, their slicing geometry for the current light and view, and the
-//! noise-octave uniform, pivoting on the cloud's centre. The renderer calls
-//! this once per frame (Table 1's CPU row) and uploads the result.
+//! One frame of an authored scene on the CPU alone (Table 1's CPU row):
+//! the ellipsoids at a time, their slicing geometry for the current light
+//! and view, and the noise-octave uniform, pivoting on the cloud's centre.
+//! The renderer builds its frames with `render::slices::slices_frame`,
+//! which adds the physics' parcels and the first noise octave in the
+//! shadow; this is the same frame for the ellipsoids alone, without the
+//! renderer's noise volume.
 
 use glam::Vec3;
 

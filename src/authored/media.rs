@@ -42,7 +42,7 @@ impl MediaFilter {
     }
 
     /// The id the shaders switch on: the slices pass's WGSL filter numbers
-    /// them the same (tests/render_slices.rs checks it).
+    /// them the same (tests/cumulus/render/slices.rs checks it).
     pub fn gpu_id(self) -> u32 {
         self as u32
     }

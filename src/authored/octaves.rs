@@ -154,7 +154,7 @@ impl NoiseTier {
             .collect()
     }
 
-    /// Checks one tier; `name` is its place ("render.slices.tiers[1]").
+    /// Checks one tier; `name` is its place (`"render.slices.tiers[1]"`).
     pub fn validate(&self, name: &str) -> Result<()> {
         finite_in(
             &format!("{name}.bottom_m"),

@@ -16,7 +16,7 @@ use super::measure::{Repeats, Source, measure};
 pub use super::physics_error::{PhysicsError, PhysicsErrorRow, physics_sweep, physics_sweep_with};
 use super::stats::{mean_flip, pareto_front, resize_rgba, rgb, rmse};
 
-/// Step of the reference as a fraction of the default step (task: ≤ 1/16).
+/// Step of the reference as a fraction of the default step (at most 1/16).
 pub const REFERENCE_STEP_FRACTION: f32 = 1.0 / 16.0;
 /// Octaves of the reference: the most the noise texture supports (the fBm
 /// truncated as late as it can be).

@@ -1,15 +1,21 @@
 //! Headless benchmark (`cumulus bench`): performance tables (paper Table 1:
 //! parcel count × normals × shadows, physics and per-pass shares), error
 //! against run time for render settings and physics time steps with their
-//! Pareto fronts, frame time against parcel count for grid culling vs brute
-//! force, the savings of leaving passes out, the render methods side by
-//! side ([`methods`]), and the project's speed targets
-//! checked as ratios within one run. Everything is written atomically into
-//! one directory as Markdown, CSV and PNG.
+//! Pareto fronts (and against the path tracer when its results are in the
+//! output folder, [`pathtraced`]), frame time against parcel count for each
+//! render method (baked, exact with grid culling, brute force), the
+//! savings of leaving passes out, the physics sub-step time at scale
+//! ([`physics_speed`]), the render methods side by side ([`methods`]), the
+//! landscape with temporal amortisation off and on ([`landscape`]), the
+//! slices' vertex field on the CPU against the compute pass
+//! ([`slices_field`]), and the project's speed targets checked as ratios
+//! within one run. Everything is written atomically into one directory as
+//! Markdown, CSV and PNG.
 //!
 //! Layers: [`scenes`] builds worlds with exact condensed-parcel counts;
-//! [`measure`] times frames (warm-up + median); [`perf`] and [`accuracy`]
-//! run the sweeps; [`report`] and [`plots`] write the files.
+//! [`measure`] times frames (warm-up + median); [`perf`], [`accuracy`] and
+//! the modules above run the sweeps; [`stats`] holds the medians, image
+//! metrics and Pareto fronts; [`report`] and [`plots`] write the files.
 
 pub mod accuracy;
 mod charts;

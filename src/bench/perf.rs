@@ -160,8 +160,8 @@ fn list_stats(parcels: &[CloudParcel], cfg: &RenderConfig) -> Option<(f64, u32, 
 /// rows (frame(1024)/frame(85), frame(4096)/frame(85)), so their counts are
 /// measured in turn, round after round, and each row keeps its median
 /// round: a burst of load on a shared machine then lands in one round of
-/// every count rather than in all the frames of one. Five single passes
-/// on llvmpipe had given frame(1024)/frame(85) from 1.38 to 1.93.
+/// every count rather than in all the frames of one (docs/notes.md,
+/// "Bench").
 pub const BAKED_ROUNDS: usize = 3;
 
 /// Frame time against parcel count for each method: baked at every count

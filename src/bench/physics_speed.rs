@@ -17,7 +17,7 @@ pub struct PhysicsSpeedRow {
     pub threads: usize,
     /// Median wall time of one sub-step. units: ms
     pub substep_ms: f64,
-    /// The goal for this count, where the issue sets one. units: ms
+    /// The goal for this count, where the project sets one. units: ms
     pub goal_ms: Option<f64>,
 }
 

@@ -13,7 +13,7 @@ pub mod watch;
 
 /// `--set TABLE.KEY=VALUE`: scene overrides for every command that loads a
 /// scene, applied to the TOML and validated exactly like the file
-/// (`cumulus::scene_set`).
+/// (`cumulus::scene::set`).
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct SetArgs {
     /// Override a scene value, validated like the file (repeatable), e.g.

@@ -38,8 +38,9 @@ pub enum RenderMethod {
     /// Schpok et al. 2003 (§4): slicing planes aligned with the light,
     /// the implicit field (authored `[[ellipsoids]]` and the parcels as
     /// spheres) and its shadow evaluated at the planes' vertices on the
-    /// CPU, noise octaves composited per fragment, blended back to front
-    /// into a float target. Controlled by `[render.slices]`.
+    /// CPU (or in a compute pass, `vertex_field = "gpu"`), noise octaves
+    /// composited per fragment, blended back to front into a float
+    /// target. Controlled by `[render.slices]`.
     Slices,
 }
 

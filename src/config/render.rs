@@ -59,9 +59,10 @@ pub const DEFAULT_VISIBILITY_KM: f32 = 217.358_76;
 pub struct RenderConfig {
     /// How the clouds are drawn: "baked" (the default: macro field baked
     /// into a 3D texture, cost flat in the parcel count), "exact" (the
-    /// paper's per-sample union; at most 1024 condensed parcels) or
-    /// "slices" (Schpok 2003 slicing planes of the authored ellipsoids and
-    /// the parcels; see `[render.slices]`).
+    /// paper's per-sample union; at most 1024 condensed parcels),
+    /// "sprites" (Wang 2003 sprite clouds of the parcels; see
+    /// `[render.sprites]`) or "slices" (Schpok 2003 slicing planes of the
+    /// authored ellipsoids and the parcels; see `[render.slices]`).
     pub method: RenderMethod,
     /// Shader stage of the ray-march: "fragment", "compute" or "auto" (the
     /// default: the faster on this adapter, measured in the first frames).

@@ -1,9 +1,11 @@
-//! Export of one frame's cloud density to other renderers: the field of
-//! paper eq. 18 ([`CloudField`], the CPU mirror of shaders/raymarch/density.wgsl)
-//! sampled on a regular grid at cell centres, written as Mitsuba 3's
-//! `gridvolume` `.vol` ([`vol`]) with a JSON sidecar ([`sidecar`]) giving the
-//! world box, camera, sun, sky, phase function, albedo and extinction scale
-//! the renderer assumes, so a path tracer can draw the same picture.
+//! Export of one frame's cloud density to other renderers: a density (the
+//! field of paper eq. 18, [`CloudField`], the CPU mirror of
+//! shaders/raymarch/density.wgsl; for authored scenes, the `slices`
+//! method's field of `render::slices::field`) sampled on a regular grid at
+//! cell centres, written as Mitsuba 3's `gridvolume` `.vol` ([`vol`]) with
+//! a JSON sidecar ([`sidecar`]) giving the world box, camera, sun, sky,
+//! phase function, albedo and extinction scale the renderer assumes, so a
+//! path tracer can draw the same picture.
 //!
 //! Memory is stated before anything is allocated and capped: a grid over
 //! the cap is an error naming the voxel size that would fit.

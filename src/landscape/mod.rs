@@ -10,7 +10,7 @@ use std::path::Path;
 use crate::error::{Error, Result};
 
 /// Integer lattice hash to [0, 1]: the terrain's 2D hills (z = seed, seed =
-/// 0) and the 3D noise texture of the hypertexture (`render::noise`).
+/// 0) and the 3D noise texture of the hypertexture (`noise`).
 pub fn lattice_hash(x: u32, y: u32, z: u32, seed: u32) -> f32 {
     let mut h = x.wrapping_mul(0x8da6_b343)
         ^ y.wrapping_mul(0xd816_3841)
@@ -45,10 +45,9 @@ fn value2(x: f32, y: f32, seed: u32) -> f32 {
 /// relief 18 km out, in [0, height_scale_m]. The sum of six value-noise
 /// octaves stays within about ±0.2 of its mean, so it is stretched 2.5×
 /// about 0.5 and clipped: the relief fills the scale, valley floors and
-/// hilltops flatten where it clips. Unstretched, the landscape scene's
-/// hills spanned 27–574 m of its 700 at slopes of 2.8° (median) and 5.9°
-/// (p90) and read as a plain in its panorama; stretched, 0–700 m at 5.8°
-/// and 13.7° (max 33°). units: m
+/// hilltops flatten where it clips. On the landscape scene the hills span
+/// 0–700 m at slopes of 5.8° (median) and 13.7° (p90), 33° at most.
+/// units: m
 pub fn procedural_height(x: f32, y: f32, seed: u32, height_scale_m: f32) -> f32 {
     let mut sum = 0.0;
     let mut amp = 1.0;

@@ -32,7 +32,7 @@ const MAX_COORD_M: f32 = 1.0e7;
 /// scale, and one of over 50 km is larger than any convective cell. units: m
 const RADIUS_RANGE_M: (f32, f32) = (1.0, 50_000.0);
 
-/// Reads a cloud field written by [`write`] (or by hand). Every error names
+/// Reads a cloud field written by [`write()`] (or by hand). Every error names
 /// the file, line and column, what was wrong and what is allowed.
 pub fn read(path: &Path) -> Result<Vec<CloudParcel>> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;

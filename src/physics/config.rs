@@ -278,7 +278,7 @@ pub struct GroundConfig {
     #[serde(skip)]
     pub terrain: crate::landscape::Heightfield,
     /// Unit vector toward the midday sun that heats the slopes (x east, y
-    /// north, z up): from the scene's [sun] clock (set by
+    /// north, z up): from the scene's `[sun]` clock (set by
     /// `SceneProfile::world_config`), else from the south, 60° high.
     #[serde(skip)]
     pub midday_sun: [f64; 3],

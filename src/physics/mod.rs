@@ -11,6 +11,8 @@
 //! - [`single`]: one parcel released from the ground (`parcel --dynamic`);
 //! - [`config`]: the `[physics]`, `[ground]`, `[emission]`, `[wind]` tables;
 //! - [`ground`]: heat/humidity maps and the parcel generator;
+//! - [`parcel`]: one parcel's state and how to create one;
+//! - [`cloud_file`]: the condensed parcels as a CSV file;
 //! - [`sph`], [`tessellation`], [`rng`]: kernels, the 18 × 9 sphere, SplitMix64;
 //! - [`scale_bench`]: the lattice worlds of the speed measurements.
 //!

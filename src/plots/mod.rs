@@ -1,4 +1,5 @@
-//! PNG charts with plotters (parcel diagram, bench plots). Fonts come from
+//! PNG charts with plotters (the parcel diagram with its hodograph, bench
+//! plots) and text labels drawn into rendered frames. Fonts come from
 //! `epaint_default_fonts`, so no system font library is needed.
 
 pub mod hodograph;

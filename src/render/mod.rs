@@ -4,11 +4,16 @@
 //! shadows. One `render` path serves the window, headless commands and
 //! tests. Its settings are plain data in [`crate::config`].
 //!
-//! [`pack`] is pure CPU (unit-tested without a GPU); [`gpu`] opens the
-//! device; [`raymarch`], [`sprites`] and [`slices`] hold each method's GPU
-//! side; [`pipelines`] the layouts and the pipeline cache; [`timing`] the
-//! GPU timestamps; [`renderer`] owns and orders the passes; [`headless`]
-//! renders to an offscreen texture and reads it back.
+//! [`pack`], [`field`] and [`standin`] are pure CPU (unit-tested without a
+//! GPU): the frame's uniforms and culling grid, the CPU twin of the
+//! ray-marched density, a deterministic stand-in cloud field. [`gpu`]
+//! opens the device; [`noise`] uploads the noise volume; [`raymarch`],
+//! [`sprites`] and [`slices`] hold each method's GPU side; [`shaders`]
+//! assembles the WGSL modules; [`layouts`] the target formats and shared
+//! bind-group layouts; [`pipelines`] the pipeline cache (built ahead on a
+//! background thread by `prebuild`); [`auto_march`] picks the faster march
+//! path; [`timing`] the GPU timestamps; [`renderer`] owns and orders the
+//! passes; [`headless`] renders to an offscreen texture and reads it back.
 //!
 //! Use (window, bench, tests alike):
 //!
@@ -21,7 +26,8 @@
 //! // headless: headless::render_to_rgba(&ctx, &cfg, &input, w, h)? -> (rgba, w, h)
 //! ```
 //!
-//! The passes and their shaders are described in `shaders/*.wgsl` headers;
+//! The passes and their shaders are described in the headers of the
+//! files in `shaders/` (grouped by owner, see [`shaders`]);
 //! the density of the hypertexture (paper eq. 18) in `shaders/raymarch/density.wgsl`.
 
 pub mod auto_march;

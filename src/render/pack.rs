@@ -132,13 +132,13 @@ pub struct FrameUniform {
     pub sky_below: [f32; 3],
     pub _pad2: f32,
     /// The sky-view table (src/sky/view.rs `SkyLight`), three vec4 per
-    /// texel (texel k = elevation·SKY_AZIMUTHS + azimuth): [3k] Rayleigh
-    /// radiance per unit phase, [3k + 1] Mie per unit phase, [3k + 2]
+    /// texel (texel k = elevation·SKY_AZIMUTHS + azimuth): `[3k]` Rayleigh
+    /// radiance per unit phase, `[3k + 1]` Mie per unit phase, `[3k + 2]`
     /// multiple-scattered (rgb; w unused).
     pub sky_view: [[f32; 4]; 3 * SKY_TEXELS],
     /// The air table (src/sky/air.rs `AirTable`), four vec4 per height
-    /// node k: [4k] Rayleigh scattered per metre per unit phase, [4k + 1]
-    /// Mie per unit phase, [4k + 2] multiple, [4k + 3] extinction (1/m)
+    /// node k: `[4k]` Rayleigh scattered per metre per unit phase, `[4k + 1]`
+    /// Mie per unit phase, `[4k + 2]` multiple, `[4k + 3]` extinction (1/m)
     /// (rgb; w unused).
     pub air: [[f32; 4]; 4 * AIR_HEIGHTS],
 }

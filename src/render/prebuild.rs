@@ -1,6 +1,6 @@
 //! Building pipelines ahead on a background thread, so that toggling an
-//! option in the window does not stop a frame for a shader compile (issue
-//! 9: "no stalls"). The renderer asks for the pipelines of every setting
+//! option in the window does not stop a frame for a shader compile ("no
+//! stalls"). The renderer asks for the pipelines of every setting
 //! one panel click away from the current one (see
 //! `Renderer::request_neighbours`); one worker thread compiles them in
 //! turn on its own clone of the device and hands them back through a

@@ -1,7 +1,11 @@
 //! Scene profiles (`profiles/*.toml`): atmosphere, ground, emission, wind,
-//! physics switches, camera and render settings in one file. Loading parses
-//! the TOML (errors name the file, line and column), validates every part and
-//! builds the environment.
+//! physics switches, the sun's clock, the start time, camera and render
+//! settings and the authored clouds (ellipsoids, sprite clouds, layers) in
+//! one file. Loading parses the TOML (errors name the file, line and
+//! column) and validates every part; the profile then gives the models
+//! their inputs ([`SceneProfile::world_config`],
+//! [`SceneProfile::build_sprite_clouds`]), and its atmosphere builds the
+//! environment. [`set`] applies `--set` overrides before validation.
 
 pub mod set;
 
@@ -50,7 +54,7 @@ pub struct SceneProfile {
     pub ellipsoids: Vec<Ellipsoid>,
     /// Particle dynamics of the ellipsoids (the uniform wind).
     pub particles: ParticleConfig,
-    /// Place and clock of the sun; absent = the sun pinned by [render].
+    /// Place and clock of the sun; absent = the sun pinned by `[render]`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sun: Option<SunConfig>,
     /// Where a run starts.
@@ -61,11 +65,10 @@ pub struct SceneProfile {
     pub layers: Vec<crate::sprites_model::LayerSpec>,
 }
 
-/// Simulated time a scene opens at when nothing else says: the old default
-/// of `cumulus render --time`. The shipped scenes' first cloud forms after
-/// 270–540 s and by 1800 s each shows a developed field (fair_weather 118
-/// condensed parcels, towering_cumulus 250, high_based 169; `cumulus
-/// simulate`, seed 1, 2-s frames). units: s
+/// Simulated time a scene opens at when nothing else says. The shipped
+/// scenes' first cloud forms after 270–540 s and by 1800 s each shows a
+/// developed field (fair_weather 118 condensed parcels, towering_cumulus
+/// 250, high_based 169; `cumulus simulate`, seed 1, 2-s frames). units: s
 pub const DEFAULT_START_S: f64 = 1800.0;
 
 /// The `[simulation]` table.
@@ -279,7 +282,7 @@ pub(crate) fn locate(e: Error, text: &str, path: &Path) -> Error {
 }
 
 /// 1-based (line, column) of the key a dotted parameter name
-/// ("physics.stiffness", "wind.aloft_m_s[0]", "atmosphere.points[1].t_c")
+/// (`"physics.stiffness"`, `"wind.aloft_m_s[0]"`, `"atmosphere.points[1].t_c"`)
 /// sets in a profile's TOML text, when it is written there as `key = value`
 /// under its `[table]` or `[[array.of.tables]]` header.
 pub fn locate_key(text: &str, name: &str) -> Option<(usize, usize)> {

@@ -184,8 +184,9 @@ impl Atmosphere {
     }
 }
 
-/// The atmosphere's sun-independent tables, built once (the renderer
-/// keeps the Earth's for the process, src/render/frame.rs).
+/// The atmosphere's sun-independent tables, built once (the renderer's
+/// sun keeps the Earth's for the last few visibilities asked for,
+/// src/sky/sun_light.rs).
 #[derive(Debug, Clone)]
 pub struct SkyLuts {
     pub atmosphere: Atmosphere,

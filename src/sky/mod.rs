@@ -1,9 +1,12 @@
 //! The sky from an atmosphere model: the colour of the sun after the air it
 //! crosses, the sky's radiance in every direction and the light the whole
-//! sky sheds on an up-facing surface, for a sun at a given elevation. Pure
-//! CPU arithmetic (no GPU, no physics): the renderer computes it once per
-//! sun position and uploads it in the frame uniform (`SkyLight`, read by
-//! `sky_color` and `sky_ambient` in shaders/common.wgsl).
+//! sky sheds on an up-facing surface, for a sun at a given elevation and
+//! an aerosol of a given visibility. Pure CPU arithmetic (no GPU, no
+//! physics): the renderer computes it once per sun position and uploads it
+//! in the frame uniform ([`SkyLight`], read by `sky_color` and
+//! `sky_ambient` in shaders/common.wgsl); [`Sun`] is the sun as the
+//! renderer's light, its sky cached per step of elevation
+//! (src/sky/sun_light.rs).
 //!
 //! Model: Hillaire (2020, "A scalable and production ready sky and
 //! atmosphere rendering technique") in a spherical, layered atmosphere with
@@ -12,20 +15,22 @@
 //! scattering and absorption (1.2 km, Cornette–Shanks phase with g = 0.8)
 //! and an ozone layer (a tent 25 ± 15 km) that only absorbs. The RGB
 //! channels stand for 680, 550 and 440 nm. Three look-up tables:
-//! - transmittance to space over (height, view zenith cosine), [`luts`];
+//! - transmittance to space over (height, view zenith cosine),
+//!   [`TransmittanceLut`];
 //! - multiple scattering Ψ_ms over (height, sun zenith cosine): the
 //!   paper's isotropic second order, times the geometric series
 //!   1/(1 − f_ms) of all higher orders, with a grey ground of albedo
-//!   [`Atmosphere::ground_albedo`], [`luts`];
+//!   [`Atmosphere::ground_albedo`], [`MultipleScatteringLut`];
 //! - the sky view over (azimuth from the sun, elevation), rebuilt when the
-//!   sun moves, [`view`].
+//!   sun moves, [`SkyLight`].
 //!
 //! The first two depend only on the atmosphere and are built once
 //! ([`SkyLuts::new`]); the third is cheap. With the sky view comes the air
-//! table of the aerial perspective ([`air`]): the same source term over
-//! height, for what the air adds between the eye and a hill or a cloud. Not modelled: the sun's spectrum
-//! (the sun above the air is white), the ground's single-scattered
-//! reflection in the sky view (the terrain is drawn by the renderer).
+//! table of the aerial perspective ([`AirTable`]): the same source term
+//! over height, for what the air adds between the eye and a hill or a
+//! cloud. Not modelled: the sun's spectrum (the sun above the air is
+//! white), the ground's single-scattered reflection in the sky view (the
+//! terrain is drawn by the renderer).
 
 mod air;
 mod luts;
@@ -43,9 +48,10 @@ pub use view::{SKY_AZIMUTHS, SKY_ELEVATIONS, SKY_TEXELS, SkyLight};
 
 /// The sun's colour above the atmosphere, in the renderer's units (linear
 /// RGB; the cloud march's irradiance is 4π times it, see
-/// src/export/sidecar.rs). White, and chosen so that the sun at 60°
-/// elevation, (2.3, 2.1, 1.8), matches the fixed sun the renderer had before
-/// the sky model (2.2, 2.1, 2.0).
+/// src/export/sidecar.rs). White, and scaled so that the sun at 60°
+/// elevation, (2.3, 2.1, 1.8), is close to the nominal daylight
+/// irradiance (2.2, 2.1, 2.0) the exposure and the cloud lighting are set
+/// for.
 pub const SUN_ABOVE_AIR: f64 = 2.5;
 
 /// ln 50: Koschmieder's visibility is where the contrast falls to 2 %.

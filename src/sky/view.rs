@@ -106,7 +106,8 @@ impl SkyLuts {
 
 impl Atmosphere {
     /// The sky for a sun at `elevation_rad` (builds this atmosphere's
-    /// tables first; the renderer keeps them, src/render/frame.rs).
+    /// tables first; the renderer's sun keeps its tables instead,
+    /// src/sky/sun_light.rs).
     pub fn sky_light(&self, elevation_rad: f64, strength: f64) -> SkyLight {
         SkyLuts::new(self).sky_light(elevation_rad, strength)
     }

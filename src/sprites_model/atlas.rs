@@ -51,7 +51,7 @@ pub struct Atlas {
 }
 
 /// Value noise in [0, 1] at `(x, y)` (lattice units), 2-D slice of the
-/// render noise's lattice hash.
+/// noise volume's lattice hash (`landscape::lattice_hash`).
 fn value2(x: f32, y: f32, seed: u32) -> f32 {
     let (ix, iy) = (x.floor(), y.floor());
     let (fx, fy) = (fade(x - ix), fade(y - iy));

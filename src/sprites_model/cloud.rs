@@ -126,7 +126,7 @@ pub struct SpriteCloud {
 }
 
 impl SpriteBox {
-    /// Checks the box; errors name `key` ("sprite_clouds[0].boxes") and the box.
+    /// Checks the box; errors name `key` (`"sprite_clouds[0].boxes"`) and the box.
     pub fn validate(&self, key: &str, i: usize) -> Result<()> {
         let bad = |what: &str, allowed: &str| {
             Err(Error::invalid(key, format!("box {i}: {what}"), allowed))
@@ -192,7 +192,7 @@ impl SpriteBox {
 }
 
 impl SpriteCloudSpec {
-    /// Checks the cloud; `key` is "sprite_clouds[i]".
+    /// Checks the cloud; `key` is `"sprite_clouds[i]"`.
     pub fn validate(&self, key: &str) -> Result<()> {
         for (a, v) in self.center_m.iter().enumerate() {
             finite_in(

@@ -55,7 +55,7 @@ fn range_in(name: &str, r: [f32; 2], min: f32, max: f32, unit: &str) -> Result<(
 }
 
 /// Checks a scene's `[[sprite_clouds]]` and `[[layers]]`; errors name the
-/// key ("sprite_clouds[1].boxes", "layers[0].coverage").
+/// key (`"sprite_clouds[1].boxes"`, `"layers[0].coverage"`).
 pub fn validate_scene(clouds: &[SpriteCloudSpec], layers: &[LayerSpec]) -> Result<()> {
     for (i, c) in clouds.iter().enumerate() {
         c.validate(&format!("sprite_clouds[{i}]"))?;

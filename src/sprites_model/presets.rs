@@ -368,7 +368,7 @@ pub struct LayerSpec {
 }
 
 impl LayerSpec {
-    /// Checks the layer; `key` is "layers[i]".
+    /// Checks the layer; `key` is `"layers[i]"`.
     pub fn validate(&self, key: &str) -> Result<()> {
         if let Some(a) = self.altitude_m {
             finite_in(

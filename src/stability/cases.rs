@@ -372,16 +372,14 @@ pub fn matrix(size: Size) -> Result<Vec<Case>> {
             declared_clamps: vec![],
         });
         // Emission that really reaches 100 000 alive. On the 10 km ground
-        // the births crowd the hot patches (the old 10⁵ /km²/h case peaked
-        // at ~2 000 alive: births overlapping at random pushed each other
-        // into the ground). Here a 100 km × 100 km ground heats uniformly
-        // (background 1, no patches: every cell emits with the full 2 K and
-        // 2 g/kg excess) at 1 000 parcels/km²/h: ~2 800 births a second,
-        // 1.4 per km² per 5 s frame. Most births do not live long: the
-        // young parcels rise slowly (a 2 K excess lifts them ~100 m in the
-        // first minute) and crowd the layer near the ground (on 50 km × 50
-        // km, 68 000 were alive after 200 s at this rate and 91 000 at twice
-        // it, of ~140 000 and ~280 000 born), hence the larger ground.
+        // the births crowd the hot patches and, overlapping at random, push
+        // each other into the ground. Here a 100 km × 100 km ground heats
+        // uniformly (background 1, no patches: every cell emits with the
+        // full 2 K and 2 g/kg excess) at 1 000 parcels/km²/h: ~2 800 births
+        // a second, 1.4 per km² per 5 s frame. Most births do not live long:
+        // the young parcels rise slowly (a 2 K excess lifts them ~100 m in
+        // the first minute) and crowd the layer near the ground, hence the
+        // large ground (docs/notes.md, "Stability matrix").
         // Measured: 99 966 alive at the peak (the cap is 100 000; a few die
         // every frame), 150 sub-steps, 1.3 s of physics per sub-step on 2
         // cores under a load of ~14 (the full matrix only; CI runs --quick).

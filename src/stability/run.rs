@@ -29,7 +29,7 @@
 //!   densest at the ground; eq 6 shrinks V as the parcel sinks). The
 //!   force's own work W_atm(t) is still measured (trapezoid rule on Σ F·v
 //!   at frame ends), but only reported, as its share of E_cap: the budget
-//!   no longer trusts the force it polices.
+//!   does not trust the force it polices.
 //!
 //! So E_avail(t) = KE₀ + E_sph,0 + E_births(t) + M(t)·e_phys + E_cap(t)
 //! with M(t) the mass alive and E_births below, and the **KE ratio** of a case is max_t KE(t)/E_avail(t).

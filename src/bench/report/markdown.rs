@@ -176,7 +176,7 @@ pub fn targets(r: &BenchResults) -> Vec<Target> {
         goal: "≤ 5 %".into(),
         pass: share.map(|x| x <= 0.05),
     });
-    // Issue 9: the default method against the paper's at the same settings
+    // The default method against the paper's at the same settings
     // (methods.md: same parcels, sun and camera; the worst scene).
     let baked = r
         .methods
@@ -456,7 +456,7 @@ fn pathtraced_md(rows: Option<&[PathTracedRow]>) -> String {
     s
 }
 
-/// The issue's scaling targets for `baked`, as ratios within this run.
+/// The project's scaling targets for `baked`, as ratios within this run.
 pub fn scaling_targets(rows: &[ScalingRow]) -> String {
     let frame = |n: usize| {
         rows.iter()

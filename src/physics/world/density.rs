@@ -1,4 +1,4 @@
-//! Stage 3: SPH density and pressure (eqs 7–8), gathered per parcel.
+//! Stage 4: SPH density and pressure (eqs 7–8), gathered per parcel.
 
 use rayon::prelude::*;
 

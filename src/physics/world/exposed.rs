@@ -1,4 +1,4 @@
-//! Stage 4: exposed area of each sphere and the atmospheric pressure on
+//! Stage 5: exposed area of each sphere and the atmospheric pressure on
 //! its hidden caps (paper §5.1).
 
 use std::f64::consts::PI;

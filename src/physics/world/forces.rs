@@ -1,4 +1,4 @@
-//! Stage 9: accelerations (eq 17 per unit mass): SPH pressure and
+//! Stage 8: accelerations (eq 17 per unit mass): SPH pressure and
 //! viscosity, atmospheric pressure, buoyancy, drag, entrained momentum.
 //! Gathered per parcel from the state after the thermodynamics.
 

@@ -1,4 +1,4 @@
-//! Stages 1 and 10: the kick–drift–kick sub-step, its stable length and
+//! Stages 1 and 9: the kick–drift–kick sub-step, its stable length and
 //! the order of the stages between drift and kick.
 
 use std::time::Instant;

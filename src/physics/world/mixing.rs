@@ -1,4 +1,4 @@
-//! Stages 5–6: entrainment and detrainment with the environment (eqs
+//! Stage 6: entrainment and detrainment with the environment (eqs
 //! 11–15) and exchange between touching parcels (§5.3), as rates.
 //!
 //! Second order (Heun, the trapezoidal rule with a forward-Euler predictor,

@@ -2,7 +2,8 @@
 //!
 //! One frame ([`ParcelWorld::step`]) = emission, then n equal sub-steps
 //! (n from the CFL, acceleration and SPH sound-speed limits, capped by a
-//! budget), then deaths and condensation planes. One sub-step:
+//! budget), then deaths and condensation planes. One sub-step (the stage
+//! numbers of the submodules' docs):
 //!
 //! 1. kick: v ← v + a dt/2; drift: x ← x + v dt; the mixed scalars (dry
 //!    mass, q_v, q_l, θ, θ_l) take the whole step at their last rates G
@@ -37,7 +38,7 @@
 //! evaluation per sub-step. Observed (`tests/cumulus/physics/order.rs`): order ≈ 2
 //! without the two terms that jump by the paper's design (the tessellated
 //! hidden-cap pressure, detrainment switching on at the condensation
-//! level), ≈ 1.45 with everything on (it was ≈ 1.1).
+//! level), ≈ 1.45 with everything on.
 //!
 //! Parallel and deterministic: every stage is in gather form (rayon), each
 //! parcel's new value computed from the state before the stage, pair terms

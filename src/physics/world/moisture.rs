@@ -1,4 +1,4 @@
-//! Stages 7–8 and the end-of-frame thermodynamics: volume (eq 6),
+//! Stages 2 and 7 and the end-of-frame thermodynamics: volume (eq 6),
 //! condensation with latent heat (eqs 1, 3), the filling ratio and the
 //! condensation plane.
 

@@ -1,4 +1,4 @@
-//! Stage 2: the neighbour grid. A counting sort puts the parcels into a
+//! Stage 3: the neighbour grid. A counting sort puts the parcels into a
 //! uniform grid whose cells are at least the search radius; each parcel then
 //! lists its neighbours by scanning the 27 surrounding cells in a fixed
 //! order (cells in index order, parcels in creation order within a cell).

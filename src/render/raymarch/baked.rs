@@ -11,31 +11,16 @@
 //! with the filtering sampler, so a sample's shadowing and sky visibility
 //! cost one hardware-trilinear fetch. (The ground's shadows march the baked
 //! field itself, density.wgsl `ground_sun_depth`: the volume's coarse cells
-//! widened them by about a cell.)
+//! would widen them by about a cell.)
 //! The bake runs only when the parcels, the shell or the sun changed since
 //! the last one: a paused scene never re-bakes.
 //!
-//! Two restructurings were measured against this splat on llvmpipe
-//! (`cumulus bench --quick`, bake ms at 85 / 1024 / 4096 parcels, each run
-//! on a loaded 2-core machine, so ±50 %): this splat 34 / 54 / 642; a
-//! gather, one workgroup per 4³ brick folding a CPU-binned list of the
-//! parcels whose boxes overlap it, 100 / 1121 / 4520 (a box of a few voxels
-//! costs whole bricks in a gather, only its own voxels here); this splat
-//! with the resolve limited to the bricks a box touches (CPU-listed), 20 /
-//! 168 / 871 (no gain: in the bench's dense field nearly every brick is
-//! touched). The splat's own work, parcels × box voxels, is what grows.
-//! Since the splat runs a compute pass per chunk (see `encode`), the bake
-//! was dominated by `resolve`, and there by upsampling the light volume
-//! (then a storage buffer of coarse cells) into the field texture's spare
-//! channels, 8 storage reads per voxel: with it left out the bake took
-//! 13 / 64 ms at 85 / 4096 parcels against 64–100 / 130–200 ms with it
-//! (llvmpipe, 32×24, shadows off). So `light` now writes the volume as a
-//! coarse texture of its own and the sampler filters it where it is read;
-//! `resolve` writes only (v, plane). Bake ms at 85 / 1024 / 4096 parcels
-//! (`cumulus bench --quick`, llvmpipe, 2-core machine shared with another
-//! build; medians of three runs of each build, interleaved): 6.8 / 12.1 /
-//! 10.9 with the upsampling, 4.4 / 6.1 / 8.6 with the coarse texture; 15
-//! re-baked frames at 16 384 parcels (~2.7·10⁵ voxels): 15.5 → 5.2–7.5.
+//! The splat's own work, parcels × box voxels, is what grows with the
+//! parcel count. `light` writes the volume as a coarse texture of its own
+//! and the sampler filters it where it is read; `resolve` writes only
+//! (v, plane). The variants measured against this layout (a gather per
+//! brick, a resolve limited to the touched bricks, the light volume
+//! upsampled into the field texture) are in docs/notes.md, "Baked field".
 //!
 //! Voxel size. The macro field is piecewise linear: it rises from −1 to f
 //! over two shells across a sphere's surface and over two plane shells
@@ -490,10 +475,8 @@ impl BakedField {
         };
         enc.clear_buffer(&store.occupancy, 0, None);
         // One compute pass per chunk: on llvmpipe a second dispatch in the
-        // same pass, after rebinding the chunk, ran its parcels ~8× slower
-        // (1024 parcels splatted 1× / 2× / 4×: 20 / 160 / 390 ms in one
-        // pass, 20 / 27 / 39 ms in a pass each); this made the bake of
-        // 4096 parcels grow ~10× over 1024.
+        // same pass, after rebinding the chunk, runs its parcels ~8× slower
+        // (docs/notes.md, "Baked field").
         let n = self.parcel_count as usize;
         for (i, start) in (0..n).step_by(MAX_PARCELS).enumerate() {
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -523,8 +506,8 @@ impl BakedField {
         pass.set_bind_group(0, &self.bind_frame, &[]);
         pass.set_bind_group(1, &store.bind, &[0]);
         // The light volume reads the splat's accumulators before resolve
-        // clears them (wgpu orders the two dispatches); resolve no longer
-        // reads it.
+        // clears them (wgpu orders the two dispatches); resolve does not
+        // read it.
         pass.set_pipeline(&self.light);
         let c = store.dims.map(|d| d / BAKE_BLOCK);
         pass.dispatch_workgroups(c[0].div_ceil(4), c[1].div_ceil(4), c[2].div_ceil(4));

@@ -149,7 +149,7 @@ impl Renderer {
             current,
         ] {
             self.features = features;
-            // The shadow pass marches only the `exact` clouds or the
+            // The shadow pass marches only the ray-marched clouds or the
             // slices' field; the sprites splat into it with a pipeline of
             // their own.
             keys.extend(

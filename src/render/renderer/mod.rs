@@ -1,19 +1,25 @@
 //! The renderer: owns the GPU resources of the shared passes, the render
-//! method's cloud field ([`crate::render::raymarch`]) and the pipelines,
-//! and draws a frame into any texture view (window surface or offscreen).
-//! Pass order: bake (baked method, only when the parcels moved) → shadow
-//! map (under `baked` also only then) → sky → terrain → sprites → clouds
-//! (fragment, or compute + composite), or, for the `slices` method,
-//! slicing planes into the float cloud target + composite
-//! ([`crate::render::slices`]) → tonemap. Sky,
-//! terrain and clouds write linear radiance into one HDR scene target
-//! ([`SCENE_FORMAT`]) and composite there in linear light; the tone-map
-//! pass alone writes the output (window surface or headless texture, the
-//! same path for both).
-//! This file holds the state, configuration and preparation; [`passes`]
-//! which passes and pipelines a frame needs; [`ensure`] creates them;
-//! [`draw`] the encoding and timing of a frame; [`resources`] the textures
-//! and bind groups it creates.
+//! method's cloud data ([`crate::render::raymarch`],
+//! [`crate::render::sprites`], [`crate::render::slices`]) and the
+//! pipelines, and draws a frame into any texture view (window surface or
+//! offscreen).
+//! Pass order ([`Pass::ALL`]): bake (`baked` method, only when the
+//! parcels, the shell or the sun moved) → slice_field (`slices` with
+//! `vertex_field = "gpu"`) → shadow map (kept from an earlier frame while
+//! nothing it shows changed) → sky → terrain → clouds (fragment, or
+//! compute) → sprites (the impostor ring's face first; behind the clouds'
+//! depth when both draw) → temporal resolve → slicing planes into the
+//! float cloud target → composite (of the compute march, the temporal
+//! image or the planes, then the sprites in front of the clouds) →
+//! tonemap. Sky, terrain and clouds write linear radiance into one HDR
+//! scene target ([`SCENE_FORMAT`]) and composite there in linear light;
+//! the tone-map pass alone writes the output (window surface or headless
+//! texture, the same path for both).
+//! This file holds the state and the configuration; `prepare` uploads a
+//! frame; `passes` says which passes and pipelines a frame needs;
+//! `ensure` creates them; `draw` encodes and times a frame; `resources`
+//! holds the textures and bind groups it creates; `ring` the impostor
+//! ring's GPU side and [`temporal`] the temporal amortisation.
 //!
 //! "Leave out what a scene does not need": [`Features`] decides which passes
 //! and resources exist; pipelines come from a cache keyed by pass, method

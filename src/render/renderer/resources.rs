@@ -226,7 +226,7 @@ pub(super) type CloudTarget = (
 );
 
 /// The linear HDR target the scene passes draw into (see
-/// [`crate::render::pipelines::SCENE_FORMAT`]).
+/// [`crate::render::layouts::SCENE_FORMAT`]).
 pub(crate) struct SceneTarget {
     pub texture: wgpu::Texture,
     pub view: wgpu::TextureView,

@@ -4,12 +4,15 @@
 //! (each a sphere of the rendered radius) with light-aligned planes and
 //! stores field and shadow at the vertices; this module uploads those
 //! vertices, the noise-octave transforms ([`OctaveUniform`]) and the
-//! qualitative controls ([`SlicesParams`]), and the renderer draws them
+//! qualitative controls ([`SlicesParams`]) into the buffers of
+//! [`buffers`], and the renderer draws them
 //! with `shaders/slices/slices.wgsl` into the float cloud target, which the
 //! composite pass blends over sky and terrain. With `vertex_field =
 //! "gpu"` the vertex values come from a compute pass instead
 //! ([`gpu_field`]); the same primitives and grid index feed the
 //! cloud-shadow map on the terrain (shaders/slices/shadow_field.wgsl).
+//! [`field`] is the CPU twin of the noise-detailed density the planes
+//! draw (the export samples it).
 
 pub mod buffers;
 pub mod field;

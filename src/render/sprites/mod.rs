@@ -2,7 +2,10 @@
 //! once ([`atlas`]), a frame's sprites shaded and sorted on the CPU
 //! ([`build`], from [`crate::sprites_model`]) and drawn by one instanced
 //! pass (`shaders/sprites/sprites.wgsl`): six vertices per sprite, premultiplied
-//! alpha over the sky and terrain, hidden behind the terrain depth.
+//! alpha over the sky and terrain, hidden behind the terrain depth. The
+//! same instances splat the sprites' shadows into the cloud-shadow map;
+//! the clouds beyond the impostor radius are drawn into the ring of
+//! impostors ([`ring`]) instead.
 //!
 //! Nothing here exists until a frame has a sprite: the renderer creates
 //! [`SpritesGpu`] (atlas upload, buffer, bind group) and the sprite

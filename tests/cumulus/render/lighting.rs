@@ -134,7 +134,7 @@ fn a_tower_under_a_low_sun_has_a_shaded_side() {
 }
 
 /// Optical depth ∫ρ ds (density × m) of one noise-free parcel along the ray
-/// from `from` toward `dir`: the parcel formula of shaders/parcel.wgsl and
+/// from `from` toward `dir`: the parcel formula of shaders/raymarch/parcel.wgsl and
 /// ρ = smoothstep(0, 1, v) (density.wgsl with k = 0), 1 m steps.
 fn parcel_depth(q: &CloudParcel, shell_m: f32, from: Vec3, dir: Vec3) -> f32 {
     let plane_shell = 0.3; // parcel.wgsl PLANE_SHELL

@@ -260,7 +260,7 @@ fn a_tower_is_shaded_like_the_path_traced_one() {
         //   way: the path tracer's noise at 64 samples over these halves is
         //   a few per cent, and without the multiple scattering's dimming
         //   where the cloud ends behind a sample (EXIT_DIP in
-        //   shaders/lighting.wgsl) the shaded side measured 0.51, 1.27×.
+        //   shaders/raymarch/lighting.wgsl) the shaded side measured 0.51, 1.27×.
         // A tower that did not shadow itself (its light march switched off)
         // measures 0.79 and 0.98, 2.6 and 2.4 times the path tracer's.
         let factor = ours_ratio / pt_ratio;

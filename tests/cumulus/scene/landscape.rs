@@ -1,7 +1,7 @@
 //! The landscape scene (profiles/landscape.toml) and the terrain-following
 //! ground: parcels leave the terrain at its height, sink back into it, the
 //! heat/humidity maps follow the relief, and the physics' ground is the one
-//! the renderer draws (one height function, src/landscape.rs).
+//! the renderer draws (one height function, src/landscape/mod.rs).
 
 use std::path::Path;
 
