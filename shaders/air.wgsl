@@ -7,7 +7,8 @@
 // its height following the Earth's curve; each step's air is constant and
 // integrated exactly (a homogeneous slab). Far hills fade toward the
 // horizon sky's colour, blue at noon, red-grey at a low sun. CPU twin:
-// SkyLight::aerial_shadowed in src/sky/air.rs (keep in sync).
+// SkyLight::aerial_shadowed in src/sky/air.rs (tests/cumulus/sky/aerial.rs
+// compares them).
 // Imported by the passes that draw objects (terrain, clouds, sprites,
 // slices).
 //

@@ -141,8 +141,8 @@ fn ray_box(ro: vec3<f32>, rd: vec3<f32>, bmin: vec3<f32>, bmax: vec3<f32>) -> ve
 // pixel's view cone at p in texels: frame.noise.texels_per_m is the cone's width in
 // texels per metre of distance from the eye (0: level 0). The weighted mean
 // of the octaves clusters near 0, so it is doubled (then clamped) to use
-// the whole range. Keep in sync with its CPU twin, NoiseVolume::noise3_lod
-// and lod in src/noise.rs.
+// the whole range. CPU twin: NoiseVolume::noise3_lod and lod in
+// src/noise.rs (tests/cumulus/render/noise.rs compares them on the GPU).
 // Cost: on GPUs a per-sample level is free. llvmpipe selects mip levels
 // lane by lane when the level differs across lanes, which makes its cloud
 // pass ~1.8x slower than with the level fixed at 0 (320x240 render,

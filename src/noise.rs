@@ -233,7 +233,8 @@ impl NoiseVolume {
     }
 
     /// [`Self::noise3`] at mip level `lod` of the first fetch (see [`lod`]):
-    /// the CPU twin of `noise3` in shaders/common.wgsl (keep in sync: drift,
+    /// the CPU twin of `noise3` in shaders/common.wgsl (tests/cumulus/render/noise.rs
+    /// compares the two through the mips; both have the drift,
     /// channel weights 2^−c, the second fetch's scale, offset and level, the
     /// doubling and clamp). `inv_scale_per_m` = 1 / `render.noise_scale_m`.
     pub fn noise3_lod(

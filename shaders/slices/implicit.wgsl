@@ -77,7 +77,8 @@ fn composite_noise(tier: u32, p: vec3<f32>) -> f32 {
 }
 
 // The media filters of Table 2; ids and formulas as MediaFilter::apply in
-// src/authored/media.rs (keep in sync). n in [0, 1] → [0, 1].
+// src/authored/media.rs (tests/cumulus/render/slices.rs checks the ids;
+// the formulas are twins, keep them in sync). n in [0, 1] → [0, 1].
 fn media_filter(id: u32, n: f32) -> f32 {
     switch id {
         case 2u: { return 1.0 - 2.0 * abs(n - 0.5); }  // wispy

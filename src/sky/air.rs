@@ -137,7 +137,8 @@ impl SkyLuts {
 impl SkyLight {
     /// What the air does over `dist_m` along unit `dir` from an eye at
     /// height `eye_m`, the sun toward unit `sun`: the CPU twin of
-    /// `aerial_perspective` in shaders/air.wgsl (keep in sync).
+    /// `aerial_perspective` in shaders/air.wgsl (tests/cumulus/sky/aerial.rs
+    /// compares the terrain pass against it).
     pub fn aerial(&self, eye_m: f32, dir: Vec3, dist_m: f32, sun: Vec3) -> Air {
         self.aerial_shadowed(eye_m, dir, dist_m, sun, |_| 1.0)
     }
