@@ -87,6 +87,47 @@ fn context() -> Option<GpuContext> {
 }
 
 #[test]
+fn the_field_index_gives_the_field() {
+    use cumulus::authored::ellipsoid::FieldIndex;
+    use cumulus::authored::{cumulonimbus, field_at, states_at};
+    use glam::Vec3;
+    let mut ellipsoids = cumulonimbus([0.0, 0.0, 1500.0], 9500.0);
+    // A rotated one and many small overlapping spheres, like parcels.
+    ellipsoids.push(cumulus::authored::Ellipsoid {
+        centre_m: [3000.0, 1000.0, 2000.0],
+        radii_m: [1500.0, 400.0, 300.0],
+        rotation_deg: [10.0, 20.0, 35.0],
+        ..Default::default()
+    });
+    for i in 0..60 {
+        let f = i as f32;
+        ellipsoids.push(cumulus::authored::Ellipsoid {
+            centre_m: [
+                (f * 97.0) % 4000.0 - 2000.0,
+                (f * 53.0) % 3000.0,
+                1500.0 + (f * 31.0) % 800.0,
+            ],
+            radii_m: [300.0; 3],
+            ..Default::default()
+        });
+    }
+    let states = states_at(&ellipsoids, &Default::default(), 900.0);
+    let index = FieldIndex::new(&states);
+    let mut worst = 0.0f32;
+    for i in 0..20_000 {
+        let f = i as f32;
+        let p = Vec3::new(
+            (f * 7.31).sin() * 6000.0,
+            (f * 3.17).cos() * 5000.0 + 1000.0,
+            (f * 1.13).sin().abs() * 12000.0,
+        );
+        worst = worst.max((index.field(p) - field_at(&states, p)).abs());
+    }
+    // Float rounding at a box's face only: the blend there is ~1e-7.
+    assert!(worst < 1e-5, "worst difference {worst}");
+}
+
+#[test]
 fn wgsl_media_filter_ids_match_the_rust_filters() {
     use cumulus::authored::MediaFilter;
     let src = cumulus::render::shaders::IMPLICIT_WGSL;
