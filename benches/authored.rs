@@ -7,7 +7,7 @@ use std::hint::black_box;
 use std::path::Path;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use cumulus::authored::{SlicesConfig, build_slices, octave_uniform, states_at};
+use cumulus::methods::slices::model::{SlicesConfig, build_slices, octave_uniform, states_at};
 use cumulus::scene::SceneProfile;
 use glam::Vec3;
 

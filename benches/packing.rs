@@ -7,7 +7,7 @@ use std::hint::black_box;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use cumulus::bench::{TABLE_COUNTS, scenes};
 use cumulus::config::RenderConfig;
-use cumulus::render::pack::pack;
+use cumulus::methods::raymarch::pack::pack;
 
 fn packing(c: &mut Criterion) {
     let cfg = RenderConfig::default();

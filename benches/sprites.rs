@@ -7,11 +7,11 @@ use std::hint::black_box;
 use std::path::Path;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use cumulus::methods::sprites::model::order::back_to_front;
+use cumulus::methods::sprites::model::shading::Lighting;
+use cumulus::methods::sprites::model::vertices::shade_cloud;
+use cumulus::methods::sprites::model::{CloudType, Sprite};
 use cumulus::scene::SceneProfile;
-use cumulus::sprites_model::order::back_to_front;
-use cumulus::sprites_model::shading::Lighting;
-use cumulus::sprites_model::vertices::shade_cloud;
-use cumulus::sprites_model::{CloudType, Sprite};
 use glam::Vec3;
 
 fn sprites(c: &mut Criterion) {

@@ -65,12 +65,13 @@
 
 pub mod app;
 pub mod atmosphere;
-pub mod authored;
 pub mod bench;
 pub mod config;
 pub mod error;
 pub mod export;
+pub mod gpu;
 pub mod landscape;
+pub mod methods;
 pub mod noise;
 pub mod output;
 pub mod physics;
@@ -78,7 +79,6 @@ pub mod plots;
 pub mod render;
 pub mod scene;
 pub mod sky;
-pub mod sprites_model;
 pub mod stability;
 pub mod sun;
 

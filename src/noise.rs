@@ -1,6 +1,6 @@
 //! The tiling 3D noise texture of the hypertexture (paper §6.1), built on the
 //! CPU at start-up, and its CPU twin. Pure CPU: the renderer uploads it
-//! ([`crate::render::noise`]); the sprite atlas and the export read it too.
+//! ([`crate::gpu::noise`]); the sprite atlas and the export read it too.
 //!
 //! One RGBA8 texture holds four octaves of fBm, one per channel: channel c
 //! is periodic value noise (smooth-step interpolated lattice values from an

@@ -29,7 +29,7 @@ fn color_pass(
     encoder
         .begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some(label),
-            color_attachments: &[Some(crate::render::gpu::stored_color(view, load))],
+            color_attachments: &[Some(crate::gpu::stored_color(view, load))],
             depth_stencil_attachment: None,
             timestamp_writes: None,
             occlusion_query_set: None,

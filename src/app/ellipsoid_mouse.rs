@@ -10,8 +10,8 @@
 use glam::Vec3;
 
 use super::state::Model;
-use crate::authored::{pick, states_at};
 use crate::config::{Camera, RenderMethod};
+use crate::methods::slices::model::{pick, states_at};
 
 /// An ellipsoid being dragged.
 #[derive(Debug, Clone, Copy)]
@@ -77,7 +77,7 @@ pub fn drag(m: &mut Model, d: &mut Drag, camera: &Camera, ray: (Vec3, Vec3)) {
     };
     let before = e.clone();
     pick::move_by(e, offset);
-    if let Err(err) = crate::authored::ellipsoid::validate(e, "ellipsoid") {
+    if let Err(err) = crate::methods::slices::model::ellipsoid::validate(e, "ellipsoid") {
         *e = before;
         m.status = err.to_string();
         return;

@@ -9,7 +9,7 @@
 use egui::{DragValue, RichText};
 
 use super::state::Model;
-use crate::authored::{Ellipsoid, MediaFilter, Motion, NoiseMotion, VertexField};
+use crate::methods::slices::model::{Ellipsoid, MediaFilter, Motion, NoiseMotion, VertexField};
 
 /// Three drag fields for a vector, with a label.
 fn vec3(ui: &mut egui::Ui, label: &str, v: &mut [f32; 3], speed: f64) {
@@ -189,7 +189,7 @@ fn particle_section(ui: &mut egui::Ui, m: &mut Model, selected: &mut usize) {
             ));
         }
     }
-    let checked = crate::authored::ellipsoid::validate_all(&m.profile.ellipsoids)
+    let checked = crate::methods::slices::model::ellipsoid::validate_all(&m.profile.ellipsoids)
         .and_then(|()| m.profile.particles.validate());
     if let Err(e) = checked {
         (m.profile.ellipsoids, m.profile.particles) = before;

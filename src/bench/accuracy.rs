@@ -445,8 +445,8 @@ mod tests {
     #[test]
     fn the_light_growth_matches_the_cloud_shader() {
         use crate::config::RenderMethod;
-        use crate::render::shaders::Pass;
-        use crate::render::shaders::twins::{module, wgsl_const};
+        use crate::gpu::shaders::Pass;
+        use crate::gpu::shaders::twins::{module, wgsl_const};
         let clouds = module(Pass::Clouds, RenderMethod::Baked);
         assert_eq!(
             wgsl_const(&clouds, "LIGHT_GROWTH"),
@@ -475,7 +475,7 @@ mod tests {
 
     #[test]
     fn light_growth_matches_the_shader() {
-        let wgsl = crate::render::shaders::LIGHTING_WGSL;
+        let wgsl = crate::gpu::shaders::LIGHTING_WGSL;
         let line = wgsl
             .lines()
             .find(|l| l.trim_start().starts_with("const LIGHT_GROWTH"))

@@ -132,7 +132,7 @@ pub fn measure(
         parcels: &first,
         ..compile
     };
-    for _ in 0..2 * (crate::render::auto_march::SAMPLES + 2) {
+    for _ in 0..2 * (crate::methods::raymarch::auto_march::SAMPLES + 2) {
         if hl.renderer.march_path().is_some() || first.is_empty() {
             break;
         }

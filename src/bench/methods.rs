@@ -199,13 +199,13 @@ pub fn methods(
         let flip = reference
             .as_ref()
             .map(|r| mean_flip(r, &rgb(&m.rgba), size.0, size.1));
-        let scene_sprites: Vec<crate::sprites_model::Sprite> = l
+        let scene_sprites: Vec<crate::methods::sprites::model::Sprite> = l
             .profile
             .build_sprite_clouds()
             .into_iter()
             .flat_map(|c| c.sprites)
             .collect();
-        let overdraw = crate::sprites_model::order::view_overdraw(
+        let overdraw = crate::methods::sprites::model::order::view_overdraw(
             &scene_sprites,
             l.camera.position,
             100_000.0,
@@ -261,7 +261,7 @@ fn run_case(
             sun: l.sun,
             time_s: 0.0,
         };
-        for _ in 0..crate::sprites_model::impostor::SECTORS + 1 {
+        for _ in 0..crate::methods::sprites::model::impostor::SECTORS + 1 {
             hl.render(ctx, &input)?;
         }
     }

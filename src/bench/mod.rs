@@ -215,8 +215,10 @@ impl Plan {
     fn ticks(&self) -> u64 {
         let settings = self.sweep.settings(&RenderConfig::default()).len();
         let limited = |max: usize| self.scaling_counts.iter().filter(|&&n| n <= max).count();
-        let brute = limited(self.brute_max.min(crate::render::pack::MAX_PARCELS))
-            + limited(crate::render::pack::MAX_PARCELS);
+        let brute = limited(
+            self.brute_max
+                .min(crate::methods::raymarch::pack::MAX_PARCELS),
+        ) + limited(crate::methods::raymarch::pack::MAX_PARCELS);
         (self.counts.len() * 4
             + 1
             + settings

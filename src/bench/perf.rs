@@ -5,9 +5,10 @@
 
 use crate::config::{Camera, CameraConfig, RenderConfig, RenderMethod, TerrainConfig};
 use crate::error::Result;
+use crate::methods::raymarch::pack;
 use crate::physics::{CloudParcel, ParcelWorld};
+use crate::render::GpuContext;
 use crate::render::headless::Headless;
-use crate::render::{GpuContext, pack};
 
 use super::measure::{Measured, Repeats, Source, measure};
 use super::scenes;

@@ -7,8 +7,8 @@
 
 use std::path::Path;
 
-use crate::authored::VertexField;
 use crate::error::Result;
+use crate::methods::slices::model::VertexField;
 use crate::render::GpuContext;
 use crate::render::headless::Headless;
 

@@ -5,8 +5,8 @@
 use std::path::PathBuf;
 
 use anyhow::Context as _;
-use cumulus::render::sprites::atlas::{ATLAS_SEED, TILE_TEXELS};
-use cumulus::sprites_model::Atlas;
+use cumulus::methods::sprites::gpu::atlas::{ATLAS_SEED, TILE_TEXELS};
+use cumulus::methods::sprites::model::Atlas;
 
 /// Arguments of `cumulus atlas`.
 #[derive(Debug, clap::Args)]

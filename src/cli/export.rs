@@ -9,9 +9,9 @@ use anyhow::Context as _;
 use cumulus::config::Camera;
 use cumulus::export::sidecar::Sidecar;
 use cumulus::export::{self, DEFAULT_MAX_MEMORY_MIB, GridSpec};
-use cumulus::render::field::CloudField;
-use cumulus::render::slices::field::AuthoredField;
-use cumulus::render::slices::slices_frame;
+use cumulus::methods::raymarch::field::CloudField;
+use cumulus::methods::slices::gpu::field::AuthoredField;
+use cumulus::methods::slices::gpu::slices_frame;
 
 use super::render::{CloudArgs, Clouds};
 

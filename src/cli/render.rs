@@ -183,7 +183,7 @@ impl Clouds {
         bar: Option<&indicatif::ProgressBar>,
     ) -> anyhow::Result<()> {
         match self {
-            Clouds::StandIn => *out = cumulus::render::standin::default_field(time_s as f32),
+            Clouds::StandIn => *out = cumulus::methods::standin::default_field(time_s as f32),
             Clouds::File(parcels) => out.clone_from(parcels),
             Clouds::World { world, dt } => {
                 // Frames of `dt`, the last one shortened to land on `time_s`.
@@ -277,7 +277,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if !sprite_clouds.is_empty() {
         eprintln!(
             "{scene_name}: {}",
-            cumulus::sprites_model::FillCounts::of(&sprite_clouds)
+            cumulus::methods::sprites::model::FillCounts::of(&sprite_clouds)
         );
     }
     headless.renderer.set_sprite_clouds(&ctx, sprite_clouds)?;
@@ -335,7 +335,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let labels = if args.no_labels || !cfg.clouds {
             Vec::new()
         } else {
-            cumulus::render::sprites::cloud_labels(
+            cumulus::methods::sprites::gpu::cloud_labels(
                 headless.renderer.sprite_clouds(),
                 &camera,
                 args.width,

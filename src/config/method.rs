@@ -2,11 +2,11 @@
 //! `render`, `watch` and `bench`, the panel's method box). Every method
 //! shares the sky, terrain, cloud-shadow and composite passes; what differs
 //! is how the cloud field reaches the GPU and how a pixel finds its cloud.
-//! `baked` and `exact` ray-march eq. 18 (module [`crate::render::raymarch`]);
+//! `baked` and `exact` ray-march eq. 18 (module [`crate::methods::raymarch`]);
 //! `sprites` (Wang 2003) draws the same parcels as textured sprite clouds
-//! (module [`crate::render::sprites`]); `slices` (Schpok 2003) draws
+//! (module [`crate::methods::sprites::gpu`]); `slices` (Schpok 2003) draws
 //! light-aligned slicing planes of an implicit field (module
-//! [`crate::render::slices`]).
+//! [`crate::methods::slices::gpu`]).
 
 use std::fmt;
 use std::str::FromStr;
@@ -28,7 +28,7 @@ pub enum RenderMethod {
     /// The paper's path (§6.2): parcels and a culling grid in uniform
     /// buffers, the union of parcels evaluated per sample. The reference the
     /// baked method is measured against; at most
-    /// [`crate::render::pack::MAX_PARCELS`] condensed parcels.
+    /// [`crate::methods::raymarch::pack::MAX_PARCELS`] condensed parcels.
     Exact,
     /// Wang 2003: every condensed parcel becomes a cloud of camera-facing,
     /// textured, artist-shaded sprites drawn back to front (no ray-march,

@@ -144,7 +144,7 @@ pub struct RenderConfig {
     /// Terrain settings.
     pub terrain: TerrainConfig,
     /// The `slices` method's qualitative controls and noise tiers.
-    pub slices: crate::authored::SlicesConfig,
+    pub slices: crate::config::slices::SlicesConfig,
     /// The `sprites` method's settings (`[render.sprites]`).
     pub sprites: SpritesConfig,
 }

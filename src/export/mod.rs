@@ -21,8 +21,8 @@ use rayon::prelude::*;
 
 use crate::config::RenderConfig;
 use crate::error::{Error, Result};
+use crate::methods::raymarch::field::{CloudField, PLANE_SHELL};
 use crate::noise;
-use crate::render::field::{CloudField, PLANE_SHELL};
 
 pub use vol::{VolGrid, read_vol, write_vol};
 

@@ -203,8 +203,8 @@ impl Sidecar {
 #[cfg(test)]
 mod tests {
     use crate::config::RenderMethod;
-    use crate::render::shaders::Pass;
-    use crate::render::shaders::twins::{module, wgsl_const};
+    use crate::gpu::shaders::Pass;
+    use crate::gpu::shaders::twins::{module, wgsl_const};
 
     #[test]
     fn the_lighting_constants_match_the_cloud_shader() {

@@ -4,8 +4,8 @@
 
 use crate::config::RenderConfig;
 use crate::error::{Error, Result};
+use crate::gpu::GpuContext;
 use crate::render::FrameInput;
-use crate::render::gpu::GpuContext;
 use crate::render::renderer::{FrameTimings, Renderer, read_buffer};
 
 /// Format of headless images (PNG-ready bytes after readback).

@@ -30,24 +30,9 @@
 //! files in `shaders/` (grouped by owner, see [`shaders`]);
 //! the density of the hypertexture (paper eq. 18) in `shaders/raymarch/density.wgsl`.
 
-pub mod auto_march;
-pub mod field;
-mod frame;
-pub mod gpu;
 pub mod headless;
-pub mod layouts;
-pub mod noise;
-pub mod pack;
-pub mod pipelines;
-mod prebuild;
-pub mod raymarch;
 pub mod renderer;
-pub mod shaders;
-pub mod slices;
-pub mod sprites;
-pub mod standin;
-pub mod timing;
 
-pub use frame::{Features, FrameInput};
-pub use gpu::GpuContext;
+pub use crate::gpu::GpuContext;
+pub use crate::gpu::frame::{Features, FrameInput};
 pub use renderer::{FrameTimings, Renderer, TimingMode};

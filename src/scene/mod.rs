@@ -14,9 +14,9 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use crate::atmosphere::AtmosphereSpec;
-use crate::authored::{Ellipsoid, ParticleConfig};
 use crate::config::{CameraConfig, RenderConfig};
 use crate::error::{Error, Result, line_col};
+use crate::methods::slices::model::{Ellipsoid, ParticleConfig};
 use crate::physics::{EmissionConfig, GroundConfig, PhysicsConfig, WindConfig, WorldConfig};
 use crate::sky::Sun;
 use crate::sun::{SolarClock, SunConfig};
@@ -60,9 +60,9 @@ pub struct SceneProfile {
     /// Where a run starts.
     pub simulation: SimulationConfig,
     /// Sprite clouds authored from boxes (Wang 2003, `sprites` method).
-    pub sprite_clouds: Vec<crate::sprites_model::SpriteCloudSpec>,
+    pub sprite_clouds: Vec<crate::methods::sprites::model::SpriteCloudSpec>,
     /// Layers of preset cloud types expanded into sprite clouds (Wang 2003).
-    pub layers: Vec<crate::sprites_model::LayerSpec>,
+    pub layers: Vec<crate::methods::sprites::model::LayerSpec>,
 }
 
 /// Simulated time a scene opens at when nothing else says. The shipped
@@ -148,7 +148,7 @@ impl SceneProfile {
         self.world_tables().validate()?;
         self.render.validate()?;
         self.render.slices.validate()?;
-        crate::authored::ellipsoid::validate_all(&self.ellipsoids)?;
+        crate::methods::slices::model::ellipsoid::validate_all(&self.ellipsoids)?;
         self.particles.validate()?;
         if let Some(sun) = &self.sun {
             sun.validate()?;
@@ -161,7 +161,7 @@ impl SceneProfile {
                 "false unless [render.terrain] has enabled = true (the parcels leave the drawn terrain)",
             ));
         }
-        crate::sprites_model::validate_scene(&self.sprite_clouds, &self.layers)?;
+        crate::methods::sprites::model::validate_scene(&self.sprite_clouds, &self.layers)?;
         self.camera.validate()
     }
 
@@ -189,8 +189,8 @@ impl SceneProfile {
 
     /// Every sprite cloud of this scene: its `[[sprite_clouds]]`, then its
     /// `[[layers]]` expanded, in file order (deterministic).
-    pub fn build_sprite_clouds(&self) -> Vec<crate::sprites_model::SpriteCloud> {
-        crate::sprites_model::build_clouds(&self.sprite_clouds, &self.layers)
+    pub fn build_sprite_clouds(&self) -> Vec<crate::methods::sprites::model::SpriteCloud> {
+        crate::methods::sprites::model::build_clouds(&self.sprite_clouds, &self.layers)
     }
 
     /// Everything the physics needs, with the ground's terrain read (a

@@ -357,7 +357,7 @@ pub fn report_md(r: &BenchResults) -> String {
          arrays); brute force at {} in this mode. mean/max list: the exact grid's parcel lists \
          over non-empty cells; coarsened: how often the grid was halved to fit. Plot: \
          scaling.png.\n\n| parcels | method | frame ms | clouds ms | bake ms | mean list | max list | coarsened |\n|---:|---|---:|---:|---:|---:|---:|---:|",
-        crate::render::pack::MAX_PARCELS,
+        crate::methods::raymarch::pack::MAX_PARCELS,
         r.scaling
             .iter()
             .filter(|row| row.method == "brute")

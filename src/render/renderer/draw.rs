@@ -3,12 +3,12 @@
 
 use std::time::Instant;
 
+use crate::gpu::GpuContext;
+use crate::gpu::pipelines::Pipeline;
+use crate::gpu::shaders::Pass;
+use crate::gpu::timing::{FrameTimings, TimingMode};
+use crate::gpu::uniform::{CameraPos, FrameNoise, FrameUniform};
 use crate::render::FrameInput;
-use crate::render::gpu::GpuContext;
-use crate::render::pack::{CameraPos, FrameNoise, FrameUniform};
-use crate::render::pipelines::Pipeline;
-use crate::render::shaders::Pass;
-use crate::render::timing::{FrameTimings, TimingMode};
 
 use super::{Renderer, SCENE_FORMAT, shadow_rect, shadow_rect_of};
 
@@ -299,7 +299,7 @@ impl Renderer {
             beginning_of_pass_write_index: (!face).then_some(i),
             end_of_pass_write_index: Some(i + 1),
         });
-        let color = |view, load| [Some(crate::render::gpu::stored_color(view, load))];
+        let color = |view, load| [Some(crate::gpu::stored_color(view, load))];
         let clear = wgpu::LoadOp::Clear(wgpu::Color::WHITE);
         let slices = self.cfg.method == crate::config::RenderMethod::Slices;
         // The paper's Background control: a flat colour instead of the sky.
@@ -410,7 +410,7 @@ impl Renderer {
     /// A render pipeline `ensure` built.
     fn render_pipeline(
         &self,
-        key: &crate::render::pipelines::PipelineKey,
+        key: &crate::gpu::pipelines::PipelineKey,
     ) -> Option<&wgpu::RenderPipeline> {
         match self.pipelines.get(key) {
             Some(Pipeline::Render(p)) => Some(p),

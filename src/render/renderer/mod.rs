@@ -1,6 +1,6 @@
 //! The renderer: owns the GPU resources of the shared passes, the render
-//! method's cloud data ([`crate::render::raymarch`],
-//! [`crate::render::sprites`], [`crate::render::slices`]) and the
+//! method's cloud data ([`crate::methods::raymarch`],
+//! [`crate::methods::sprites::gpu`], [`crate::methods::slices::gpu`]) and the
 //! pipelines, and draws a frame into any texture view (window surface or
 //! offscreen).
 //! Pass order ([`Pass::ALL`]): bake (`baked` method, only when the
@@ -23,30 +23,31 @@
 //!
 //! "Leave out what a scene does not need": [`Features`] decides which passes
 //! and resources exist; pipelines come from a cache keyed by pass, method
-//! and `override` constants ([`crate::render::pipelines`]), so a toggled
+//! and `override` constants ([`crate::gpu::pipelines`]), so a toggled
 //! setting builds only pipelines it has never seen and clouds appearing
 //! never wait for a shader compile. `prepare` uploads (and times the
-//! upload); `render` draws and times each pass ([`crate::render::timing`]).
+//! upload); `render` draws and times each pass ([`crate::gpu::timing`]).
 
 use std::time::Instant;
 
 use crate::config::method::{MarchPath, RenderMethod};
 use crate::config::{RenderConfig, TerrainConfig};
 use crate::error::{Error, Result};
+use crate::gpu::GpuContext;
+use crate::gpu::noise;
+use crate::gpu::pipelines::{PassLayouts, PipelineCache, PipelineKey};
+use crate::gpu::shaders::Pass;
+use crate::gpu::timing::Timestamps;
+use crate::gpu::uniform::{FrameUniform, GridInfo};
 use crate::landscape::terrain;
+use crate::methods::raymarch::auto_march::AutoMarch;
+use crate::methods::raymarch::baked::{BakeInfo, BakedField};
+use crate::methods::raymarch::exact::ExactField;
+use crate::methods::raymarch::pack::{GridUniform, ParcelsUniform};
+use crate::methods::slices::gpu::{SlicesGpu, slices_frame};
+use crate::methods::sprites::gpu::{RingGpu, SpriteScene, SpriteStats, SpritesGpu};
 use crate::noise::NoiseVolume;
 use crate::physics::CloudParcel;
-use crate::render::auto_march::AutoMarch;
-use crate::render::gpu::GpuContext;
-use crate::render::noise;
-use crate::render::pack::{FrameUniform, GridInfo, GridUniform, ParcelsUniform};
-use crate::render::pipelines::{PassLayouts, PipelineCache, PipelineKey};
-use crate::render::raymarch::baked::{BakeInfo, BakedField};
-use crate::render::raymarch::exact::ExactField;
-use crate::render::shaders::Pass;
-use crate::render::slices::{SlicesGpu, slices_frame};
-use crate::render::sprites::{RingGpu, SpriteScene, SpriteStats, SpritesGpu};
-use crate::render::timing::Timestamps;
 use crate::render::{Features, FrameInput};
 
 mod draw;
@@ -55,14 +56,15 @@ mod passes;
 mod prepare;
 mod resources;
 mod ring;
-pub mod temporal;
 
-pub(crate) use resources::texture_2d;
-use resources::{CloudTarget, SceneTarget, check_size, make_bind_common};
+use crate::gpu::resources::check_size;
+pub(crate) use crate::gpu::resources::texture_2d;
+use crate::methods::raymarch::temporal;
+use resources::{CloudTarget, SceneTarget, make_bind_common};
 
-pub use crate::render::pipelines::{DEPTH_FORMAT, SCENE_FORMAT, SHADOW_FORMAT};
-pub(crate) use crate::render::timing::read_buffer;
-pub use crate::render::timing::{FrameTimings, TimingMode};
+pub use crate::gpu::pipelines::{DEPTH_FORMAT, SCENE_FORMAT, SHADOW_FORMAT};
+pub(crate) use crate::gpu::timing::read_buffer;
+pub use crate::gpu::timing::{FrameTimings, TimingMode};
 
 struct TerrainGpu {
     cfg: TerrainConfig,
@@ -138,8 +140,8 @@ pub struct Renderer {
     slices_noise: Option<(u32, NoiseVolume)>,
     /// Authored clouds the `slices` method draws besides the parcels.
     authored: (
-        Vec<crate::authored::Ellipsoid>,
-        crate::authored::ParticleConfig,
+        Vec<crate::methods::slices::model::Ellipsoid>,
+        crate::methods::slices::model::ParticleConfig,
     ),
     /// The impostor ring (`[render.sprites] impostor_radius_m`).
     ring: Option<RingGpu>,
@@ -220,7 +222,7 @@ impl Renderer {
             "no cloud depth",
             1,
             1,
-            crate::render::pipelines::CLOUD_DEPTH_FORMAT,
+            crate::gpu::pipelines::CLOUD_DEPTH_FORMAT,
             wgpu::TextureUsages::TEXTURE_BINDING,
         )
         .create_view(&Default::default());
@@ -270,7 +272,8 @@ impl Renderer {
             // parcel (no compile when it appears).
             features: Features::new(cfg, true),
             any_clouds: true,
-            grid_info: crate::render::pack::pack(&[], cfg.shell_m, cfg.radius_scale)?.info,
+            grid_info: crate::methods::raymarch::pack::pack(&[], cfg.shell_m, cfg.radius_scale)?
+                .info,
             upload_ms: 0.0,
             frame_buf,
             bound_generation: baked.generation,
@@ -319,8 +322,8 @@ impl Renderer {
     /// ignore them. Takes effect at the next `prepare`.
     pub fn set_authored(
         &mut self,
-        ellipsoids: &[crate::authored::Ellipsoid],
-        particles: &crate::authored::ParticleConfig,
+        ellipsoids: &[crate::methods::slices::model::Ellipsoid],
+        particles: &crate::methods::slices::model::ParticleConfig,
     ) {
         self.authored = (ellipsoids.to_vec(), particles.clone());
     }
@@ -337,7 +340,7 @@ impl Renderer {
         &self,
         ctx: &GpuContext,
         count: usize,
-    ) -> Result<Vec<crate::authored::SliceVertex>> {
+    ) -> Result<Vec<crate::methods::slices::model::SliceVertex>> {
         self.slices.read_vertices(ctx, count)
     }
 
@@ -453,7 +456,7 @@ impl Renderer {
     pub fn set_sprite_clouds(
         &mut self,
         ctx: &GpuContext,
-        clouds: Vec<crate::sprites_model::SpriteCloud>,
+        clouds: Vec<crate::methods::sprites::model::SpriteCloud>,
     ) -> Result<()> {
         self.sprite_scene = SpriteScene::new(clouds);
         self.features = self.features_for(self.any_clouds, !self.sprite_scene.is_empty());
@@ -466,7 +469,7 @@ impl Renderer {
     }
 
     /// The scene's sprite clouds.
-    pub fn sprite_clouds(&self) -> &[crate::sprites_model::SpriteCloud] {
+    pub fn sprite_clouds(&self) -> &[crate::methods::sprites::model::SpriteCloud] {
         self.sprite_scene.clouds()
     }
 }

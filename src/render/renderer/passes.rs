@@ -67,7 +67,7 @@ impl Renderer {
             Pass::Sprites,
             self.cfg.method,
             &[("HAS_TERRAIN", 0.0), ("SHADOW_SPLAT", 1.0)],
-            crate::render::pipelines::SHADOW_FORMAT,
+            crate::gpu::pipelines::SHADOW_FORMAT,
             false,
         )
     }

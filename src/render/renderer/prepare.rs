@@ -8,7 +8,7 @@ impl Renderer {
     /// Packs and uploads a frame's data (the exact method fails, without
     /// drawing anything wrong, past its uniform limits; see [`pack`]).
     ///
-    /// [`pack`]: crate::render::pack
+    /// [`pack`]: crate::methods::raymarch::pack
     pub fn prepare(&mut self, ctx: &GpuContext, input: &FrameInput<'_>) -> Result<()> {
         let start = Instant::now();
         // Pipelines the background builder finished since the last frame.
@@ -24,7 +24,7 @@ impl Renderer {
             RenderMethod::Slices => {
                 let mode = self.cfg.slices.vertex_field;
                 let texels = self.cfg.noise_texels;
-                let cpu = mode == crate::authored::VertexField::Cpu;
+                let cpu = mode == crate::methods::slices::model::VertexField::Cpu;
                 if cpu && self.slices_noise.as_ref().map(|(n, _)| *n) != Some(texels) {
                     self.slices_noise = Some((texels, NoiseVolume::new(texels)));
                 }
@@ -46,7 +46,9 @@ impl Renderer {
                 let mut info = GridInfo::EMPTY;
                 if self.slices.index_count > 0 {
                     info.parcel_count = self.slices.primitives_drawn;
-                    if let Some((lo, hi)) = crate::authored::ellipsoid::bounds_m(&frame.states) {
+                    if let Some((lo, hi)) =
+                        crate::methods::slices::model::ellipsoid::bounds_m(&frame.states)
+                    {
                         info.min = lo;
                         info.cell = (hi - lo).max(glam::Vec3::ONE);
                     }
@@ -123,7 +125,7 @@ impl Renderer {
 /// Box around every sprite of `instances` turned any way (centre ± the
 /// larger half size), or None without sprites. units: m
 fn sprite_box(
-    instances: &[crate::render::sprites::SpriteInstance],
+    instances: &[crate::methods::sprites::gpu::SpriteInstance],
 ) -> Option<(glam::Vec3, glam::Vec3)> {
     use glam::{Vec3, Vec4};
     instances

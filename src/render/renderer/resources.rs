@@ -1,39 +1,12 @@
 //! GPU resources the renderer creates: plain textures, the shared bind group (group 0) and the compute march's target.
 
-use crate::render::gpu::GpuContext;
-use crate::render::pipelines::{
-    CLOUD_DEPTH_FORMAT, CLOUD_TARGET_FORMAT, PassLayouts, SCENE_FORMAT,
-};
-use crate::render::raymarch::baked::BakedField;
-use crate::render::raymarch::exact::ExactField;
+use crate::gpu::GpuContext;
+use crate::gpu::pipelines::{CLOUD_DEPTH_FORMAT, CLOUD_TARGET_FORMAT, PassLayouts, SCENE_FORMAT};
+use crate::gpu::resources::{bind_in_order, texture_2d};
+use crate::methods::raymarch::baked::BakedField;
+use crate::methods::raymarch::exact::ExactField;
 
 use super::Renderer;
-
-/// A single-sample, single-mip 2D texture (also the headless target and the
-/// window's 3D view and screenshot).
-pub(crate) fn texture_2d(
-    device: &wgpu::Device,
-    label: &str,
-    w: u32,
-    h: u32,
-    format: wgpu::TextureFormat,
-    usage: wgpu::TextureUsages,
-) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage,
-        view_formats: &[],
-    })
-}
 
 #[allow(clippy::too_many_arguments)]
 pub(super) fn make_bind_common(
@@ -63,28 +36,6 @@ pub(super) fn make_bind_common(
             wgpu::BindingResource::TextureView(light),
         ],
     )
-}
-
-/// A bind group whose `resources` take bindings 0, 1, 2, … in order.
-pub(super) fn bind_in_order(
-    device: &wgpu::Device,
-    label: &str,
-    layout: &wgpu::BindGroupLayout,
-    resources: Vec<wgpu::BindingResource>,
-) -> wgpu::BindGroup {
-    let entries: Vec<wgpu::BindGroupEntry> = resources
-        .into_iter()
-        .enumerate()
-        .map(|(i, resource)| wgpu::BindGroupEntry {
-            binding: i as u32,
-            resource,
-        })
-        .collect();
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(label),
-        layout,
-        entries: &entries,
-    })
 }
 
 impl Renderer {
@@ -226,23 +177,10 @@ pub(super) type CloudTarget = (
 );
 
 /// The linear HDR target the scene passes draw into (see
-/// [`crate::render::layouts::SCENE_FORMAT`]).
+/// [`crate::gpu::layouts::SCENE_FORMAT`]).
 pub(crate) struct SceneTarget {
     pub texture: wgpu::Texture,
     pub view: wgpu::TextureView,
     /// Group 1 of the tone-map pass.
     pub bind: wgpu::BindGroup,
-}
-
-/// A frame size the device can hold, or a clear error.
-pub(super) fn check_size(ctx: &GpuContext, width: u32, height: u32) -> crate::error::Result<()> {
-    let max = ctx.device.limits().max_texture_dimension_2d;
-    if width == 0 || height == 0 || width > max || height > max {
-        return Err(crate::error::Error::invalid(
-            "frame size",
-            format!("{width}×{height}"),
-            format!("1 to {max} pixels per side on this device"),
-        ));
-    }
-    Ok(())
 }

@@ -6,14 +6,14 @@
 //! radius, behind every directly drawn sprite).
 
 use crate::error::Result;
+use crate::gpu::GpuContext;
+use crate::gpu::pipelines::{Pipeline, PipelineKey};
+use crate::gpu::shaders::Pass;
+use crate::gpu::uniform::FrameUniform;
+use crate::methods::sprites::gpu::RingGpu;
+use crate::methods::sprites::gpu::ring::face_camera;
+use crate::methods::sprites::model::impostor::SECTORS;
 use crate::render::FrameInput;
-use crate::render::gpu::GpuContext;
-use crate::render::pack::FrameUniform;
-use crate::render::pipelines::{Pipeline, PipelineKey};
-use crate::render::shaders::Pass;
-use crate::render::sprites::RingGpu;
-use crate::render::sprites::ring::face_camera;
-use crate::sprites_model::impostor::SECTORS;
 
 use super::{Renderer, SCENE_FORMAT};
 
@@ -164,7 +164,7 @@ impl Renderer {
         };
         let mut rp = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("impostor face"),
-            color_attachments: &[Some(crate::render::gpu::stored_color(
+            color_attachments: &[Some(crate::gpu::stored_color(
                 view,
                 wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
             ))],

@@ -5,9 +5,13 @@
 
 use std::path::Path;
 
-use cumulus::authored::animation::{ANVIL_SPREAD_PER_S, DECAY_PER_S, GROWTH_PER_S, RISE_M_S};
-use cumulus::authored::octaves::{MAX_TIERS, TierUniform, octave_factor, octave_weights};
-use cumulus::authored::*;
+use cumulus::methods::slices::model::animation::{
+    ANVIL_SPREAD_PER_S, DECAY_PER_S, GROWTH_PER_S, RISE_M_S,
+};
+use cumulus::methods::slices::model::octaves::{
+    MAX_TIERS, TierUniform, octave_factor, octave_weights,
+};
+use cumulus::methods::slices::model::*;
 use cumulus::scene::SceneProfile;
 use glam::{Mat3, Mat4, Vec3};
 

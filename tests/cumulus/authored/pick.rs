@@ -3,11 +3,11 @@
 //! in the plane facing the camera, resizing, outlines and the cursor ray.
 
 use cumulus::app::ellipsoid_mouse::cursor_ray;
-use cumulus::authored::pick::{
+use cumulus::config::Camera;
+use cumulus::methods::slices::model::pick::{
     RESIZE_PER_STEP, drag_offset, move_by, outline, pick, ray_ellipsoid, resize_by,
 };
-use cumulus::authored::{Ellipsoid, EllipsoidState, Keyframe, state_at};
-use cumulus::config::Camera;
+use cumulus::methods::slices::model::{Ellipsoid, EllipsoidState, Keyframe, state_at};
 use glam::Vec3;
 
 fn state(centre: [f32; 3], radii: [f32; 3], rotation_deg: [f32; 3]) -> EllipsoidState {
@@ -109,7 +109,7 @@ fn moving_and_resizing_carry_the_keyframes_along() {
     // The scene's limits hold: 1 m to 1e5 m.
     resize_by(&mut e, -500.0);
     assert_eq!(e.radii_m, [1.0; 3]);
-    cumulus::authored::ellipsoid::validate(&e, "e").unwrap();
+    cumulus::methods::slices::model::ellipsoid::validate(&e, "e").unwrap();
 }
 
 #[test]
@@ -160,7 +160,7 @@ fn the_window_selects_drags_resizes_and_outlines_through_the_model() {
     let (profile, source) = cumulus::scene::load_scene(Some(&path)).unwrap();
     let mut m = cumulus::app::state::Model::new(profile, source).unwrap();
     let camera = m.render_camera();
-    let now = cumulus::authored::states_at(
+    let now = cumulus::methods::slices::model::states_at(
         &m.profile.ellipsoids,
         &m.profile.particles,
         m.world.time_s() as f32,

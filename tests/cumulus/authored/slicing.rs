@@ -2,7 +2,7 @@
 //! slicing.rs): the orientation rule, back-to-front order, the field at
 //! the vertices and the shadow of eq. 2 along the light.
 
-use cumulus::authored::{
+use cumulus::methods::slices::model::{
     EllipsoidState, SliceOrientation, SlicesConfig, build_slices, slice_normal, wyvill,
 };
 use glam::{Mat3, Vec3};

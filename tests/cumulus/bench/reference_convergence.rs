@@ -35,7 +35,7 @@ fn halving_the_reference_step_and_doubling_its_rays_changes_it_little() {
     };
     // One compact tower (about 1.5 km across), so every view ray crosses
     // the grid box within the step limit and the finer step really is half.
-    let parcels = cumulus::render::standin::cumulus_field(1, 1500.0, 1200.0, 1.0, 42);
+    let parcels = cumulus::methods::standin::cumulus_field(1, 1500.0, 1200.0, 1.0, 42);
     let camera = Camera::from(&CameraConfig {
         position_m: [0.0, -4500.0, 900.0],
         target_m: [0.0, 0.0, 1700.0],

@@ -2,10 +2,10 @@
 //! and the parcel columns of the lighting and render-method tests.
 
 use cumulus::config::{Camera, RenderConfig, RenderMethod, TerrainConfig};
+use cumulus::methods::sprites::model::SpriteCloud;
 use cumulus::physics::CloudParcel;
 use cumulus::render::headless::Headless;
 use cumulus::render::{FrameInput, GpuContext};
-use cumulus::sprites_model::SpriteCloud;
 use glam::Vec3;
 
 /// A 50° camera at `position` looking at `target`, near plane 10 m.

@@ -8,8 +8,8 @@ use std::path::Path;
 
 use cumulus::config::Camera;
 use cumulus::export::{GridSpec, read_vol};
-use cumulus::render::slices::field::AuthoredField;
-use cumulus::render::slices::slices_frame;
+use cumulus::methods::slices::gpu::field::AuthoredField;
+use cumulus::methods::slices::gpu::slices_frame;
 
 use crate::common::cli;
 

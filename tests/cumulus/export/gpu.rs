@@ -7,8 +7,8 @@
 use crate::common;
 
 use cumulus::config::{Camera, CameraConfig, RenderConfig, TerrainConfig};
+use cumulus::methods::raymarch::field::CloudField;
 use cumulus::render::FrameInput;
-use cumulus::render::field::CloudField;
 use cumulus::render::headless::Headless;
 use glam::Vec4;
 
@@ -20,7 +20,7 @@ fn cpu_density_covers_the_pixels_the_gpu_draws_cloud_in() {
     let Some(ctx) = common::context("CPU against GPU density test") else {
         return;
     };
-    let parcels = cumulus::render::standin::cumulus_field(2, 2500.0, 1200.0, 1.0, 7);
+    let parcels = cumulus::methods::standin::cumulus_field(2, 2500.0, 1200.0, 1.0, 7);
     let camera = Camera::from(&CameraConfig {
         position_m: [0.0, -3500.0, 1000.0],
         target_m: [0.0, 0.0, 1600.0],

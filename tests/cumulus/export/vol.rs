@@ -6,8 +6,8 @@
 use cumulus::config::RenderConfig;
 use cumulus::export::sidecar::Sidecar;
 use cumulus::export::{GridSpec, read_vol, sample_grid, vol_grid, write_vol};
+use cumulus::methods::raymarch::field::CloudField;
 use cumulus::physics::CloudParcel;
-use cumulus::render::field::CloudField;
 use glam::Vec3;
 
 use crate::common::cli;

@@ -9,9 +9,10 @@
 use crate::common;
 
 use cumulus::config::{Camera, CameraConfig, RenderConfig, RenderMethod, TerrainConfig};
+use cumulus::methods::standin;
 use cumulus::physics::CloudParcel;
 use cumulus::render::headless::Headless;
-use cumulus::render::{FrameInput, GpuContext, standin};
+use cumulus::render::{FrameInput, GpuContext};
 use glam::Vec3;
 
 /// Mean FLIP allowed between baked and exact at the same settings (the

@@ -9,9 +9,9 @@
 use crate::common;
 
 use bytemuck::Zeroable;
+use cumulus::gpu::shaders;
+use cumulus::gpu::uniform::FrameUniform;
 use cumulus::noise::{self, NoiseVolume};
-use cumulus::render::pack::FrameUniform;
-use cumulus::render::shaders;
 use wgpu::util::DeviceExt;
 
 /// The compute entry evaluating `noise3` at each point of `pts`.
@@ -75,8 +75,8 @@ fn gpu_noise(
         usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
-    let view = cumulus::render::noise::texture(vol, device, &ctx.queue);
-    let sampler = cumulus::render::noise::repeat_sampler(device);
+    let view = cumulus::gpu::noise::texture(vol, device, &ctx.queue);
+    let sampler = cumulus::gpu::noise::repeat_sampler(device);
     let g0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("noise test common"),
         layout: &pipeline.get_bind_group_layout(0),

@@ -10,9 +10,10 @@
 use crate::common;
 
 use cumulus::config::{Camera, CameraConfig, RenderConfig, TerrainConfig};
+use cumulus::methods::standin;
 use cumulus::physics::CloudParcel;
 use cumulus::render::headless::Headless;
-use cumulus::render::{FrameInput, GpuContext, Renderer, standin};
+use cumulus::render::{FrameInput, GpuContext, Renderer};
 use glam::Vec3;
 
 /// Mean FLIP allowed against a reference. Same driver gives ~0; the ray start
@@ -533,7 +534,7 @@ fn window_like_formats_render_alike() {
 #[test]
 fn the_most_parcels_the_uniforms_hold_render() {
     let Some(ctx) = context() else { return };
-    use cumulus::render::pack::MAX_PARCELS;
+    use cumulus::methods::raymarch::pack::MAX_PARCELS;
     let side = (MAX_PARCELS as f32).sqrt() as usize;
     let parcels: Vec<CloudParcel> = (0..MAX_PARCELS)
         .map(|i| CloudParcel {

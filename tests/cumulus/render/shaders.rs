@@ -4,8 +4,9 @@
 //! structs against the WGSL layout naga computes.
 
 use cumulus::config::RenderMethod;
-use cumulus::render::pack::{FrameUniform, GpuParcel, GridUniform, ParcelsUniform};
-use cumulus::render::shaders::{FILES, Pass};
+use cumulus::gpu::shaders::{FILES, Pass};
+use cumulus::gpu::uniform::FrameUniform;
+use cumulus::methods::raymarch::pack::{GpuParcel, GridUniform, ParcelsUniform};
 
 fn parse(src: &str) -> Result<(naga::Module, naga::valid::ModuleInfo), String> {
     let module = naga::front::wgsl::parse_str(src).map_err(|e| e.emit_to_string(src))?;
@@ -148,7 +149,7 @@ fn rust_uniforms_match_wgsl_layout() {
         std::mem::size_of::<GridUniform>()
     );
     // The temporal uniform, declared by the march and the resolve alike.
-    let temporal = std::mem::size_of::<cumulus::render::renderer::temporal::TemporalUniform>();
+    let temporal = std::mem::size_of::<cumulus::methods::raymarch::temporal::TemporalUniform>();
     assert_eq!(wgsl_struct_size(&module, "Temporal") as usize, temporal);
     let (resolve, _) = parse(&Pass::Temporal.source(RenderMethod::Baked)).unwrap();
     assert_eq!(wgsl_struct_size(&resolve, "Temporal") as usize, temporal);

@@ -11,9 +11,10 @@ use crate::common;
 use std::path::{Path, PathBuf};
 
 use cumulus::config::{Camera, RenderConfig, RenderMethod};
+use cumulus::gpu::shaders::Pass;
+use cumulus::methods::standin;
 use cumulus::render::headless::Headless;
-use cumulus::render::shaders::Pass;
-use cumulus::render::{FrameInput, GpuContext, standin};
+use cumulus::render::{FrameInput, GpuContext};
 use cumulus::scene::{SceneProfile, load_scene_with};
 
 /// Small frames: lavapipe fills 128 planes of the whole cloud per pixel.
@@ -88,12 +89,12 @@ fn context() -> Option<GpuContext> {
 
 #[test]
 fn the_field_index_gives_the_field() {
-    use cumulus::authored::ellipsoid::FieldIndex;
-    use cumulus::authored::{cumulonimbus, field_at, states_at};
+    use cumulus::methods::slices::model::ellipsoid::FieldIndex;
+    use cumulus::methods::slices::model::{cumulonimbus, field_at, states_at};
     use glam::Vec3;
     let mut ellipsoids = cumulonimbus([0.0, 0.0, 1500.0], 9500.0);
     // A rotated one and many small overlapping spheres, like parcels.
-    ellipsoids.push(cumulus::authored::Ellipsoid {
+    ellipsoids.push(cumulus::methods::slices::model::Ellipsoid {
         centre_m: [3000.0, 1000.0, 2000.0],
         radii_m: [1500.0, 400.0, 300.0],
         rotation_deg: [10.0, 20.0, 35.0],
@@ -101,7 +102,7 @@ fn the_field_index_gives_the_field() {
     });
     for i in 0..60 {
         let f = i as f32;
-        ellipsoids.push(cumulus::authored::Ellipsoid {
+        ellipsoids.push(cumulus::methods::slices::model::Ellipsoid {
             centre_m: [
                 (f * 97.0) % 4000.0 - 2000.0,
                 (f * 53.0) % 3000.0,
@@ -129,8 +130,8 @@ fn the_field_index_gives_the_field() {
 
 #[test]
 fn wgsl_media_filter_ids_match_the_rust_filters() {
-    use cumulus::authored::MediaFilter;
-    let src = cumulus::render::shaders::IMPLICIT_WGSL;
+    use cumulus::methods::slices::model::MediaFilter;
+    let src = cumulus::gpu::shaders::IMPLICIT_WGSL;
     // The shader's switch names each non-default filter by its id; the
     // default branch is cumulus and stratus (the same formula).
     for (f, comment) in [
@@ -327,11 +328,11 @@ fn the_background_colour_replaces_the_sky_when_the_sky_is_off() {
 
 /// The CPU frame of the authored scene at its start, its vertices
 /// evaluated on the CPU with the renderer's noise volume.
-fn cpu_frame(scene: &SceneProfile) -> cumulus::render::slices::SlicesFrame {
+fn cpu_frame(scene: &SceneProfile) -> cumulus::methods::slices::gpu::SlicesFrame {
     let cfg = &scene.render;
     let camera = Camera::from(&scene.camera);
     let noise = cumulus::noise::NoiseVolume::new(cfg.noise_texels);
-    cumulus::render::slices::slices_frame(
+    cumulus::methods::slices::gpu::slices_frame(
         &scene.ellipsoids,
         &scene.particles,
         &[],
@@ -384,7 +385,7 @@ fn parcels_sliced_get_flat_bases_at_their_condensation_planes() {
         ..RenderConfig::default()
     };
     let noise = cumulus::noise::NoiseVolume::new(cfg.noise_texels);
-    let frame = cumulus::render::slices::slices_frame(
+    let frame = cumulus::methods::slices::gpu::slices_frame(
         &[],
         &Default::default(),
         &[parcel],
@@ -410,7 +411,7 @@ fn terrain_under_an_authored_cloud_is_darker_with_shadows_on() {
     let Some(ctx) = context() else { return };
     // One broad cloud 2 km up, the sun high, looking down at the ground
     // around it.
-    let ellipsoids = vec![cumulus::authored::Ellipsoid {
+    let ellipsoids = vec![cumulus::methods::slices::model::Ellipsoid {
         centre_m: [0.0, 0.0, 2000.0],
         radii_m: [1500.0, 1500.0, 500.0],
         ..Default::default()

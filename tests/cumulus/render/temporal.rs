@@ -16,9 +16,10 @@ use crate::common;
 
 use cumulus::bench::stats::{mean_flip, rgb};
 use cumulus::config::{Camera, CameraConfig, RenderConfig};
+use cumulus::methods::standin;
 use cumulus::physics::CloudParcel;
 use cumulus::render::headless::Headless;
-use cumulus::render::{FrameInput, GpuContext, standin};
+use cumulus::render::{FrameInput, GpuContext};
 use glam::Vec3;
 
 const W: u32 = 160;

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use crate::common::{self, cli};
 
-use cumulus::authored::MediaFilter;
+use cumulus::methods::slices::model::MediaFilter;
 use cumulus::scene::load_scene_with;
 
 fn authored() -> &'static Path {

@@ -7,11 +7,11 @@ use crate::common;
 
 use std::path::Path;
 
+use cumulus::methods::sprites::model::cloud::{PRUNE_TYPICAL, prune};
+use cumulus::methods::sprites::model::order::{back_to_front, block_overdraw, view_overdraw};
+use cumulus::methods::sprites::model::{CloudType, Sprite, parcel_cloud};
 use cumulus::physics::CloudParcel;
 use cumulus::scene::SceneProfile;
-use cumulus::sprites_model::cloud::{PRUNE_TYPICAL, prune};
-use cumulus::sprites_model::order::{back_to_front, block_overdraw, view_overdraw};
-use cumulus::sprites_model::{CloudType, Sprite, parcel_cloud};
 use glam::Vec3;
 
 fn sprite(x: f32, y: f32, z: f32, h: f32) -> Sprite {
@@ -259,7 +259,7 @@ fn block_overdraw_is_sprite_area_over_16_km2() {
 
 #[test]
 fn only_condensed_parcels_become_clouds() {
-    use cumulus::sprites_model::parcel_clouds;
+    use cumulus::methods::sprites::model::parcel_clouds;
     let p = |id: u64, x: f32, fill| CloudParcel {
         id,
         center_m: Vec3::new(x, 0.0, 1500.0),
@@ -282,7 +282,7 @@ fn only_condensed_parcels_become_clouds() {
 /// moves them (the test can fail).
 #[test]
 fn removing_an_unrelated_parcel_leaves_a_clouds_sprites_unchanged() {
-    use cumulus::sprites_model::parcel_clouds;
+    use cumulus::methods::sprites::model::parcel_clouds;
     let p = |id: u64, x: f32| CloudParcel {
         id,
         center_m: Vec3::new(x, 0.0, 1500.0),
@@ -312,7 +312,7 @@ fn sprite_scenes_survive_the_windows_save_round_trip() {
 
 #[test]
 fn dropped_sprites_are_counted_and_shown() {
-    use cumulus::sprites_model::FillCounts;
+    use cumulus::methods::sprites::model::FillCounts;
     // Ten sprites in a 1 m box, 100 m tall: all but the first are within 20 m.
     let text = ONE_BOX.replace(
         "min_m = [-300.0, -300.0, -200.0], max_m = [300.0, 300.0, 200.0], count = 60",

@@ -8,10 +8,10 @@ use crate::common;
 use crate::common::render::{camera, no_terrain, render};
 
 use cumulus::config::{RenderConfig, RenderMethod, TerrainConfig};
+use cumulus::methods::sprites::model::{CloudType, SpriteCloud};
 use cumulus::physics::CloudParcel;
 use cumulus::render::FrameInput;
 use cumulus::render::headless::Headless;
-use cumulus::sprites_model::{CloudType, SpriteCloud};
 use glam::Vec3;
 
 /// Rec. 709 luma of an 8-bit RGBA pixel, 0–255.

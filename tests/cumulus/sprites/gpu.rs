@@ -9,9 +9,9 @@
 use std::path::PathBuf;
 
 use cumulus::config::{Camera, RenderConfig, RenderMethod, TerrainConfig};
+use cumulus::methods::sprites::model::{CloudType, SpriteCloud};
 use cumulus::render::headless::Headless;
 use cumulus::render::{FrameInput, GpuContext};
-use cumulus::sprites_model::{CloudType, SpriteCloud};
 use glam::Vec3;
 
 use crate::common::render::{camera, no_terrain, render};
@@ -40,7 +40,7 @@ fn physics_parcels_as_sprites_match_the_reference() {
         method: RenderMethod::Sprites,
         ..RenderConfig::default()
     };
-    let parcels = cumulus::render::standin::default_field(0.0);
+    let parcels = cumulus::methods::standin::default_field(0.0);
     let cam = Camera::from(&cumulus::config::CameraConfig::default());
     let (w, h) = (128, 72);
     let rgba = render(&ctx, &cfg, Vec::new(), cam, &parcels, (w, h));
@@ -129,7 +129,7 @@ fn the_method_switches_live_on_one_renderer() {
     let Some(ctx) = common::context("live method switch") else {
         return;
     };
-    let parcels = cumulus::render::standin::default_field(0.0);
+    let parcels = cumulus::methods::standin::default_field(0.0);
     let cam = Camera::from(&cumulus::config::CameraConfig::default());
     let mut cfg = no_terrain(RenderMethod::Baked);
     let mut hl = Headless::new(&ctx, &cfg, 64, 48).unwrap();
@@ -177,7 +177,7 @@ fn atlas_command_writes_the_renderers_sheet() {
     let out = dir.path().join("atlas.png");
     cli::run_command(cli::command().args(["atlas", "--out"]).arg(&out)).expect_success();
     let png = image::open(&out).unwrap().into_rgba8();
-    let sheet = cumulus::render::sprites::atlas::sheet();
+    let sheet = cumulus::methods::sprites::gpu::atlas::sheet();
     assert_eq!((png.width(), png.height()), (sheet.size, sheet.size));
     assert_eq!(png.into_raw(), sheet.rgba);
     // A tile smaller than the paper's is refused, naming the flag.

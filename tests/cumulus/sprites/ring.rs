@@ -3,10 +3,12 @@
 //! the ring by the same rules as the scene's, re-rendering it when they
 //! condense or evaporate.
 
+use cumulus::methods::sprites::gpu::{SpriteInstance, SpriteScene};
+use cumulus::methods::sprites::model::impostor::{
+    ImpostorRing, RingConfig, SECTORS, Trigger, block_of,
+};
+use cumulus::methods::sprites::model::{CloudType, SpriteCloud};
 use cumulus::physics::CloudParcel;
-use cumulus::render::sprites::{SpriteInstance, SpriteScene};
-use cumulus::sprites_model::impostor::{ImpostorRing, RingConfig, SECTORS, Trigger, block_of};
-use cumulus::sprites_model::{CloudType, SpriteCloud};
 use glam::{Vec3, Vec4};
 
 const RADIUS_M: f32 = 10_000.0;

@@ -4,14 +4,14 @@
 //! (§3.3), the impostor ring's thresholds, frames and crossfade (§6.2), the
 //! vertex-shading cache (§6.1) and the 16-tile atlas (§3.2).
 
-use cumulus::sprites_model::ColorLevel;
-use cumulus::sprites_model::atlas::{self, Atlas, TileKind, tile_kind};
-use cumulus::sprites_model::facing::Facing;
-use cumulus::sprites_model::formation::{Listing1, ParcelFade, formation_alpha};
-use cumulus::sprites_model::impostor::{
+use cumulus::methods::sprites::model::ColorLevel;
+use cumulus::methods::sprites::model::atlas::{self, Atlas, TileKind, tile_kind};
+use cumulus::methods::sprites::model::facing::Facing;
+use cumulus::methods::sprites::model::formation::{Listing1, ParcelFade, formation_alpha};
+use cumulus::methods::sprites::model::impostor::{
     ImpostorRing, RingConfig, ShadeCacheConfig, ShadeStamp, Trigger, in_impostors, sector_of,
 };
-use cumulus::sprites_model::shading::{
+use cumulus::methods::sprites::model::shading::{
     DirectionalMap, Lighting, TimeTable, default_ambient_table, default_sun_table, level_color,
 };
 use glam::{Vec3, Vec4};
@@ -347,7 +347,7 @@ fn atlas_writes_a_png_that_reads_back_the_same() {
 
 #[test]
 fn sprite_quads_face_the_camera_and_carry_the_shading() {
-    use cumulus::sprites_model::vertices::{corners, shade_cloud};
+    use cumulus::methods::sprites::model::vertices::{corners, shade_cloud};
     // A 2 × 4 quad facing a camera on −y, unrotated: x spans ±1, z spans ±2;
     // that camera's right is +x, so bottom-left is (−1, −2), counter-clockwise.
     let q = corners(Vec3::ZERO, -Vec3::Y, 2.0, 4.0, 0.0);
@@ -368,7 +368,7 @@ fn sprite_quads_face_the_camera_and_carry_the_shading() {
             .abs_diff_eq(Vec3::new(4.0, 0.0, 2.0), 1e-5),
         "{r:?}"
     );
-    let cloud = cumulus::sprites_model::CloudType::Cirrus
+    let cloud = cumulus::methods::sprites::model::CloudType::Cirrus
         .spec("c", 0.0, 0.0, 8000.0, 1)
         .build();
     let v = shade_cloud(

@@ -1,0 +1,20 @@
+//! The GPU core every render method builds on: the device
+//! ([`GpuContext`]), the target formats and shared bind-group layouts
+//! ([`layouts`]), the pipeline cache and its background builder
+//! ([`pipelines`]), the WGSL modules ([`shaders`]), the frame's input and
+//! uniform ([`frame`], [`uniform`]), the noise texture ([`noise`]) and the
+//! pass timing ([`timing`]).
+
+mod context;
+pub mod frame;
+pub mod layouts;
+pub mod noise;
+pub mod pipelines;
+pub(crate) mod prebuild;
+pub mod resources;
+pub mod shaders;
+pub mod timing;
+pub mod uniform;
+
+pub use context::{GpuContext, stored_color};
+pub use frame::FrameInput;

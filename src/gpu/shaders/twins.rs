@@ -1,0 +1,230 @@
+//! The Rust twins of WGSL declarations, checked against naga's reflection
+//! of the assembled modules: every `#[repr(C)]` struct the shaders read
+//! (member names in order, offsets and size), and the constants both sides
+//! define.
+
+use crate::config::RenderMethod;
+use crate::gpu::shaders::Pass;
+
+/// (size, [(member name, offset)]) of a Rust struct, its fields listed in
+/// order; with the size, the list must cover every field to match WGSL.
+macro_rules! rust_layout {
+    ($ty:ty { $($field:ident),* $(,)? }) => {
+        (
+            std::mem::size_of::<$ty>(),
+            vec![$((stringify!($field).to_string(), std::mem::offset_of!($ty, $field))),*],
+        )
+    };
+}
+
+/// (size, [(member name, offset)]) of WGSL struct `name` in `module`.
+fn wgsl_layout(module: &naga::Module, name: &str) -> (usize, Vec<(String, usize)>) {
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).unwrap();
+    let (handle, ty) = module
+        .types
+        .iter()
+        .find(|(_, t)| t.name.as_deref() == Some(name))
+        .unwrap_or_else(|| panic!("no struct {name}"));
+    let naga::TypeInner::Struct { members, .. } = &ty.inner else {
+        panic!("{name} is not a struct");
+    };
+    let members = members
+        .iter()
+        .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+        .collect();
+    (layouter[handle].size as usize, members)
+}
+
+pub(crate) fn module(pass: Pass, method: RenderMethod) -> naga::Module {
+    let src = pass.source(method);
+    naga::front::wgsl::parse_str(&src).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&src)))
+}
+
+/// Asserts that WGSL struct `wgsl` of `module` is laid out as `rust`.
+fn check(module: &naga::Module, wgsl: &str, rust: (usize, Vec<(String, usize)>)) {
+    assert_eq!(
+        wgsl_layout(module, wgsl),
+        rust,
+        "WGSL {wgsl} against its Rust twin"
+    );
+}
+
+#[test]
+fn frame_parcels_and_grid_match_pack_rs() {
+    use crate::gpu::uniform::{CameraPos, FrameNoise, FrameUniform};
+    use crate::methods::raymarch::pack::{GpuParcel, GridUniform, ParcelsUniform};
+    use bytemuck::Zeroable;
+    let m = module(Pass::Clouds, RenderMethod::Exact);
+    check(
+        &m,
+        "Frame",
+        rust_layout!(FrameUniform {
+            clip_from_world,
+            world_from_clip,
+            camera_pos,
+            sun_dir,
+            phase_g,
+            sun_color,
+            exposure,
+            step_m,
+            max_steps,
+            light_steps,
+            light_step_m,
+            noise_amplitude,
+            shell_m,
+            extinction_per_m,
+            early_exit_transmittance,
+            noise,
+            grid_min,
+            _pad0,
+            grid_cell,
+            _pad1,
+            grid_dims,
+            parcel_count,
+            shadow_min,
+            shadow_max,
+            sky_ambient,
+            sky_mie_g,
+            sky_below,
+            _pad2,
+            sky_view,
+            air,
+        }),
+    );
+    // Two members are structs in WGSL and their bytes in Rust.
+    let f = FrameUniform::zeroed();
+    assert_eq!(size_of_val(&f.camera_pos), size_of::<CameraPos>());
+    assert_eq!(size_of_val(&f.noise), size_of::<FrameNoise>());
+    check(&m, "CameraPos", rust_layout!(CameraPos { eye_m, time_s }));
+    check(
+        &m,
+        "FrameNoise",
+        rust_layout!(FrameNoise {
+            inv_scale_per_m,
+            octaves,
+            _pad,
+            texels_per_m,
+        }),
+    );
+    check(
+        &m,
+        "Parcel",
+        rust_layout!(GpuParcel {
+            center_m,
+            radius_m,
+            fill,
+            plane_z_m,
+            _pad,
+        }),
+    );
+    check(&m, "Parcels", rust_layout!(ParcelsUniform { parcels }));
+    check(&m, "Grid", rust_layout!(GridUniform { cells, entries }));
+}
+
+#[test]
+fn temporal_uniform_matches() {
+    use crate::methods::raymarch::temporal::TemporalUniform;
+    let rust = || {
+        rust_layout!(TemporalUniform {
+            prev_clip_from_world,
+            params,
+            size,
+        })
+    };
+    check(
+        &module(Pass::Clouds, RenderMethod::Baked),
+        "Temporal",
+        rust(),
+    );
+    check(
+        &module(Pass::Temporal, RenderMethod::Baked),
+        "Temporal",
+        rust(),
+    );
+}
+
+#[test]
+fn slices_structs_match() {
+    use crate::methods::slices::gpu::SlicesParams;
+    use crate::methods::slices::gpu::buffers::GpuPrimitive;
+    use crate::methods::slices::gpu::gpu_field::FieldJob;
+    use crate::methods::slices::model::octaves::{OctaveUniform, TierUniform};
+    let m = module(Pass::Slices, RenderMethod::Slices);
+    check(
+        &m,
+        "SlicesTier",
+        rust_layout!(TierUniform {
+            texture_from_world,
+            bottom_m,
+            media,
+        }),
+    );
+    check(
+        &m,
+        "SlicesOctaves",
+        rust_layout!(OctaveUniform { tiers, counts }),
+    );
+    check(
+        &m,
+        "SlicesParams",
+        rust_layout!(SlicesParams {
+            opacity,
+            cloud_colour,
+            shadow_colour,
+            index_min,
+            index_cell,
+        }),
+    );
+    check(&m, "Primitive", rust_layout!(GpuPrimitive { rows, centre }));
+    check(
+        &module(Pass::SliceField, RenderMethod::Slices),
+        "FieldJob",
+        rust_layout!(FieldJob {
+            counts,
+            walk,
+            scale,
+        }),
+    );
+}
+
+#[test]
+fn sprite_instance_matches() {
+    use crate::methods::sprites::gpu::SpriteInstance;
+    check(
+        &module(Pass::Sprites, RenderMethod::Sprites),
+        "SpriteInstance",
+        rust_layout!(SpriteInstance {
+            corners,
+            colors,
+            uv
+        }),
+    );
+}
+
+/// The value of WGSL constant `name` in `module`.
+pub(crate) fn wgsl_const(module: &naga::Module, name: &str) -> f64 {
+    let (_, c) = module
+        .constants
+        .iter()
+        .find(|(_, c)| c.name.as_deref() == Some(name))
+        .unwrap_or_else(|| panic!("no const {name}"));
+    match module.global_expressions[c.init] {
+        naga::Expression::Literal(naga::Literal::F32(v)) => v as f64,
+        naga::Expression::Literal(naga::Literal::U32(v)) => v as f64,
+        naga::Expression::Literal(naga::Literal::I32(v)) => v as f64,
+        ref e => panic!("{name} = {e:?} is not a literal"),
+    }
+}
+
+#[test]
+fn constants_shared_with_rust_match() {
+    use crate::methods::raymarch::baked;
+    let bake = module(Pass::Bake, RenderMethod::Baked);
+    assert_eq!(wgsl_const(&bake, "BAKE_BLOCK"), baked::BAKE_BLOCK as f64);
+    assert_eq!(wgsl_const(&bake, "PLANE_SHELL"), baked::PLANE_SHELL as f64);
+    assert_eq!(
+        wgsl_const(&bake, "PLANE_SHELL"),
+        crate::methods::raymarch::field::PLANE_SHELL as f64
+    );
+}

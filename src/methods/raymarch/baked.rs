@@ -1,0 +1,540 @@
+//! The `baked` method's GPU data and its compute bake (shaders/raymarch/bake.wgsl):
+//! the condensed parcels go up in uniform-buffer chunks of ≤ [`MAX_PARCELS`]
+//! (bound with dynamic offsets, one splat dispatch, in its own compute pass,
+//! per chunk), are splatted
+//! into a 3D texture of the macro field M = max f·(d+1) − 1 over the region
+//! of the condensed parcels, and a coarse occupancy grid (one cell per
+//! [`BAKE_BLOCK`]³ voxels) lets the march skip empty space. A light volume,
+//! its own 3D texture ([`LIGHT_FORMAT`]) with one texel per coarse cell,
+//! holds the optical depth of the parcels toward the sun and straight up
+//! over the region's whole height (bake.wgsl `light`); the march samples it
+//! with the filtering sampler, so a sample's shadowing and sky visibility
+//! cost one hardware-trilinear fetch. (The ground's shadows march the baked
+//! field itself, density.wgsl `ground_sun_depth`: the volume's coarse cells
+//! would widen them by about a cell.)
+//! The bake runs only when the parcels, the shell or the sun changed since
+//! the last one: a paused scene never re-bakes.
+//!
+//! The splat's own work, parcels × box voxels, is what grows with the
+//! parcel count. `light` writes the volume as a coarse texture of its own
+//! and the sampler filters it where it is read; `resolve` writes only
+//! (v, plane). The variants measured against this layout (a gather per
+//! brick, a resolve limited to the touched bricks, the light volume
+//! upsampled into the field texture) are in docs/notes.md, "Baked field".
+//!
+//! Voxel size. The macro field is piecewise linear: it rises from −1 to f
+//! over two shells across a sphere's surface and over two plane shells
+//! (`PLANE_SHELL`·shell, 84 m by default) across the flat base, and is
+//! constant inside; trilinear filtering reproduces it except at the creases
+//! (union seams, the base). So the voxel is the smaller of a quarter of the
+//! median drawn radius (≥ 4 voxels per radius keep the domes round) and one
+//! plane shell (the base stays sharp to about one plane shell), rounded to
+//! a power of 2^¼ so small radius changes do not reallocate the texture.
+//!
+//! Memory. The field costs [`BYTES_PER_VOXEL`] bytes a voxel (RGBA16F
+//! texture + one u32 key; the light volume's 8 B a coarse cell,
+//! ⅛ B a voxel, are left out), at most [`MAX_BAKE_VOXELS`] voxels (96 MiB
+//! of field): a larger region (a 40 km × 40 km × 12 km landscape
+//! needs ~2.4·10⁷ voxels at 84 m) gets coarser voxels, counted in
+//! [`BakeInfo::coarsened`] and shown by the front ends.
+
+use glam::Vec3;
+
+use crate::error::{Error, Result};
+use crate::gpu::GpuContext;
+use crate::gpu::pipelines::storage_texture_entry_of;
+use crate::gpu::uniform::GridInfo;
+use crate::methods::raymarch::pack::{self, GpuParcel, MAX_PARCELS, ParcelsUniform};
+use crate::methods::raymarch::region::{Region, region};
+use crate::physics::CloudParcel;
+
+/// Voxels per coarse occupancy cell along each axis: BAKE_BLOCK of
+/// shaders/raymarch/bake.wgsl (a test compares them).
+pub const BAKE_BLOCK: u32 = 4;
+/// Most voxels of the baked field.
+pub const MAX_BAKE_VOXELS: u64 = 1 << 23;
+/// Field texture (RGBA16F, 8 B) + the splat's key (4 B).
+pub const BYTES_PER_VOXEL: u64 = 12;
+/// Format of the field texture: R = v, G = condensation plane (m); B and A
+/// are unused (the smallest format that compute shaders may write and the
+/// sampler may filter without optional features: RG16F is neither
+/// storage-writable in core WebGPU nor RG32F filterable).
+pub const FIELD_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Format of the light volume, one texel per coarse cell: R, G, B = optical
+/// depth (density × m) toward the sun, straight up and away from the sun;
+/// A unused. RGBA16F
+/// for the same reason as [`FIELD_FORMAT`]; half floats hold depths up to
+/// 65504 (a 60 km path through solid cloud) to 3 significant digits.
+pub const LIGHT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Plane shell over sphere shell: PLANE_SHELL of
+/// shaders/raymarch/parcel.wgsl (a test compares them).
+pub const PLANE_SHELL: f32 = 0.3;
+const CHUNK_BYTES: u64 = std::mem::size_of::<ParcelsUniform>() as u64;
+
+/// What the last bake covered.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct BakeInfo {
+    /// Voxel side. units: m
+    pub voxel_m: f32,
+    /// Voxel side the radii asked for, before the memory cap. units: m
+    pub wanted_voxel_m: f32,
+    /// How many times the voxel was enlarged to fit [`MAX_BAKE_VOXELS`].
+    pub coarsened: u32,
+    /// Voxels per axis.
+    pub dims: [u32; 3],
+    /// GPU memory of the field. units: bytes
+    pub bytes: u64,
+    /// Bakes run so far (a bake runs only when parcels moved).
+    pub bakes: u64,
+}
+
+impl BakeInfo {
+    /// What to tell the user when the memory cap made the voxels coarser
+    /// than the parcel radii asked for (the CLI prints it, the window's
+    /// panel shows it); None when it did not.
+    pub fn coarsening_note(&self) -> Option<String> {
+        (self.coarsened > 0).then(|| {
+            format!(
+                "the baked cloud field uses {:.0} m voxels instead of {:.0} m to stay within {} voxels (clouds cover a large region)",
+                self.voxel_m, self.wanted_voxel_m, MAX_BAKE_VOXELS
+            )
+        })
+    }
+}
+
+struct Store {
+    dims: [u32; 3],
+    /// The splat's per-voxel keys, kept alive for the bind group.
+    _keys: wgpu::Buffer,
+    occupancy: wgpu::Buffer,
+    /// The light volume, one texel per coarse cell.
+    light_view: wgpu::TextureView,
+    view: wgpu::TextureView,
+    bind: wgpu::BindGroup,
+}
+
+/// The baked field; see the module docs.
+pub struct BakedField {
+    layout: wgpu::BindGroupLayout,
+    bind_frame: wgpu::BindGroup,
+    splat: wgpu::ComputePipeline,
+    light: wgpu::ComputePipeline,
+    resolve: wgpu::ComputePipeline,
+    chunks: wgpu::Buffer,
+    chunk_capacity: u64,
+    store: Option<Store>,
+    /// Placeholder field (1 voxel, v = −1), light volume (1 cell, no
+    /// cloud) and occupancy before any bake.
+    empty_view: wgpu::TextureView,
+    empty_light_view: wgpu::TextureView,
+    empty_occupancy: wgpu::Buffer,
+    /// Parcels, shell and sun direction of the last bake (re-bake only when
+    /// they change).
+    last: Option<(Vec<GpuParcel>, f32, Vec3)>,
+    region: Option<Region>,
+    parcel_count: u32,
+    dirty: bool,
+    info: BakeInfo,
+    /// Bumped whenever the field texture or occupancy buffer is replaced
+    /// (the renderer then rebinds them).
+    pub generation: u64,
+}
+
+/// A compute shader's read-write storage buffer (also the slices' vertex
+/// field pass, src/render/slices/gpu_field.rs).
+pub(crate) fn compute_storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: false },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// A 3D texture the bake writes and the march samples.
+fn volume_texture(
+    device: &wgpu::Device,
+    label: &str,
+    format: wgpu::TextureFormat,
+    dims: [u32; 3],
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: dims[0],
+            height: dims[1],
+            depth_or_array_layers: dims[2],
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D3,
+        format,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    })
+}
+
+impl BakedField {
+    /// The bake's pipelines (counted in `built`) over the frame uniform.
+    pub fn new(ctx: &GpuContext, frame_buf: &wgpu::Buffer, built: &mut u32) -> Result<Self> {
+        let device = &ctx.device;
+        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("bake: frame"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        });
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("bake: chunk and field"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: true,
+                        min_binding_size: wgpu::BufferSize::new(CHUNK_BYTES),
+                    },
+                    count: None,
+                },
+                compute_storage_entry(1),
+                compute_storage_entry(2),
+                storage_texture_entry_of(3, FIELD_FORMAT, wgpu::TextureViewDimension::D3),
+                storage_texture_entry_of(4, LIGHT_FORMAT, wgpu::TextureViewDimension::D3),
+            ],
+        });
+        let bind_frame = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("bake: frame"),
+            layout: &frame_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: frame_buf.as_entire_binding(),
+            }],
+        });
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("bake"),
+            source: wgpu::ShaderSource::Wgsl(
+                crate::gpu::shaders::Pass::Bake
+                    .source(crate::config::RenderMethod::Baked)
+                    .into(),
+            ),
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("bake"),
+            bind_group_layouts: &[Some(&frame_layout), Some(&layout)],
+            immediate_size: 0,
+        });
+        let compute = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let splat = compute("splat");
+        let light = compute("light");
+        let resolve = compute("resolve");
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(Error::Gpu(format!("creating the bake pipelines: {e}")));
+        }
+        *built += 3;
+        let empty = volume_texture(device, "baked macro field", FIELD_FORMAT, [1, 1, 1]);
+        // IEEE half-precision −1 (v far from every parcel), then G, B, A = 0.
+        // (The empty light volume keeps wgpu's zero fill: no cloud.)
+        let minus_one: [u16; 4] = [0xBC00, 0, 0, 0];
+        ctx.queue.write_texture(
+            empty.as_image_copy(),
+            bytemuck::cast_slice(&minus_one),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(8),
+                rows_per_image: Some(1),
+            },
+            wgpu::Extent3d {
+                width: 1,
+                height: 1,
+                depth_or_array_layers: 1,
+            },
+        );
+        Ok(Self {
+            layout,
+            bind_frame,
+            splat,
+            light,
+            resolve,
+            chunks: chunk_buffer(device, 1),
+            chunk_capacity: 1,
+            store: None,
+            empty_view: empty.create_view(&Default::default()),
+            empty_light_view: volume_texture(device, "bake: light volume", LIGHT_FORMAT, [1, 1, 1])
+                .create_view(&Default::default()),
+            empty_occupancy: occupancy_buffer(device, 1),
+            last: None,
+            region: None,
+            parcel_count: 0,
+            dirty: false,
+            info: BakeInfo::default(),
+            generation: 0,
+        })
+    }
+
+    /// The field texture, light volume and occupancy buffer the march
+    /// reads.
+    pub fn field(&self) -> (&wgpu::TextureView, &wgpu::TextureView, &wgpu::Buffer) {
+        match &self.store {
+            Some(s) => (&s.view, &s.light_view, &s.occupancy),
+            None => (
+                &self.empty_view,
+                &self.empty_light_view,
+                &self.empty_occupancy,
+            ),
+        }
+    }
+
+    /// What the last bake covered.
+    pub fn info(&self) -> BakeInfo {
+        self.info
+    }
+
+    /// Bakes again at the next `render` even if nothing moved (the bench
+    /// measures the cost of a frame whose parcels all moved).
+    pub fn invalidate(&mut self) {
+        if self.store.is_some() && self.parcel_count > 0 {
+            self.dirty = true;
+        }
+    }
+
+    /// Whether `render` must bake before marching.
+    pub fn dirty(&self) -> bool {
+        self.dirty
+    }
+
+    /// Takes this frame's parcels: when they (or the shell, or the sun
+    /// direction `sun`) changed since the last bake, uploads them and marks
+    /// the field for a bake. Returns the coarse grid the march uses (the
+    /// frame's grid).
+    pub fn update(
+        &mut self,
+        ctx: &GpuContext,
+        parcels: &[CloudParcel],
+        shell_m: f32,
+        radius_scale: f32,
+        sun: Vec3,
+    ) -> Result<GridInfo> {
+        let live = pack::gpu_parcels(parcels, shell_m, radius_scale)?;
+        let unchanged = self
+            .last
+            .as_ref()
+            .is_some_and(|(p, s, d)| *s == shell_m && *d == sun && *p == live);
+        if !unchanged {
+            self.upload(ctx, &live, shell_m)?;
+            self.last = Some((live, shell_m, sun));
+        }
+        Ok(self.grid_info())
+    }
+
+    fn grid_info(&self) -> GridInfo {
+        match self.region.filter(|_| self.parcel_count > 0) {
+            Some(r) => GridInfo {
+                min: r.min,
+                cell: Vec3::splat(r.voxel_m * BAKE_BLOCK as f32),
+                dims: r.cells,
+                parcel_count: self.parcel_count,
+                entry_count: 0,
+                coarsened: r.coarsened,
+            },
+            None => GridInfo::EMPTY,
+        }
+    }
+
+    fn upload(&mut self, ctx: &GpuContext, live: &[GpuParcel], shell_m: f32) -> Result<()> {
+        self.parcel_count = live.len() as u32;
+        if live.is_empty() {
+            self.dirty = false;
+            return Ok(());
+        }
+        let device = &ctx.device;
+        let r = region(live, shell_m);
+        let dims = r.voxel_dims();
+        let max3 = device.limits().max_texture_dimension_3d;
+        if dims.iter().any(|&d| d > max3) {
+            return Err(Error::Gpu(format!(
+                "the baked cloud field needs {}×{}×{} voxels of {:.0} m, more than this device's 3D texture limit of {max3} per side",
+                dims[0], dims[1], dims[2], r.voxel_m
+            )));
+        }
+        let n_chunks = live.len().div_ceil(MAX_PARCELS) as u64;
+        if n_chunks > self.chunk_capacity {
+            self.chunks = chunk_buffer(device, n_chunks);
+            self.chunk_capacity = n_chunks;
+            self.store = None;
+        }
+        for (i, chunk) in live.chunks(MAX_PARCELS).enumerate() {
+            ctx.queue.write_buffer(
+                &self.chunks,
+                i as u64 * CHUNK_BYTES,
+                bytemuck::cast_slice(chunk),
+            );
+        }
+        if self.store.as_ref().map(|s| s.dims) != Some(dims) {
+            self.store = Some(self.make_store(device, dims, r.cells));
+            self.generation += 1;
+        }
+        self.region = Some(r);
+        self.dirty = true;
+        self.info = BakeInfo {
+            voxel_m: r.voxel_m,
+            wanted_voxel_m: r.wanted_voxel_m,
+            coarsened: r.coarsened,
+            dims,
+            bytes: r.voxels() * BYTES_PER_VOXEL,
+            bakes: self.info.bakes,
+        };
+        Ok(())
+    }
+
+    fn make_store(&self, device: &wgpu::Device, dims: [u32; 3], cells: [u32; 3]) -> Store {
+        let voxels = dims.iter().map(|&d| d as u64).product::<u64>();
+        let keys = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("bake: voxel keys"),
+            size: 4 * voxels,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
+        let n_cells: u64 = cells.iter().map(|&c| c as u64).product();
+        let occupancy = occupancy_buffer(device, n_cells);
+        let light_view = volume_texture(device, "bake: light volume", LIGHT_FORMAT, cells)
+            .create_view(&Default::default());
+        let view = volume_texture(device, "baked macro field", FIELD_FORMAT, dims)
+            .create_view(&Default::default());
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("bake: chunk and field"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &self.chunks,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(CHUNK_BYTES),
+                    }),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: keys.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: occupancy.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(&view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&light_view),
+                },
+            ],
+        });
+        Store {
+            dims,
+            _keys: keys,
+            occupancy,
+            light_view,
+            view,
+            bind,
+        }
+    }
+
+    /// Encodes the bake (splat per chunk, then resolve) when the parcels
+    /// changed; `timestamps` = (query set, first index) times it as one pass.
+    pub fn encode(
+        &mut self,
+        enc: &mut wgpu::CommandEncoder,
+        timestamps: Option<(&wgpu::QuerySet, u32)>,
+    ) {
+        let Some(store) = self.store.as_ref().filter(|_| self.dirty) else {
+            return;
+        };
+        enc.clear_buffer(&store.occupancy, 0, None);
+        // One compute pass per chunk: on llvmpipe a second dispatch in the
+        // same pass, after rebinding the chunk, runs its parcels ~8× slower
+        // (docs/notes.md, "Baked field").
+        let n = self.parcel_count as usize;
+        for (i, start) in (0..n).step_by(MAX_PARCELS).enumerate() {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("bake: splat"),
+                timestamp_writes: timestamps.filter(|_| i == 0).map(|(set, i)| {
+                    wgpu::ComputePassTimestampWrites {
+                        query_set: set,
+                        beginning_of_pass_write_index: Some(i),
+                        end_of_pass_write_index: None,
+                    }
+                }),
+            });
+            pass.set_pipeline(&self.splat);
+            pass.set_bind_group(0, &self.bind_frame, &[]);
+            let count = (n - start).min(MAX_PARCELS) as u32;
+            pass.set_bind_group(1, &store.bind, &[(i as u64 * CHUNK_BYTES) as u32]);
+            pass.dispatch_workgroups(count, 1, 1);
+        }
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("bake: resolve"),
+            timestamp_writes: timestamps.map(|(set, i)| wgpu::ComputePassTimestampWrites {
+                query_set: set,
+                beginning_of_pass_write_index: None,
+                end_of_pass_write_index: Some(i + 1),
+            }),
+        });
+        pass.set_bind_group(0, &self.bind_frame, &[]);
+        pass.set_bind_group(1, &store.bind, &[0]);
+        // The light volume reads the splat's accumulators before resolve
+        // clears them (wgpu orders the two dispatches); resolve does not
+        // read it.
+        pass.set_pipeline(&self.light);
+        let c = store.dims.map(|d| d / BAKE_BLOCK);
+        pass.dispatch_workgroups(c[0].div_ceil(4), c[1].div_ceil(4), c[2].div_ceil(4));
+        pass.set_pipeline(&self.resolve);
+        let d = store.dims;
+        pass.dispatch_workgroups(d[0] / 4, d[1] / 4, d[2] / 4);
+        drop(pass);
+        self.dirty = false;
+        self.info.bakes += 1;
+    }
+}
+
+fn chunk_buffer(device: &wgpu::Device, chunks: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("bake: parcel chunks"),
+        size: chunks * CHUNK_BYTES,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+fn occupancy_buffer(device: &wgpu::Device, cells: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("bake: occupancy"),
+        size: 4 * cells.max(1),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}

@@ -1,0 +1,179 @@
+//! The slice vertices' field and shadow in a compute pass (`[render.slices]
+//! vertex_field = "gpu"`, shaders/slices/vertex_field.wgsl): one dispatch
+//! evaluates the Wyvill sum at every vertex, a second walks every light
+//! ray of [`ShadowRays`] accumulating eq. 2, both into the vertex buffer
+//! the planes are then drawn from. The CPU's `SliceGeometry::evaluate` is
+//! the reference it is tested against. Its pipelines are made at the first
+//! frame that asks for them, never when the CPU evaluates the vertices.
+
+use bytemuck::{Pod, Zeroable};
+
+use super::SlicesFrame;
+use crate::config::RenderMethod;
+use crate::error::{Error, Result};
+use crate::gpu::GpuContext;
+use crate::gpu::pipelines::{PassLayouts, uniform_buffer, uniform_entry};
+use crate::gpu::shaders::Pass;
+use crate::methods::raymarch::baked::compute_storage_entry;
+use crate::methods::slices::model::slicing::ShadowRays;
+
+/// Threads per workgroup of both entry points (`@workgroup_size(64)`).
+const WORKGROUP: u32 = 64;
+/// Most workgroups along x (WebGPU's minimum limit); more go along y.
+const MAX_GROUPS_X: u32 = 65535;
+
+/// WGSL `struct FieldJob` in shaders/slices/vertex_field.wgsl (48 bytes).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct FieldJob {
+    /// Vertices, rays, ray start stride, ray start offset.
+    pub counts: [u32; 4],
+    /// Vertex step along a ray, vertices per ray, first octave (1/0), 0.
+    pub walk: [i32; 4],
+    /// x: shadow step; y, z, w: 0.
+    pub scale: [f32; 4],
+}
+
+const _: () = assert!(std::mem::size_of::<FieldJob>() == 48);
+
+impl FieldJob {
+    pub fn new(vertices: u32, rays: &ShadowRays, shadow_octave: bool) -> Self {
+        Self {
+            counts: [vertices, rays.rays, rays.start_stride, rays.start_offset],
+            walk: [rays.step, rays.count as i32, shadow_octave as i32, 0],
+            scale: [rays.shadow_step, 0.0, 0.0, 0.0],
+        }
+    }
+}
+
+/// Workgroups (x, y) covering `threads` one-dimensional invocations.
+fn groups(threads: u32) -> (u32, u32) {
+    let n = threads.div_ceil(WORKGROUP);
+    (n.min(MAX_GROUPS_X), n.div_ceil(MAX_GROUPS_X))
+}
+
+/// The compute pass's pipelines and its group 1 (job and vertices).
+pub struct FieldPass {
+    layout: wgpu::BindGroupLayout,
+    field: wgpu::ComputePipeline,
+    shadow: wgpu::ComputePipeline,
+    job: wgpu::Buffer,
+    bind: Option<wgpu::BindGroup>,
+    vertices: u32,
+    rays: u32,
+}
+
+impl FieldPass {
+    pub fn new(ctx: &GpuContext, layouts: &PassLayouts) -> Result<Self> {
+        let device = &ctx.device;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("slice field: job and vertices"),
+            entries: &[uniform_entry(0), compute_storage_entry(1)],
+        });
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("slice field"),
+            source: wgpu::ShaderSource::Wgsl(Pass::SliceField.source(RenderMethod::Slices).into()),
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("slice field"),
+            bind_group_layouts: &[Some(&layouts.common), Some(&layout), Some(&layouts.slices)],
+            immediate_size: 0,
+        });
+        let pipeline = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("slice field"),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let (field, shadow) = (pipeline("cs_field"), pipeline("cs_shadow"));
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(Error::Gpu(format!("creating the slice_field pass: {e}")));
+        }
+        let job = uniform_buffer(device, "slice field: job", std::mem::size_of::<FieldJob>());
+        Ok(Self {
+            layout,
+            field,
+            shadow,
+            job,
+            bind: None,
+            vertices: 0,
+            rays: 0,
+        })
+    }
+
+    /// Writes the job of `frame` (whose vertices are in `vertices`; a new
+    /// buffer when `rebind`).
+    pub fn prepare(
+        &mut self,
+        ctx: &GpuContext,
+        frame: &SlicesFrame,
+        vertices: &wgpu::Buffer,
+        rebind: bool,
+    ) {
+        let g = &frame.geometry;
+        self.vertices = g.vertices.len() as u32;
+        self.rays = 0;
+        if let Some(rays) = g.shadow_rays(&frame.cfg, frame.to_light) {
+            self.rays = rays.rays;
+            let job = FieldJob::new(self.vertices, &rays, frame.cfg.shadow_octave);
+            ctx.queue
+                .write_buffer(&self.job, 0, bytemuck::bytes_of(&job));
+        }
+        if rebind || self.bind.is_none() {
+            self.bind = Some(ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("slice field: job and vertices"),
+                layout: &self.layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: self.job.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: vertices.as_entire_binding(),
+                    },
+                ],
+            }));
+        }
+    }
+
+    /// Encodes both dispatches (the field, then the shadows along the rays).
+    pub fn encode(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        common: &wgpu::BindGroup,
+        slices: &wgpu::BindGroup,
+        timestamps: Option<(&wgpu::QuerySet, u32)>,
+    ) {
+        let Some(bind) = &self.bind else {
+            return;
+        };
+        let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("slice field"),
+            timestamp_writes: timestamps.map(|(set, i)| wgpu::ComputePassTimestampWrites {
+                query_set: set,
+                beginning_of_pass_write_index: Some(i),
+                end_of_pass_write_index: Some(i + 1),
+            }),
+        });
+        cp.set_bind_group(0, common, &[]);
+        cp.set_bind_group(1, bind, &[]);
+        cp.set_bind_group(2, slices, &[]);
+        for (pipeline, threads) in [(&self.field, self.vertices), (&self.shadow, self.rays)] {
+            if threads == 0 {
+                continue;
+            }
+            // The shadow walk reads the densities the field dispatch wrote:
+            // dispatches in one pass are ordered for storage (WebGPU usage
+            // scopes are per dispatch).
+            let (x, y) = groups(threads);
+            cp.set_pipeline(pipeline);
+            cp.dispatch_workgroups(x, y, 1);
+        }
+    }
+}

@@ -1,0 +1,293 @@
+//! The `slices` render method on the GPU (Schpok et al. 2003 §4, Table 1):
+//! each frame the CPU half ([`crate::methods::slices::model::slicing`]) slices the
+//! implicit field of the authored ellipsoids and of the physics' parcels
+//! (each a sphere of the rendered radius) with light-aligned planes and
+//! stores field and shadow at the vertices; this module uploads those
+//! vertices, the noise-octave transforms ([`OctaveUniform`]) and the
+//! qualitative controls ([`SlicesParams`]) into the buffers of
+//! [`buffers`], and the renderer draws them
+//! with `shaders/slices/slices.wgsl` into the float cloud target, which the
+//! composite pass blends over sky and terrain. With `vertex_field =
+//! "gpu"` the vertex values come from a compute pass instead
+//! ([`gpu_field`]); the same primitives and grid index feed the
+//! cloud-shadow map on the terrain (shaders/slices/shadow_field.wgsl).
+//! [`field`] is the CPU twin of the noise-detailed density the planes
+//! draw (the export samples it).
+
+pub mod buffers;
+pub mod field;
+pub mod gpu_field;
+
+pub use buffers::SlicesGpu;
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+
+use crate::config::RenderConfig;
+use crate::error::Result;
+use crate::methods::slices::model::ellipsoid::FieldIndex;
+use crate::methods::slices::model::ellipsoid::{EllipsoidState, bounds_m};
+use crate::methods::slices::model::octaves::{OctaveUniform, octave_uniform};
+use crate::methods::slices::model::slicing::{SliceGeometry, slice_grid};
+use crate::methods::slices::model::{Ellipsoid, ParticleConfig, states_at};
+use crate::noise::NoiseVolume;
+use crate::physics::CloudParcel;
+
+/// Maps the sun's irradiance scale (≈ 2.2 for nominal daylight, see
+/// [`crate::sky::Sun`]) to the colour multiplier of the lit cloud, so a
+/// `cloud_colour` of 1 tone-maps to about 0.86 through `output_color`, near
+/// the ray-marched methods' sunlit tops.
+pub const SUN_TO_COLOUR: f32 = 0.8;
+
+/// The qualitative controls as the shaders take them: WGSL
+/// `struct SlicesParams` in shaders/slices/implicit.wgsl (80 bytes; a test
+/// compares the layouts).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct SlicesParams {
+    /// x: plane opacity (Opacity ÷ planes) × the view's [`CloudscapeScale`];
+    /// y: alpha cutoff (Sharpness × that plane opacity); z:
+    /// [`SUN_TO_COLOUR`]; w: the light's [`CloudscapeScale`] (× shadow).
+    pub opacity: [f32; 4],
+    /// rgb: lit cloud colour (linear); w: 0.
+    pub cloud_colour: [f32; 4],
+    /// rgb: fully shadowed cloud colour (linear); w: 0.
+    pub shadow_colour: [f32; 4],
+    /// xyz: the primitives' grid index minimum (units: m); w: cells per
+    /// axis (see [`FieldIndex::flatten`]).
+    pub index_min: [f32; 4],
+    /// xyz: the index's cell size (units: m); w: the slices' extinction
+    /// per unit of field × media for the cloud-shadow map, Opacity ÷ the
+    /// mean primitive's depth along the light (units: 1/m): the optical
+    /// depth the planes give one mean primitive, spread along the sun ray.
+    pub index_cell: [f32; 4],
+}
+
+const _: () = assert!(std::mem::size_of::<SlicesParams>() == 80);
+
+/// The paper slices one cloud, so its planes span that cloud and "plane
+/// opacity = Opacity ÷ planes" makes Opacity the cloud's opacity whatever
+/// the Quality. We slice a whole cloudscape with one stack of planes over
+/// the bounds of every primitive, so a cloud crosses only the fraction
+/// (its depth ÷ the bounds' depth) of the planes, and the same for the
+/// vertices its shadow sums along a light ray (slicing.rs divides by all
+/// of them). These factors, the bounds' depth over the mean primitive's
+/// depth along the view-side normal and along the light, restore the
+/// paper's meaning: Opacity (and Dirtiness) act on one mean primitive as
+/// they would on the paper's single cloud. Neither depends on Quality or
+/// Opacity, so the compensations of Table 2 still hold.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CloudscapeScale {
+    /// Along the planes' normal (multiplies the plane opacity and cutoff).
+    pub view: f32,
+    /// Along the light (multiplies the vertex shadow).
+    pub light: f32,
+    /// The mean primitive's depth along the light. units: m
+    pub mean_depth_light_m: f32,
+}
+
+impl CloudscapeScale {
+    /// The factors for `states` (strength > 0 count) sliced along `normal`
+    /// with light toward `to_light`; 1 when there is no primitive.
+    pub fn new(states: &[EllipsoidState], normal: Vec3, to_light: Vec3) -> Self {
+        let Some((lo, hi)) = bounds_m(states) else {
+            return Self {
+                view: 1.0,
+                light: 1.0,
+                mean_depth_light_m: 1.0,
+            };
+        };
+        // Depth along unit `d` of a box of half-extents h: 2·Σ|d_k|·h_k.
+        let depth = |d: Vec3, h: Vec3| 2.0 * d.abs().dot(h);
+        let live: Vec<Vec3> = states
+            .iter()
+            .filter(|e| e.strength > 0.0)
+            .map(|e| e.half_extent_m())
+            .collect();
+        let mean = |d: Vec3| {
+            let d = d.normalize_or_zero();
+            live.iter().map(|h| depth(d, *h)).sum::<f32>() / live.len() as f32
+        };
+        let ratio = |d: Vec3| depth(d.normalize_or_zero(), (hi - lo) * 0.5) / mean(d);
+        Self {
+            view: ratio(normal),
+            light: ratio(to_light),
+            mean_depth_light_m: mean(to_light).max(1.0),
+        }
+    }
+}
+
+impl SlicesParams {
+    /// The derived quantities of `[render.slices]` (Table 2), scaled for
+    /// the cloudscape by `scale`, with the primitives' grid `index`
+    /// ([`FlatIndex`]).
+    pub fn new(
+        cfg: &crate::methods::slices::model::SlicesConfig,
+        scale: CloudscapeScale,
+        index: &FlatIndex,
+    ) -> Self {
+        Self {
+            opacity: [
+                cfg.plane_opacity() * scale.view,
+                cfg.alpha_cutoff() * scale.view,
+                SUN_TO_COLOUR,
+                scale.light,
+            ],
+            cloud_colour: [
+                cfg.cloud_colour[0],
+                cfg.cloud_colour[1],
+                cfg.cloud_colour[2],
+                0.0,
+            ],
+            shadow_colour: [
+                cfg.shadow_colour[0],
+                cfg.shadow_colour[1],
+                cfg.shadow_colour[2],
+                0.0,
+            ],
+            index_min: index.min_m.extend(index.cells_per_axis as f32).to_array(),
+            index_cell: index
+                .cell_m
+                .extend(cfg.opacity / scale.mean_depth_light_m)
+                .to_array(),
+        }
+    }
+}
+
+/// The primitives' grid index as the GPU reads it (see
+/// [`FieldIndex::flatten`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FlatIndex {
+    /// units: m
+    pub min_m: Vec3,
+    /// units: m
+    pub cell_m: Vec3,
+    pub cells_per_axis: u32,
+    /// n³ + 1 list offsets into this array, then the lists.
+    pub lists: Vec<u32>,
+}
+
+impl FlatIndex {
+    pub fn new(states: &[EllipsoidState]) -> Self {
+        let (min_m, cell_m, cells_per_axis, lists) = FieldIndex::new(states).flatten();
+        Self {
+            min_m,
+            cell_m,
+            cells_per_axis,
+            lists,
+        }
+    }
+}
+
+/// The physics' condensed parcels as implicit spheres: the rendered radius
+/// of the ray-marched methods (radius × `radius_scale`, paper §6.1 of the
+/// physics paper), full strength and a flat base at the condensation
+/// plane, as the ray-march's half-space cuts them. Parcels with no fill or
+/// radius are left out, as `pack` leaves them out of the ray-march.
+pub fn parcel_spheres(parcels: &[CloudParcel], radius_scale: f32) -> Vec<EllipsoidState> {
+    parcels
+        .iter()
+        .filter(|p| p.fill > 0.0 && p.radius_m > 0.0)
+        .map(|p| EllipsoidState {
+            centre_m: p.center_m,
+            radii_m: Vec3::splat(p.radius_m * radius_scale),
+            rotation: glam::Mat3::IDENTITY,
+            strength: 1.0,
+            base_z_m: p.cond_plane_z_m,
+        })
+        .collect()
+}
+
+/// Everything the slices pass draws in one frame.
+pub struct SlicesFrame {
+    /// Every primitive at this frame's time: the authored ellipsoids, then
+    /// the parcel spheres.
+    pub states: Vec<EllipsoidState>,
+    pub geometry: SliceGeometry,
+    pub octaves: OctaveUniform,
+    pub params: SlicesParams,
+    /// The primitives' grid index (the GPU's field reads it).
+    pub index: FlatIndex,
+    /// Whether the vertices hold their field and shadow (evaluated on the
+    /// CPU) or only positions (the compute pass fills them).
+    pub values_on_cpu: bool,
+    /// Unit vector toward the light the planes were sliced for.
+    pub to_light: Vec3,
+    /// The `[render.slices]` settings of the frame.
+    pub cfg: crate::methods::slices::model::SlicesConfig,
+}
+
+/// Builds the frame at `time_s` (units: s): the authored `ellipsoids`
+/// animated by their keyframes and `particles`, plus the `parcels` as
+/// spheres, sliced for the light toward `to_light` and a viewer looking
+/// along `view_dir`, with the noise octaves of `cfg.slices` pivoting on the
+/// authored clouds' centre at time 0 (so the pivot does not drift with
+/// them; the origin when there are none). With `cpu_noise` the vertices'
+/// field and shadow are evaluated here on the CPU (the noise volume gives
+/// the shadow's first octave when `shadow_octave` is on); without it the
+/// vertices carry only positions, for the compute pass or for callers that
+/// need the primitives alone (`cumulus export`).
+#[allow(clippy::too_many_arguments)]
+pub fn slices_frame(
+    ellipsoids: &[Ellipsoid],
+    particles: &ParticleConfig,
+    parcels: &[CloudParcel],
+    cfg: &RenderConfig,
+    time_s: f32,
+    to_light: Vec3,
+    view_dir: Vec3,
+    cpu_noise: Option<&NoiseVolume>,
+) -> Result<SlicesFrame> {
+    let s = &cfg.slices;
+    let mut states = states_at(ellipsoids, particles, time_s);
+    states.extend(parcel_spheres(parcels, cfg.radius_scale));
+    let pivot_m = bounds_m(&states_at(ellipsoids, particles, 0.0))
+        .map_or(Vec3::ZERO, |(lo, hi)| (lo + hi) * 0.5);
+    let mut geometry = slice_grid(&states, s, to_light, view_dir)?;
+    let octaves = octave_uniform(
+        &s.tiers,
+        &s.base,
+        s.lacunarity(),
+        s.octaves as usize,
+        pivot_m,
+        time_s,
+    );
+    if let Some(noise) = cpu_noise {
+        let weight = |p: Vec3| field::first_octave_weight(&octaves, noise, p);
+        let weight: Option<&dyn Fn(Vec3) -> f32> = s.shadow_octave.then_some(&weight);
+        geometry.evaluate(&states, s, to_light, weight)?;
+    }
+    let scale = CloudscapeScale::new(&states, geometry.normal, to_light);
+    let index = FlatIndex::new(&states);
+    Ok(SlicesFrame {
+        params: SlicesParams::new(s, scale, &index),
+        states,
+        geometry,
+        octaves,
+        index,
+        values_on_cpu: cpu_noise.is_some(),
+        to_light: to_light.normalize_or_zero(),
+        cfg: s.clone(),
+    })
+}
+
+/// Group 2 of the slices passes: the octave transforms, the controls, the
+/// primitives and their grid index: the bindings of
+/// shaders/slices/implicit.wgsl (wgpu checks them against each pipeline's
+/// shader).
+pub fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    use crate::gpu::pipelines::{storage_entry, uniform_entry};
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("slices: octaves, controls, primitives"),
+        entries: &[
+            uniform_entry(0),
+            uniform_entry(1),
+            storage_entry(2),
+            storage_entry(3),
+        ],
+    })
+}
+
+/// Vertex layout of [`crate::methods::slices::model::SliceVertex`]: position, field, shadow.
+pub const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
+    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32, 2 => Float32];
