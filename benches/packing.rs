@@ -1,5 +1,5 @@
 //! Packing the condensed parcels and their culling grid for the GPU
-//! (`render::pack::pack`, done on the CPU every frame) at the parcel counts
+//! (`methods::raymarch::pack::pack`, done on the CPU every frame) at the parcel counts
 //! of the performance table, on the bench's cloud-field scenes.
 
 use std::hint::black_box;

@@ -1,12 +1,13 @@
 // Shared by every pass: uniforms, camera rays, noise, sun and sky.
 //
 // Imports nothing: the generated prelude that starts every module
-// (src/render/shaders.rs) gives the array sizes MAX_PARCELS,
-// GRID_CELL_PAIRS, GRID_ENTRY_QUADS, SKY_AZIMUTHS, SKY_ELEVATIONS,
-// AIR_HEIGHTS, AIR_TOP_M and AIR_STEPS from the Rust constants, and the
-// prelude and this file make a module by themselves. The uniform structs
-// are those of src/render/pack.rs, member by member (a test in
-// src/render/shaders/twins.rs compares names, offsets and sizes).
+// (src/gpu/shaders/mod.rs) gives the array sizes SKY_AZIMUTHS,
+// SKY_ELEVATIONS, AIR_HEIGHTS, AIR_TOP_M and AIR_STEPS from the Rust
+// constants, and the prelude and this file make a module by themselves.
+// The uniform structs are those of src/gpu/uniform.rs, member by member
+// (a test in src/render/twins.rs compares names, offsets and sizes).
+// Group 0 (frame, noise, samplers) is every pass's; a method's field is
+// group 3 of its own files.
 //
 // Colours are linear RGB; sun irradiance ~2 gives daylight exposure.
 
@@ -67,30 +68,7 @@ struct Frame {
     air: array<vec4<f32>, 4u * AIR_HEIGHTS>,
 }
 
-// One condensed parcel: a sphere cut flat below at its condensation plane
-// (raymarch/parcel.wgsl).
-struct Parcel {
-    center_m: vec3<f32>,
-    radius_m: f32,
-    fill: f32,      // filling ratio f
-    plane_z_m: f32, // height of the condensation plane
-    _pad: vec2<f32>,
-}
-
-struct Parcels {
-    parcels: array<Parcel, MAX_PARCELS>,
-}
-
-// cells[i / 2]: (start, count) of cell i in .xy (even i) or .zw (odd i);
-// entries[j / 4][j % 4]: the j-th parcel index of all cell lists.
-struct Grid {
-    cells: array<vec4<u32>, GRID_CELL_PAIRS>,
-    entries: array<vec4<u32>, GRID_ENTRY_QUADS>,
-}
-
 @group(0) @binding(0) var<uniform> frame: Frame;
-@group(0) @binding(1) var<uniform> parcels: Parcels;
-@group(0) @binding(2) var<uniform> grid: Grid;
 @group(0) @binding(3) var noise_tex: texture_3d<f32>;
 @group(0) @binding(4) var repeat_sampler: sampler;
 @group(0) @binding(5) var clamp_sampler: sampler;
@@ -280,7 +258,7 @@ fn srgb_encode(t: vec3<f32>) -> vec3<f32> {
 
 // Per-pass output hook. Every scene pass (sky, terrain, clouds, composite
 // and any new one) draws into the Rgba16Float HDR scene target
-// (SCENE_FORMAT in src/render/layouts.rs), so a pass returns linear
+// (SCENE_FORMAT in src/gpu/layouts.rs), so a pass returns linear
 // radiance and this is the identity; the display transform is tone_map,
 // once, at the end. Passes call it so the hook stays in one place.
 fn output_color(c: vec3<f32>) -> vec3<f32> {

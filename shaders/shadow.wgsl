@@ -3,7 +3,7 @@
 // box (frame.shadow_min and shadow_max, from src/render/renderer/mod.rs),
 // march toward the sun through the cloud layer's box and store the sun's
 // transmittance exp(−∫σ ds): `ground_sun_depth` of the method's
-// `<ground_shadow>` slot (src/render/shaders.rs), the ray-marching methods'
+// `<ground_shadow>` slot (the method's Slots), the ray-marching methods'
 // one routine (raymarch/density.wgsl, the parcels of their field) or the
 // slices' implicit field (slices/shadow_field.wgsl). The terrain looks it
 // up where its own sun ray meets z = 0, so hills (a few hundred metres)

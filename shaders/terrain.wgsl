@@ -7,8 +7,10 @@
 
 #import "common.wgsl"
 #import "air.wgsl"
-// `ground_sun_depth` for ground inside the ray-marched clouds' region.
-#import "raymarch/density.wgsl"
+// `ground_sun_depth` for ground inside the clouds' region: the method's
+// shadow march (the `<ground_shadow>` slot; only the ray-marched clouds
+// switch SHADOW_IN_REGION on).
+#import <ground_shadow>
 
 // Darken the sun by the clouds (false: no cloud shadows this frame).
 override HAS_SHADOWS: bool = true;

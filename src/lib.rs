@@ -44,20 +44,25 @@
 //! 6. [`sun`]: the sun's position from a clock;
 //! 7. [`sky`]: sun and sky colours from an atmosphere model;
 //! 8. [`physics`]: parcels, SPH, mixing, condensation, emission;
-//! 9. [`authored`]: Schpok 2003's authored ellipsoids, keyframes and slicing (CPU);
-//! 10. [`sprites_model`]: Wang 2003's sprite clouds (CPU);
-//! 11. [`config`]: the `[render]` and `[camera]` tables, plain data;
-//! 12. [`scene`]: a scene profile (TOML) → validated configuration;
-//! 13. [`plots`]: diagrams and labels drawn on the CPU (Skew-T, hodograph);
-//! 14. [`render`]: the wgpu renderer (headless or to a window surface);
+//! 9. [`plots`]: diagrams and labels drawn on the CPU (Skew-T, hodograph);
+//! 10. [`config`]: the `[render]` and `[camera]` tables, plain data;
+//! 11. [`gpu`]: the GPU core: device, layouts, pass specs, pipeline
+//!     cache, shader assembly, the shared passes, timing;
+//! 12. [`methods`]: the render methods, each in its folder with its CPU
+//!     model and its GPU side (ray-march, sprites, slices);
+//! 13. [`scene`]: a scene profile (TOML) → validated configuration;
+//! 14. [`render`]: the renderer composing the shared passes and a method
+//!     (headless or to a window surface);
 //! 15. [`export`]: the cloud density for offline renderers;
 //! 16. [`stability`]: the matrix of stiff and extreme physics cases;
 //! 17. [`bench`](mod@bench): performance and error tables;
 //! 18. [`app`]: the window.
 //!
-//! The CPU models (layers 3–10) import no configuration, scene, renderer
-//! or front end, so they build, run and test without a GPU. The command
-//! line (`src/cli`, in the binary) sits above everything.
+//! The CPU models (layers 3–8 and each method's `model/` folder) import no
+//! GPU core, scene, renderer or front end, so they build, run and test
+//! without a GPU; each method imports the layers below it and no other
+//! method. The command line (`src/cli`, in the binary) sits above
+//! everything.
 
 // Input checks are written `!(x > 0.0)` on purpose: the negated comparison
 // is also true for NaN, which must be an error, never a silent pass.

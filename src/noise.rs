@@ -18,7 +18,7 @@
 //! aliased. [`NoiseVolume`] holds exactly the texels the GPU gets (all
 //! levels) and samples them the way the GPU does (repeat addressing,
 //! trilinear within a level, linear between levels), so CPU evaluations of
-//! eq. 18 (src/render/field.rs, the export) match the GPU: at level 0 (what
+//! eq. 18 (src/methods/raymarch/field.rs, the export) match the GPU: at level 0 (what
 //! the export uses) and at any level. Deterministic: same size and seed,
 //! same bytes.
 

@@ -1,7 +1,7 @@
 // Bake of the `baked` method's macro field (compute): M(P) = max over
 // parcels of f·(d(P)+1) − 1 (parcel.wgsl) on a voxel grid over the region
 // of the condensed parcels, then a coarse occupancy grid for empty-space
-// skipping. src/render/raymarch/baked.rs drives it; field_baked.wgsl reads
+// skipping. src/methods/raymarch/baked.rs drives it; field_baked.wgsl reads
 // the result. The frame's grid is the coarse grid: BAKE_BLOCK³ voxels a
 // cell, voxel side grid_cell / BAKE_BLOCK, origin grid_min.
 //
@@ -34,7 +34,7 @@
 #import "parcel.wgsl"
 
 // Voxels per coarse cell along each axis: BAKE_BLOCK of
-// src/render/raymarch/baked.rs (a test compares them).
+// src/methods/raymarch/baked.rs (a test compares them).
 const BAKE_BLOCK: u32 = 4u;
 // A voxel's key: v + 1 ∈ [0, 2] in the high 16 bits (steps of 3·10⁻⁵,
 // finer than the field texture's half floats keep) and the voxel's height

@@ -13,13 +13,14 @@
 // step. Bound to both the `<field>` slot (field_value, field_sample,
 // empty_skip: as field_exact.wgsl, see there) and the `<far_light>` slot
 // (far_light_depth, far_behind_depth: as far_light_exact.wgsl) of the
-// method (src/render/shaders.rs).
+// method (src/methods/raymarch/passes.rs).
 
 #import "../common.wgsl"
 
-@group(0) @binding(6) var field_tex: texture_3d<f32>;
-@group(0) @binding(7) var<storage, read> occupancy: array<u32>;
-@group(0) @binding(8) var light_tex: texture_3d<f32>;
+// The `baked` method's field (group 3 of the passes that import it).
+@group(3) @binding(0) var field_tex: texture_3d<f32>;
+@group(3) @binding(1) var<storage, read> occupancy: array<u32>;
+@group(3) @binding(2) var light_tex: texture_3d<f32>;
 
 fn field_uvw(p: vec3<f32>) -> vec3<f32> {
     let size = frame.grid_cell * vec3<f32>(frame.grid_dims);

@@ -2,7 +2,7 @@
 // over parcels of parcel_value (parcel.wgsl), evaluated per sample from the
 // parcels listed in the sample's cell of the CPU-built grid (uniform
 // buffers). Cost per sample ∝ the cell's list length. One of the two files
-// bound to the `<field>` slot (src/render/shaders.rs); the other,
+// bound to the `<field>` slot (src/methods/raymarch/passes.rs); the other,
 // field_baked.wgsl, reads the same functions from a baked texture:
 //   field_value(p)          v(P) ∈ [−1, 1]
 //   field_sample(p)         (v(P), condensation plane under P (m))
@@ -12,6 +12,22 @@
 
 #import "../common.wgsl"
 #import "parcel.wgsl"
+
+// Sizes of the grid's arrays: MAX_GRID_CELLS / 2 and MAX_GRID_ENTRIES / 4
+// of src/methods/raymarch/pack.rs (a test compares them).
+const GRID_CELL_PAIRS: u32 = 1024u;
+const GRID_ENTRY_QUADS: u32 = 2048u;
+
+// cells[i / 2]: (start, count) of cell i in .xy (even i) or .zw (odd i);
+// entries[j / 4][j % 4]: the j-th parcel index of all cell lists.
+struct Grid {
+    cells: array<vec4<u32>, GRID_CELL_PAIRS>,
+    entries: array<vec4<u32>, GRID_ENTRY_QUADS>,
+}
+
+// The `exact` method's field (group 3 of the passes that import it).
+@group(3) @binding(0) var<uniform> parcels: Parcels;
+@group(3) @binding(1) var<uniform> grid: Grid;
 
 // Evaluate only the parcels listed in the sample's grid cell (paper §6.2).
 // false: every parcel at every sample (brute force, for the bench).

@@ -17,8 +17,27 @@
 
 #import "../common.wgsl"
 
+// Most parcels one uniform array holds: MAX_PARCELS of
+// src/methods/raymarch/pack.rs (a test compares them).
+const MAX_PARCELS: u32 = 1024u;
+
+// One condensed parcel: a sphere cut flat below at its condensation plane:
+// `GpuParcel` of src/methods/raymarch/pack.rs.
+struct Parcel {
+    center_m: vec3<f32>,
+    radius_m: f32,
+    fill: f32,      // filling ratio f
+    plane_z_m: f32, // height of the condensation plane
+    _pad: vec2<f32>,
+}
+
+struct Parcels {
+    parcels: array<Parcel, MAX_PARCELS>,
+}
+
+
 // Plane shell thickness relative to the sphere's shell; PLANE_SHELL of
-// src/render/field.rs and src/render/raymarch/baked.rs (a test compares
+// src/methods/raymarch/field.rs and src/methods/raymarch/baked.rs (a test compares
 // them).
 const PLANE_SHELL: f32 = 0.3;
 

@@ -1,6 +1,6 @@
 // The uniform of temporal amortisation (`[render] temporal`), shared by
 // the quarter-rate march (clouds.wgsl `cs_temporal`) and the resolve
-// (temporal.wgsl); TemporalUniform in src/render/renderer/temporal.rs.
+// (temporal.wgsl); TemporalUniform in src/methods/raymarch/temporal.rs.
 
 struct Temporal {
     prev_clip_from_world: mat4x4<f32>,

@@ -3,12 +3,12 @@
 // and media filter), the compute pass that evaluates the field and shadow
 // at the slice vertices (vertex_field.wgsl) and, under the `slices`
 // method, the cloud-shadow map (shadow_field.wgsl). The CPU twin of every
-// routine here is the reference: src/authored/ellipsoid.rs (Wyvill blend,
-// s², the grid index) and src/render/slices/field.rs (tiers, octaves,
+// routine here is the reference: src/methods/slices/model/ellipsoid.rs (Wyvill blend,
+// s², the grid index) and src/methods/slices/gpu/field.rs (tiers, octaves,
 // media filters, the first-octave shadow weight). Keep them in sync.
 // The structs below are TierUniform and OctaveUniform of
-// src/authored/octaves.rs, SlicesParams of src/render/slices/mod.rs and
-// GpuPrimitive of src/render/slices/buffers.rs.
+// src/methods/slices/model/octaves.rs, SlicesParams of src/methods/slices/gpu/mod.rs and
+// GpuPrimitive of src/methods/slices/gpu/buffers.rs.
 
 #import "../common.wgsl"
 
@@ -39,11 +39,11 @@ struct Primitive {
     centre: vec4<f32>, // xyz: centre (m)
 }
 
-@group(2) @binding(0) var<uniform> octaves: SlicesOctaves;
-@group(2) @binding(1) var<uniform> params: SlicesParams;
-@group(2) @binding(2) var<storage, read> primitives: array<Primitive>;
+@group(3) @binding(0) var<uniform> octaves: SlicesOctaves;
+@group(3) @binding(1) var<uniform> params: SlicesParams;
+@group(3) @binding(2) var<storage, read> primitives: array<Primitive>;
 // FieldIndex::flatten: n³ + 1 list offsets into this array, then the lists.
-@group(2) @binding(3) var<storage, read> cell_lists: array<u32>;
+@group(3) @binding(3) var<storage, read> cell_lists: array<u32>;
 
 // The tier holding altitude z: the highest whose bottom is at or below z
 // (the first tier also covers everything below it).
@@ -77,7 +77,7 @@ fn composite_noise(tier: u32, p: vec3<f32>) -> f32 {
 }
 
 // The media filters of Table 2; ids and formulas as MediaFilter::apply in
-// src/authored/media.rs (tests/cumulus/render/slices.rs checks the ids;
+// src/config/slices.rs (tests/cumulus/render/slices.rs checks the ids;
 // the formulas are twins, keep them in sync). n in [0, 1] → [0, 1].
 fn media_filter(id: u32, n: f32) -> f32 {
     switch id {
@@ -96,7 +96,7 @@ fn media_at(p: vec3<f32>) -> f32 {
 // The vertex shadow's weight with the first octave (§4): the media filter
 // of the composite with octaves 2 and up at their mean ½, over the filter
 // at ½, so the shadow keeps its Dirtiness calibration on average.
-// first_octave_weight in src/render/slices/field.rs is its CPU twin.
+// first_octave_weight in src/methods/slices/gpu/field.rs is its CPU twin.
 fn first_octave_weight(p: vec3<f32>) -> f32 {
     let tier = tier_at(p.z);
     let w0 = octaves.tiers[tier].bottom_m.y;
@@ -105,7 +105,7 @@ fn first_octave_weight(p: vec3<f32>) -> f32 {
     return media_filter(id, n) / media_filter(id, 0.5);
 }
 
-// Wyvill's soft-object blend C(s) of s² (wyvill in src/authored/ellipsoid.rs).
+// Wyvill's soft-object blend C(s) of s² (wyvill in src/methods/slices/model/ellipsoid.rs).
 fn wyvill(s2: f32) -> f32 {
     if s2 >= 1.0 {
         return 0.0;

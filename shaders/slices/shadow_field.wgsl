@@ -5,7 +5,7 @@
 // octaves (implicit.wgsl), scaled so that the map's
 // exp(−ground_sun_depth · extinction) is the slices' optical depth along
 // the sun ray (params.index_cell.w, see SlicesParams::new in
-// src/render/slices/mod.rs).
+// src/methods/slices/gpu/mod.rs).
 
 #import "../common.wgsl"
 #import "implicit.wgsl"

@@ -3,7 +3,7 @@
 // front (painter's algorithm) into the float cloud target, which the
 // composite pass then blends over sky and terrain.
 //
-// The CPU (src/authored/slicing.rs) tessellates the planes; the CPU, or the
+// The CPU (src/methods/slices/model/slicing.rs) tessellates the planes; the CPU, or the
 // compute pass of vertex_field.wgsl, stores at every vertex the implicit
 // field (Σ Wyvill blends, eq. 1 before the plane opacity) and the shadow
 // accumulated toward the light (eq. 2). Here:
@@ -16,7 +16,7 @@
 //              (Sharpness × plane opacity) and the shadow colour, lit by
 //              exp(−shadow) (the shadow is an optical depth toward the sun).
 // Plane opacity and shadow come scaled for a cloudscape (one stack of
-// planes over many clouds): see CloudscapeScale in src/render/slices/mod.rs.
+// planes over many clouds): see CloudscapeScale in src/methods/slices/gpu/mod.rs.
 // Seen through the air per vertex (air.wgsl). Output is premultiplied,
 // through output_color() like every pass.
 

@@ -1,7 +1,7 @@
 // The slice vertices' field and shadow in a compute pass (Schpok et al.
 // 2003 §4.1: "on the CPU (or a compute pass)"), `[render.slices]
 // vertex_field = "gpu"`: the same formulas as the CPU reference
-// (SliceGeometry::evaluate in src/authored/slicing.rs), from implicit.wgsl.
+// (SliceGeometry::evaluate in src/methods/slices/model/slicing.rs), from implicit.wgsl.
 //   cs_field : one invocation per vertex, density = Σ Wyvill blends;
 //   cs_shadow: one invocation per light ray (ShadowRays), walking its
 //              vertices from the light: shadow += step × density (× the
@@ -10,7 +10,7 @@
 #import "../common.wgsl"
 #import "implicit.wgsl"
 
-// FieldJob of src/render/slices/gpu_field.rs.
+// FieldJob of src/methods/slices/gpu/gpu_field.rs.
 struct FieldJob {
     counts: vec4<u32>, // x: vertices; y: rays; z: ray start stride; w: ray start offset
     walk: vec4<i32>,   // x: vertex step along a ray; y: vertices per ray; z: first octave (1) or not (0)

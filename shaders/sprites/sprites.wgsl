@@ -1,6 +1,6 @@
 // Sprite clouds (Wang 2003, the `sprites` method and scene layers): one
 // instanced quad per sprite, corners and per-corner shading computed on the
-// CPU (src/render/sprites/, after the paper's §5–§6.1: camera-facing or
+// CPU (src/methods/sprites/gpu/, after the paper's §5–§6.1: camera-facing or
 // locked corners, colour levels × time-of-day ambient + biased directional
 // sun, × formation alpha) and sorted back to front. The fragment multiplies
 // the atlas texel in (eq. 3), hides what lies behind the terrain depth,
@@ -23,7 +23,7 @@
 
 // Compare with the terrain depth (false: no terrain pass this frame).
 override HAS_TERRAIN: bool = true;
-// Drawing the impostor ring's quads (src/render/sprites/ring.rs): the
+// Drawing the impostor ring's quads (src/methods/sprites/gpu/ring.rs): the
 // texture is a face of the ring, already shaded, hazed and premultiplied
 // by this same shader; only the set's crossfade weight (colour alpha) is
 // applied.
@@ -34,7 +34,7 @@ override CLOUD_DEPTH: u32 = 0u;
 // Splat into the cloud-shadow map instead of drawing.
 override SHADOW_SPLAT: bool = false;
 
-// SpriteInstance of src/render/sprites/mod.rs.
+// SpriteInstance of src/methods/sprites/gpu/mod.rs.
 struct SpriteInstance {
     corners: array<vec4<f32>, 4>, // xyz (m), counter-clockwise from bottom-left
     colors: array<vec4<f32>, 4>,  // linear RGBA per corner (alpha: formation × facing)

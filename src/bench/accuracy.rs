@@ -444,10 +444,11 @@ mod tests {
 
     #[test]
     fn the_light_growth_matches_the_cloud_shader() {
-        use crate::config::RenderMethod;
-        use crate::gpu::shaders::Pass;
-        use crate::gpu::shaders::twins::{module, wgsl_const};
-        let clouds = module(Pass::Clouds, RenderMethod::Baked);
+        use crate::render::twins::{module, wgsl_const};
+        let clouds = module(
+            &crate::methods::raymarch::passes::CLOUDS,
+            &crate::methods::raymarch::passes::BAKED,
+        );
         assert_eq!(
             wgsl_const(&clouds, "LIGHT_GROWTH"),
             super::LIGHT_GROWTH as f64
@@ -475,7 +476,11 @@ mod tests {
 
     #[test]
     fn light_growth_matches_the_shader() {
-        let wgsl = crate::gpu::shaders::LIGHTING_WGSL;
+        let wgsl = crate::render::renderer::shader_files()
+            .into_iter()
+            .find(|(p, _)| *p == "raymarch/lighting.wgsl")
+            .unwrap()
+            .1;
         let line = wgsl
             .lines()
             .find(|l| l.trim_start().starts_with("const LIGHT_GROWTH"))

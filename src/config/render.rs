@@ -82,7 +82,7 @@ pub struct RenderConfig {
     /// Temporal amortisation of the ray-march: a quarter of the pixels
     /// marched per frame, the rest reprojected from earlier frames with
     /// the camera's motion at the clouds' depth, clamped to the fresh
-    /// samples around them (see src/render/renderer/temporal.rs). Unset:
+    /// samples around them (see src/methods/raymarch/temporal.rs). Unset:
     /// on in the window, off headless, where `render --accumulate N`
     /// turns it on (N frames drawn before the one written).
     #[serde(skip_serializing_if = "Option::is_none")]

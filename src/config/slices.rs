@@ -46,7 +46,7 @@ impl VertexField {
 pub struct SlicesConfig {
     /// Overall opacity of the cloud, 0.01 to 16 (the integral of plane
     /// opacities across all planes; the renderer scales it so it acts on
-    /// one mean primitive, see `render::slices::CloudscapeScale`).
+    /// one mean primitive, see `methods::slices::gpu::CloudscapeScale`).
     pub opacity: f32,
     /// Number of slicing planes, 8 to 1024.
     pub quality: u32,
@@ -368,12 +368,10 @@ pub(crate) fn finite_in(name: &str, value: f32, lo: f32, hi: f32, allowed: &str)
     }
 }
 
-/// The cloud media filters of Schpok et al. 2003 Table 2 (§5.2): named
-/// maps of the composited noise, which lies in [0, 1], to the density
-/// factor that "subtracts" detail from the implicit field.
-
-/// One media filter of Table 2. Serialised lower-case in scenes
-/// (`media = "wispy"`).
+/// One cloud media filter of Schpok et al. 2003 Table 2 (§5.2): a named
+/// map of the composited noise, which lies in [0, 1], to the density
+/// factor that "subtracts" detail from the implicit field. Serialised
+/// lower-case in scenes (`media = "wispy"`).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum MediaFilter {

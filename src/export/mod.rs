@@ -1,7 +1,7 @@
 //! Export of one frame's cloud density to other renderers: a density (the
 //! field of paper eq. 18, [`CloudField`], the CPU mirror of
 //! shaders/raymarch/density.wgsl; for authored scenes, the `slices`
-//! method's field of `render::slices::field`) sampled on a regular grid at
+//! method's field of `methods::slices::gpu::field`) sampled on a regular grid at
 //! cell centres, written as Mitsuba 3's `gridvolume` `.vol` ([`vol`]) with
 //! a JSON sidecar ([`sidecar`]) giving the world box, camera, sun, sky,
 //! phase function, albedo and extinction scale the renderer assumes, so a

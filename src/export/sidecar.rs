@@ -202,13 +202,14 @@ impl Sidecar {
 
 #[cfg(test)]
 mod tests {
-    use crate::config::RenderMethod;
-    use crate::gpu::shaders::Pass;
-    use crate::gpu::shaders::twins::{module, wgsl_const};
+    use crate::render::twins::{module, wgsl_const};
 
     #[test]
     fn the_lighting_constants_match_the_cloud_shader() {
-        let clouds = module(Pass::Clouds, RenderMethod::Baked);
+        let clouds = module(
+            &crate::methods::raymarch::passes::CLOUDS,
+            &crate::methods::raymarch::passes::BAKED,
+        );
         assert_eq!(wgsl_const(&clouds, "HG_BACK_G"), super::BACK_LOBE_G as f64);
         assert_eq!(
             wgsl_const(&clouds, "HG_BACK_WEIGHT"),

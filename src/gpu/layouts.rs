@@ -1,6 +1,12 @@
-//! The formats of the renderer's targets and the bind-group layouts its
-//! passes share ([`PassLayouts`]), with the layout-entry helpers the
-//! methods' own layouts use too.
+//! The formats of the renderer's targets, the bind-group layouts the
+//! shared passes declare, the `const` layout-entry helpers every layout
+//! (the methods' too) is written with, and [`Layouts`], which creates each
+//! declared layout once per device.
+
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
+
+use crate::gpu::pass::LayoutSpec;
 
 /// Format of the internal depth buffer (written by terrain, read by clouds).
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -9,7 +15,7 @@ pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
 
 /// Stages that read the shared bindings: the passes' vertex and fragment
 /// shaders and the compute march.
-const STAGES: wgpu::ShaderStages =
+pub const STAGES: wgpu::ShaderStages =
     wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE);
 /// Format of the compute march's output (premultiplied linear radiance).
 pub const CLOUD_TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -26,7 +32,7 @@ pub const TEMPORAL_SCALAR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32
 pub const SCENE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 /// A uniform buffer of `size` bytes the queue writes.
-pub(crate) fn uniform_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buffer {
+pub fn uniform_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: size as u64,
@@ -35,7 +41,7 @@ pub(crate) fn uniform_buffer(device: &wgpu::Device, label: &str, size: usize) ->
     })
 }
 
-pub(crate) fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+pub const fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: STAGES,
@@ -48,7 +54,7 @@ pub(crate) fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
-fn texture_entry(
+pub const fn texture_entry(
     binding: u32,
     sample_type: wgpu::TextureSampleType,
     dim: wgpu::TextureViewDimension,
@@ -65,7 +71,7 @@ fn texture_entry(
     }
 }
 
-fn sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+pub const fn sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: STAGES,
@@ -75,13 +81,16 @@ fn sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
 }
 
 /// A write-only 2D storage texture of the compute passes.
-fn storage_texture_entry(binding: u32, format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
+pub const fn storage_texture_entry(
+    binding: u32,
+    format: wgpu::TextureFormat,
+) -> wgpu::BindGroupLayoutEntry {
     storage_texture_entry_of(binding, format, wgpu::TextureViewDimension::D2)
 }
 
 /// A write-only storage texture of the compute passes (also the bake's 3D
-/// field and light volume, src/render/raymarch/baked.rs).
-pub(crate) fn storage_texture_entry_of(
+/// field and light volume, src/methods/raymarch/baked.rs).
+pub const fn storage_texture_entry_of(
     binding: u32,
     format: wgpu::TextureFormat,
     view_dimension: wgpu::TextureViewDimension,
@@ -98,7 +107,7 @@ pub(crate) fn storage_texture_entry_of(
     }
 }
 
-pub(crate) fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+pub const fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: STAGES,
@@ -111,163 +120,83 @@ pub(crate) fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
-/// The bind-group layouts every render pass shares (cheap to clone: wgpu
-/// handles; the background builder holds a copy).
-#[derive(Clone)]
-pub struct PassLayouts {
-    /// Group 0: frame, parcels, grid (exact), noise, samplers, baked field,
-    /// occupancy and light volume (baked): the bindings of
-    /// shaders/common.wgsl and shaders/raymarch/field_baked.wgsl (wgpu
-    /// checks them against each pipeline's shader).
-    pub common: wgpu::BindGroupLayout,
-    /// Group 1 of the terrain: the cloud-shadow map.
-    pub shadow_tex: wgpu::BindGroupLayout,
-    /// Group 1 of the clouds: the terrain depth.
-    pub depth: wgpu::BindGroupLayout,
-    /// Group 2 of the compute march: its output texture and cloud depth.
-    pub cloud_out: wgpu::BindGroupLayout,
-    /// Group 1 of the sprites: the terrain depth and the march's cloud
-    /// depth (shaders/sprites/sprites.wgsl).
-    pub sprite_depth: wgpu::BindGroupLayout,
-    /// Group 1 of the composite (the compute march's or the slices'
-    /// texture) and of the tone map (the HDR scene target): one sampled
-    /// float 2D texture.
-    pub texture_in: wgpu::BindGroupLayout,
-    /// Group 2 of the sprites: the atlas, its sampler and the sprite
-    /// instances (shaders/sprites/sprites.wgsl).
-    pub sprites: wgpu::BindGroupLayout,
-    /// Group 2 of the slices pass: octave transforms and controls.
-    pub slices: wgpu::BindGroupLayout,
-    /// Group 2 of the temporal march (clouds.wgsl `cs_temporal`): quarter
-    /// colour and depth outputs, the temporal uniform.
-    pub temporal_out: wgpu::BindGroupLayout,
-    /// Group 1 of the temporal resolve (shaders/raymarch/temporal.wgsl).
-    pub temporal_in: wgpu::BindGroupLayout,
+/// A filterable float 2D texture (binding `binding`).
+pub const fn float2d_entry(binding: u32, filterable: bool) -> wgpu::BindGroupLayoutEntry {
+    texture_entry(
+        binding,
+        wgpu::TextureSampleType::Float { filterable },
+        wgpu::TextureViewDimension::D2,
+    )
 }
 
-impl PassLayouts {
-    pub fn new(device: &wgpu::Device) -> Self {
-        let float3d = texture_entry(
+/// Group 0 of every pass: the frame uniform, the noise volume and the
+/// samplers (the bindings of shaders/common.wgsl; wgpu checks them against
+/// each pipeline's shader).
+pub static COMMON: LayoutSpec = LayoutSpec {
+    label: "common",
+    entries: &[
+        uniform_entry(0),
+        texture_entry(
             3,
             wgpu::TextureSampleType::Float { filterable: true },
             wgpu::TextureViewDimension::D3,
-        );
-        let common = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("common"),
-            entries: &[
-                uniform_entry(0),
-                uniform_entry(1),
-                uniform_entry(2),
-                float3d,
-                sampler_entry(4),
-                sampler_entry(5),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 6,
-                    ..float3d
-                },
-                storage_entry(7),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 8,
-                    ..float3d
-                },
-            ],
-        });
-        let shadow_tex = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("terrain: shadow map"),
-            entries: &[texture_entry(
-                0,
-                wgpu::TextureSampleType::Float { filterable: true },
-                wgpu::TextureViewDimension::D2,
-            )],
-        });
-        let depth = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("clouds: depth"),
-            entries: &[texture_entry(
-                0,
-                wgpu::TextureSampleType::Depth,
-                wgpu::TextureViewDimension::D2,
-            )],
-        });
-        let cloud_out = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("clouds: compute output"),
-            entries: &[
-                storage_texture_entry(0, CLOUD_TARGET_FORMAT),
-                storage_texture_entry(1, CLOUD_DEPTH_FORMAT),
-            ],
-        });
-        let sprite_depth = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("sprites: terrain and cloud depth"),
-            entries: &[
-                texture_entry(
-                    0,
-                    wgpu::TextureSampleType::Depth,
-                    wgpu::TextureViewDimension::D2,
-                ),
-                texture_entry(
-                    1,
-                    wgpu::TextureSampleType::Float { filterable: false },
-                    wgpu::TextureViewDimension::D2,
-                ),
-            ],
-        });
-        let float2d = |binding, filterable| {
-            texture_entry(
-                binding,
-                wgpu::TextureSampleType::Float { filterable },
-                wgpu::TextureViewDimension::D2,
-            )
-        };
-        let temporal_out = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("clouds: temporal outputs"),
-            entries: &[
-                storage_texture_entry(0, CLOUD_TARGET_FORMAT),
-                storage_texture_entry(1, TEMPORAL_SCALAR_FORMAT),
-                uniform_entry(2),
-            ],
-        });
-        let temporal_in = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("temporal resolve"),
-            entries: &[
-                float2d(0, false),
-                float2d(1, false),
-                float2d(2, true),
-                float2d(3, false),
-                storage_texture_entry(4, CLOUD_TARGET_FORMAT),
-                storage_texture_entry(5, TEMPORAL_SCALAR_FORMAT),
-                uniform_entry(6),
-            ],
-        });
-        let texture_in = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("composite/tonemap: input texture"),
-            entries: &[texture_entry(
-                0,
-                wgpu::TextureSampleType::Float { filterable: true },
-                wgpu::TextureViewDimension::D2,
-            )],
-        });
-        let sprites = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("sprites: atlas and instances"),
-            entries: &[
-                texture_entry(
-                    0,
-                    wgpu::TextureSampleType::Float { filterable: true },
-                    wgpu::TextureViewDimension::D2,
-                ),
-                sampler_entry(1),
-                storage_entry(2),
-            ],
-        });
+        ),
+        sampler_entry(4),
+        sampler_entry(5),
+    ],
+};
+
+/// Group 1 of the terrain: the cloud-shadow map.
+pub static SHADOW_TEX: LayoutSpec = LayoutSpec {
+    label: "terrain: shadow map",
+    entries: &[float2d_entry(0, true)],
+};
+
+/// Group 1 of the passes that test the terrain's depth (the clouds, the
+/// slices).
+pub static DEPTH: LayoutSpec = LayoutSpec {
+    label: "clouds: depth",
+    entries: &[texture_entry(
+        0,
+        wgpu::TextureSampleType::Depth,
+        wgpu::TextureViewDimension::D2,
+    )],
+};
+
+/// Group 1 of the composite (a method's cloud image) and of the tone map
+/// (the HDR scene target): one sampled float 2D texture.
+pub static TEXTURE_IN: LayoutSpec = LayoutSpec {
+    label: "composite/tonemap: input texture",
+    entries: &[float2d_entry(0, true)],
+};
+
+/// Every declared layout this device has needed, created once each (cheap
+/// to clone: the background builder holds a copy).
+#[derive(Clone)]
+pub struct Layouts {
+    device: wgpu::Device,
+    made: Arc<Mutex<HashMap<&'static str, wgpu::BindGroupLayout>>>,
+}
+
+impl Layouts {
+    pub fn new(device: &wgpu::Device) -> Self {
         Self {
-            common,
-            shadow_tex,
-            depth,
-            cloud_out,
-            sprite_depth,
-            texture_in,
-            sprites,
-            slices: crate::methods::slices::gpu::bind_group_layout(device),
-            temporal_out,
-            temporal_in,
+            device: device.clone(),
+            made: Arc::default(),
         }
+    }
+
+    /// The layout of `spec` on this device.
+    pub fn get(&self, spec: &'static LayoutSpec) -> wgpu::BindGroupLayout {
+        let mut made = self.made.lock().unwrap_or_else(|e| e.into_inner());
+        made.entry(spec.label)
+            .or_insert_with(|| {
+                self.device
+                    .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                        label: Some(spec.label),
+                        entries: spec.entries,
+                    })
+            })
+            .clone()
     }
 }

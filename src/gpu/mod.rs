@@ -9,6 +9,8 @@ mod context;
 pub mod frame;
 pub mod layouts;
 pub mod noise;
+pub mod pass;
+pub mod passes;
 pub mod pipelines;
 pub(crate) mod prebuild;
 pub mod resources;

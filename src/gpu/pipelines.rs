@@ -1,78 +1,88 @@
-//! The pipeline cache (the formats and bind-group layouts are in
+//! The pipeline cache: any pipeline built from its [`PassSpec`] and the
+//! method's [`Slots`] (the formats and bind-group layouts are in
 //! [`crate::gpu::layouts`]).
 //!
-//! No stalls: a pipeline is keyed by (pass, method, `override` constants,
+//! No stalls: a pipeline is keyed by (pass, slots, `override` constants,
 //! target format) and, once built, kept for the renderer's life, so clouds
 //! vanishing and reappearing, or an option toggled back, never compile a
 //! shader again; the renderer builds the cloud pipelines at creation, ahead
 //! of the first condensed parcel, and (in the window) those of the settings
-//! one click away on a background thread (src/render/prebuild.rs). `built`
+//! one click away on a background thread (src/gpu/prebuild.rs). `built`
 //! counts creations on the calling thread, `prebuilt` the background's
 //! (tests check both).
 
 use std::collections::HashMap;
 
-use crate::config::method::RenderMethod;
 use crate::error::{Error, Result};
 use crate::gpu::GpuContext;
+use crate::gpu::pass::{PassKind, PassSpec, Slots};
 use crate::gpu::prebuild::Prebuilder;
-use crate::gpu::shaders::Pass;
-use crate::landscape::terrain::TerrainVertex;
 
 pub use crate::gpu::layouts::{
-    CLOUD_DEPTH_FORMAT, CLOUD_TARGET_FORMAT, DEPTH_FORMAT, PassLayouts, SCENE_FORMAT,
-    SHADOW_FORMAT, TEMPORAL_SCALAR_FORMAT,
-};
-pub(crate) use crate::gpu::layouts::{
-    storage_entry, storage_texture_entry_of, uniform_buffer, uniform_entry,
+    CLOUD_DEPTH_FORMAT, CLOUD_TARGET_FORMAT, DEPTH_FORMAT, Layouts, SCENE_FORMAT, SHADOW_FORMAT,
+    TEMPORAL_SCALAR_FORMAT,
 };
 
-/// What makes two render pipelines different.
-#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+/// What makes two pipelines different: the pass (or variant), the
+/// method's slots (for a slotted pass), the `override` constants and the
+/// target format.
+#[derive(Debug, Clone)]
 pub struct PipelineKey {
-    pub pass: Pass,
-    pub method: RenderMethod,
+    pub pass: &'static PassSpec,
+    pub slots: &'static Slots,
     /// `override` constants (name, value bits).
     pub constants: Vec<(&'static str, u64)>,
     pub format: wgpu::TextureFormat,
-    /// The compute entry point (the cloud pass's compute path).
-    pub compute: bool,
-    /// The cloud pass's temporal march (`cs_temporal`, quarter rate).
-    pub temporal: bool,
+}
+
+impl PartialEq for PipelineKey {
+    fn eq(&self, o: &Self) -> bool {
+        self.pass.name == o.pass.name
+            && self.slots.name == o.slots.name
+            && self.constants == o.constants
+            && self.format == o.format
+    }
+}
+
+impl Eq for PipelineKey {}
+
+impl std::hash::Hash for PipelineKey {
+    fn hash<H: std::hash::Hasher>(&self, h: &mut H) {
+        (
+            self.pass.name,
+            self.slots.name,
+            &self.constants,
+            self.format,
+        )
+            .hash(h);
+    }
 }
 
 impl PipelineKey {
-    /// Panics on a constant that the pass's module does not declare under
-    /// `method` ([`Pass::overrides`]): wgpu would refuse the pipeline.
+    /// The pipeline of `pass` under a method's `slots` (an unslotted pass
+    /// takes [`Slots::NONE`], one pipeline for every method). Panics on a
+    /// constant that the module does not declare ([`PassSpec::overrides`]):
+    /// wgpu would refuse the pipeline.
     pub fn new(
-        pass: Pass,
-        method: RenderMethod,
+        pass: &'static PassSpec,
+        slots: &'static Slots,
         constants: &[(&'static str, f64)],
         format: wgpu::TextureFormat,
-        compute: bool,
     ) -> Self {
+        let slots = pass.slots_for(slots);
         for (name, _) in constants {
             assert!(
-                pass.declares(method, name),
-                "{} ({method}) declares no override {name}",
-                pass.name()
+                pass.declares(slots, name),
+                "{} ({}) declares no override {name}",
+                pass.name,
+                slots.name
             );
         }
         Self {
             pass,
-            method,
+            slots,
             constants: constants.iter().map(|(n, v)| (*n, v.to_bits())).collect(),
             format,
-            compute,
-            temporal: false,
-        }
-    }
-
-    /// The temporal variant of a compute cloud key.
-    pub fn temporal(self) -> Self {
-        Self {
-            temporal: true,
-            ..self
         }
     }
 }
@@ -106,12 +116,7 @@ impl PipelineCache {
     /// background builder if it has it (waiting for it if it is building
     /// it), else built here. Shader or pipeline errors become an Error, not
     /// wgpu's panic.
-    pub fn ensure(
-        &mut self,
-        ctx: &GpuContext,
-        layouts: &PassLayouts,
-        key: &PipelineKey,
-    ) -> Result<()> {
+    pub fn ensure(&mut self, ctx: &GpuContext, layouts: &Layouts, key: &PipelineKey) -> Result<()> {
         self.collect();
         if self.pipelines.contains_key(key) {
             return Ok(());
@@ -131,9 +136,8 @@ impl PipelineCache {
         if let Some(e) = pollster::block_on(scope.pop()) {
             self.modules.forget(key);
             return Err(Error::Gpu(format!(
-                "creating the {} pass ({} method): {e}",
-                key.pass.name(),
-                key.method
+                "creating the {} pass ({}): {e}",
+                key.pass.name, key.slots.name
             )));
         }
         self.built += 1;
@@ -142,7 +146,7 @@ impl PipelineCache {
     }
 
     /// Starts or stops building ahead on a background thread.
-    pub fn set_prebuild(&mut self, device: Option<(&wgpu::Device, &PassLayouts)>) {
+    pub fn set_prebuild(&mut self, device: Option<(&wgpu::Device, &Layouts)>) {
         self.prebuilder = device.map(|(d, l)| Prebuilder::new(d.clone(), l.clone()));
     }
 
@@ -190,14 +194,14 @@ impl PipelineCache {
     }
 }
 
-/// Shader modules by (pass, method), compiled once each.
+/// Shader modules by (root file, slots), compiled once each.
 #[derive(Default)]
-pub(crate) struct ShaderModules(HashMap<(Pass, RenderMethod), wgpu::ShaderModule>);
+pub(crate) struct ShaderModules(HashMap<(&'static str, &'static str), wgpu::ShaderModule>);
 
 impl ShaderModules {
     /// Drops the module of `key` (after an error, so a retry recompiles).
     pub(crate) fn forget(&mut self, key: &PipelineKey) {
-        self.0.remove(&(key.pass, key.method));
+        self.0.remove(&(key.pass.root, key.slots.name));
     }
 
     /// Creates the pipeline of `key` (errors go to the device's error
@@ -205,46 +209,29 @@ impl ShaderModules {
     pub(crate) fn build(
         &mut self,
         device: &wgpu::Device,
-        layouts: &PassLayouts,
+        layouts: &Layouts,
         key: &PipelineKey,
     ) -> Pipeline {
         let pass = key.pass;
-        let module = self.0.entry((pass, key.method)).or_insert_with(|| {
-            device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(pass.name()),
-                source: wgpu::ShaderSource::Wgsl(pass.source(key.method).into()),
-            })
-        });
-        let group1 = match pass {
-            Pass::Terrain => Some(&layouts.shadow_tex),
-            Pass::Temporal => Some(&layouts.temporal_in),
-            Pass::Clouds | Pass::Slices => Some(&layouts.depth),
-            Pass::Sprites => Some(&layouts.sprite_depth),
-            Pass::Composite | Pass::Tonemap => Some(&layouts.texture_in),
-            _ => None,
-        };
-        let mut layouts_list: Vec<Option<&wgpu::BindGroupLayout>> = match group1 {
-            Some(l) => vec![Some(&layouts.common), Some(l)],
-            None => vec![Some(&layouts.common)],
-        };
-        if key.temporal {
-            layouts_list.push(Some(&layouts.temporal_out));
-        } else if key.compute && pass == Pass::Clouds {
-            layouts_list.push(Some(&layouts.cloud_out));
-        }
-        if pass == Pass::Sprites {
-            layouts_list.push(Some(&layouts.sprites));
-        }
-        if pass == Pass::Slices {
-            layouts_list.push(Some(&layouts.slices));
-        }
-        if pass == Pass::Shadow && key.method == RenderMethod::Slices {
-            // The implicit field's group 2 (slices/shadow_field.wgsl); no group 1.
-            layouts_list.extend([None, Some(&layouts.slices)]);
-        }
+        let module = self
+            .0
+            .entry((pass.root, key.slots.name))
+            .or_insert_with(|| {
+                device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some(pass.name),
+                    source: wgpu::ShaderSource::Wgsl(pass.source(key.slots).into()),
+                })
+            });
+        let groups: Vec<Option<wgpu::BindGroupLayout>> = pass
+            .layout_list(key.slots)
+            .into_iter()
+            .map(|g| g.map(|spec| layouts.get(spec)))
+            .collect();
+        let group_refs: Vec<Option<&wgpu::BindGroupLayout>> =
+            groups.iter().map(Option::as_ref).collect();
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some(pass.name()),
-            bind_group_layouts: &layouts_list,
+            label: Some(pass.name),
+            bind_group_layouts: &group_refs,
             immediate_size: 0,
         });
         let constants: Vec<(&str, f64)> = key
@@ -256,84 +243,56 @@ impl ShaderModules {
             constants: &constants,
             ..Default::default()
         };
-        if key.compute {
-            let (label, entry) = match (pass, key.temporal) {
-                (Pass::Temporal, _) => ("temporal resolve", "cs_resolve"),
-                (_, true) => ("clouds (temporal)", "cs_temporal"),
-                _ => ("clouds (compute)", "cs_main"),
-            };
-            return Pipeline::Compute(device.create_compute_pipeline(
-                &wgpu::ComputePipelineDescriptor {
-                    label: Some(label),
-                    layout: Some(&layout),
-                    module,
-                    entry_point: Some(entry),
-                    compilation_options: options,
-                    cache: None,
-                },
-            ));
-        }
-        let vertex_attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
-        let terrain_buffers = [Some(wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<TerrainVertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &vertex_attrs,
-        })];
-        let slice_buffers = [Some(wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<crate::methods::slices::model::SliceVertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &crate::methods::slices::gpu::VERTEX_ATTRIBUTES,
-        })];
-        let (target_format, blend) = match pass {
-            Pass::Shadow => (SHADOW_FORMAT, None),
-            // Sprite shadows splatted into the shadow map: each multiplies
-            // the sun's transmittance there by its own (1 − its opacity).
-            Pass::Sprites if key.format == SHADOW_FORMAT => (
-                SHADOW_FORMAT,
-                Some(wgpu::BlendState {
-                    color: wgpu::BlendComponent {
-                        src_factor: wgpu::BlendFactor::Zero,
-                        dst_factor: wgpu::BlendFactor::Src,
-                        operation: wgpu::BlendOperation::Add,
+        let (vertex, target, blend, depth) = match pass.kind {
+            PassKind::Compute { entry } => {
+                return Pipeline::Compute(device.create_compute_pipeline(
+                    &wgpu::ComputePipelineDescriptor {
+                        label: Some(pass.name),
+                        layout: Some(&layout),
+                        module,
+                        entry_point: Some(entry),
+                        compilation_options: options,
+                        cache: None,
                     },
-                    alpha: wgpu::BlendComponent::REPLACE,
-                }),
-            ),
-            // Back to front into the float cloud target, premultiplied "over".
-            Pass::Slices => (
-                CLOUD_TARGET_FORMAT,
-                Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
-            ),
-            Pass::Clouds | Pass::Composite | Pass::Sprites => (
-                key.format,
-                Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
-            ),
-            _ => (key.format, None),
+                ));
+            }
+            PassKind::Render {
+                vertex,
+                target,
+                blend,
+                depth,
+            } => (vertex, target, blend, depth),
         };
+        let buffers: Vec<Option<wgpu::VertexBufferLayout>> = vertex
+            .iter()
+            .map(|v| {
+                Some(wgpu::VertexBufferLayout {
+                    array_stride: v.stride,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: v.attributes,
+                })
+            })
+            .collect();
         let targets = [Some(wgpu::ColorTargetState {
-            format: target_format,
+            format: target.unwrap_or(key.format),
             blend,
             write_mask: wgpu::ColorWrites::ALL,
         })];
         Pipeline::Render(
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(pass.name()),
+                label: Some(pass.name),
                 layout: Some(&layout),
                 vertex: wgpu::VertexState {
                     module,
                     entry_point: Some("vs_main"),
                     compilation_options: options.clone(),
-                    buffers: match pass {
-                        Pass::Terrain => &terrain_buffers,
-                        Pass::Slices => &slice_buffers,
-                        _ => &[],
-                    },
+                    buffers: &buffers,
                 },
                 primitive: wgpu::PrimitiveState {
                     cull_mode: None,
                     ..Default::default()
                 },
-                depth_stencil: (pass == Pass::Terrain).then(|| wgpu::DepthStencilState {
+                depth_stencil: depth.then(|| wgpu::DepthStencilState {
                     format: DEPTH_FORMAT,
                     depth_write_enabled: Some(true),
                     depth_compare: Some(wgpu::CompareFunction::Less),

@@ -14,7 +14,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, mpsc};
 use std::thread::JoinHandle;
 
-use crate::gpu::pipelines::{PassLayouts, Pipeline, PipelineKey, ShaderModules};
+use crate::gpu::pipelines::{Layouts, Pipeline, PipelineKey, ShaderModules};
 
 /// A finished build: the key and its pipeline (None: it failed; the
 /// renderer then builds it itself to report the error).
@@ -32,7 +32,7 @@ pub struct Prebuilder {
 }
 
 impl Prebuilder {
-    pub fn new(device: wgpu::Device, layouts: PassLayouts) -> Self {
+    pub fn new(device: wgpu::Device, layouts: Layouts) -> Self {
         let (jobs, rx) = mpsc::channel::<PipelineKey>();
         let (tx, done) = mpsc::channel::<Done>();
         let stop = Arc::new(AtomicBool::new(false));

@@ -1,7 +1,7 @@
 //! The per-frame uniform every pass reads (`struct Frame` of
 //! shaders/common.wgsl) and the box of the method's clouds it carries
 //! ([`GridInfo`]). Plain `#[repr(C)]` Pod data, member for member the
-//! WGSL struct: a test (src/gpu/shaders/twins.rs) compares names, offsets
+//! WGSL struct: a test (src/render/twins.rs) compares names, offsets
 //! and sizes with naga's layout. Scalars come in fours and a `vec3` with a
 //! scalar after it (`_pad` where none belongs), so every 16-byte WGSL
 //! alignment falls where `#[repr(C)]` puts it.

@@ -32,6 +32,8 @@
 
 pub mod headless;
 pub mod renderer;
+#[cfg(test)]
+pub(crate) mod twins;
 
 pub use crate::gpu::GpuContext;
 pub use crate::gpu::frame::{Features, FrameInput};

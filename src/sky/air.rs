@@ -25,7 +25,7 @@ use glam::{DVec3, Vec3};
 
 use super::{SkyLight, SkyLuts, mie_phase, rayleigh_phase};
 
-/// Heights of the air table (the WGSL prelude, src/render/shaders.rs,
+/// Heights of the air table (the WGSL prelude, src/gpu/shaders/mod.rs,
 /// writes it into the shaders).
 pub const AIR_HEIGHTS: usize = 24;
 /// Height of the table's top node; the air above reads as the top's (the

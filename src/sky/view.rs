@@ -17,7 +17,7 @@ use glam::{DVec3, Vec3};
 use super::{AirTable, Atmosphere, SUN_ABOVE_AIR, SkyLuts};
 
 /// Azimuths of the sky-view table, 0 to π from the sun (12° apart).
-/// The WGSL prelude (src/render/shaders.rs) writes it into the shaders.
+/// The WGSL prelude (src/gpu/shaders/mod.rs) writes it into the shaders.
 pub const SKY_AZIMUTHS: usize = 16;
 /// Elevations of the sky-view table, at el = π/2 · (k/(N−1))².
 pub const SKY_ELEVATIONS: usize = 16;

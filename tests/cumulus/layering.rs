@@ -1,28 +1,22 @@
 //! The layering of `src/lib.rs`: every top-level module imports only the
 //! modules listed before it in the crate docs' layer list, so the import
-//! graph between top-level modules has no cycle, and the CPU models
-//! import no configuration, scene, renderer, front end or GPU crate. Every
+//! graph between top-level modules has no cycle; the CPU models (the
+//! top-level ones and each method's `model/`) import no GPU core, method
+//! GPU side, scene, renderer, front end or GPU crate; and each render
+//! method (`src/methods/<method>/`) imports no other method. Every
 //! `crate::` path counts, in `use` lines and inline in code (comments and
 //! doc comments do not).
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-/// The CPU models: atmosphere, physics, the authored ellipsoids, the
-/// sprite model, sun, sky, landscape and noise.
-const CPU_MODELS: [&str; 8] = [
-    "landscape",
-    "noise",
-    "atmosphere",
-    "sun",
-    "sky",
-    "physics",
-    "authored",
-    "sprites_model",
-];
+/// The top-level CPU models: atmosphere, physics, sun, sky, landscape
+/// and noise (the methods' models are their `model/` folders).
+const CPU_MODELS: [&str; 6] = ["landscape", "noise", "atmosphere", "sun", "sky", "physics"];
 /// What a CPU model must not import.
-const NOT_FOR_MODELS: [&str; 9] = [
-    "config",
+const NOT_FOR_MODELS: [&str; 10] = [
+    "gpu",
+    "methods",
     "scene",
     "plots",
     "render",
@@ -172,7 +166,14 @@ fn offences(module: &str, order: &[String], file: &str, text: &str) -> Vec<Strin
             ));
         }
     }
-    if CPU_MODELS.contains(&module) {
+    out.extend(gpu_crates(module, file, text));
+    out
+}
+
+/// A GPU or window crate named in the code of a CPU model's file.
+fn gpu_crates(module: &str, file: &str, text: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    if CPU_MODELS.contains(&module) || module.ends_with("::model") {
         for (n, line) in text.lines().enumerate() {
             let code = code_of(line);
             for word in GPU_CRATES {
@@ -190,6 +191,43 @@ fn offences(module: &str, order: &[String], file: &str, text: &str) -> Vec<Strin
                 }
             }
         }
+    }
+    out
+}
+
+/// Offences of a file of method `method` (`src/methods/<method>/`,
+/// `model` when in its `model/` folder): a method imports no other
+/// method, and its model neither its GPU side nor the GPU core.
+fn method_offences(method: &str, model: bool, file: &str, text: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let code: String = text.lines().map(|l| format!("{}\n", code_of(l))).collect();
+    for (i, _) in code.match_indices("crate::methods::") {
+        let rest = &code[i + "crate::methods::".len()..];
+        let other: String = rest
+            .chars()
+            .take_while(|c| c.is_alphanumeric() || *c == '_')
+            .collect();
+        let line = code[..i].matches('\n').count() + 1;
+        if other != method && other != "standin" {
+            out.push(format!(
+                "{file}:{line}: method `{method}` imports method `{other}`"
+            ));
+        }
+        if model && rest[other.len()..].starts_with("::gpu") {
+            out.push(format!(
+                "{file}:{line}: the model of `{method}` imports its GPU side"
+            ));
+        }
+    }
+    if model {
+        for (line, target) in crate_paths(text) {
+            if NOT_FOR_MODELS.contains(&target.as_str()) && target != "methods" {
+                out.push(format!(
+                    "{file}:{line}: the model of `{method}` imports `{target}`"
+                ));
+            }
+        }
+        out.extend(gpu_crates(&format!("{method}::model"), file, text));
     }
     out
 }
@@ -281,6 +319,41 @@ fn every_module_imports_only_the_layers_below_it() {
     assert!(all.is_empty(), "layering offences:\n{}", all.join("\n"));
 }
 
+/// The method of a file under `src/methods/<method>/` and whether it is in
+/// its `model/` folder.
+fn method_of(src: &Path, file: &Path) -> Option<(String, bool)> {
+    let rel = file.strip_prefix(src.join("methods")).ok()?;
+    let mut parts = rel
+        .components()
+        .map(|c| c.as_os_str().to_string_lossy().to_string());
+    let method = parts.next()?;
+    let next = parts.next()?;
+    Some((method, next == "model"))
+}
+
+#[test]
+fn each_method_stands_alone_and_its_model_needs_no_gpu() {
+    let src = src();
+    let mut files = Vec::new();
+    rust_files(&src.join("methods"), &mut files);
+    let mut all = Vec::new();
+    let mut models = 0;
+    for f in &files {
+        if let Some((method, model)) = method_of(&src, f) {
+            models += model as usize;
+            let text = std::fs::read_to_string(f).unwrap();
+            all.extend(method_offences(
+                &method,
+                model,
+                &f.display().to_string(),
+                &text,
+            ));
+        }
+    }
+    assert!(models >= 10, "found {models} model files");
+    assert!(all.is_empty(), "method offences:\n{}", all.join("\n"));
+}
+
 #[test]
 fn no_import_cycle_between_top_level_modules() {
     let g = graph(&src());
@@ -305,6 +378,11 @@ fn the_checker_sees_paths_groups_and_cycles() {
     let gpu = "fn f(d: &wgpu::Device) {}\nlet wgpu_like = 1;\n";
     assert_eq!(offences("physics", &order, "p.rs", gpu).len(), 1);
     assert!(offences("render", &order, "r.rs", upward).is_empty());
+    let cross = "use crate::methods::raymarch::pack;\nuse crate::gpu::GpuContext;\n";
+    assert_eq!(method_offences("slices", false, "s.rs", cross).len(), 1);
+    let model = "use crate::methods::slices::gpu::X;\nfn f(q: &wgpu::Queue) {}\n";
+    assert_eq!(method_offences("slices", true, "m.rs", model).len(), 2);
+    assert_eq!(method_offences("slices", true, "m.rs", cross).len(), 2);
 
     let mut g: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
     g.entry("a".into()).or_default().insert("b".into());

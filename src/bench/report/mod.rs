@@ -6,8 +6,8 @@
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::gpu::shaders::Pass;
 use crate::output::{write_atomic, write_png_atomic};
+use crate::render::renderer::Pass;
 
 use super::BenchResults;
 use super::accuracy::{PhysicsError, RenderError};

@@ -42,7 +42,7 @@ use glam::Vec3;
 
 use crate::error::{Error, Result};
 use crate::gpu::GpuContext;
-use crate::gpu::pipelines::storage_texture_entry_of;
+use crate::gpu::layouts::storage_texture_entry_of;
 use crate::gpu::uniform::GridInfo;
 use crate::methods::raymarch::pack::{self, GpuParcel, MAX_PARCELS, ParcelsUniform};
 use crate::methods::raymarch::region::{Region, region};
@@ -141,7 +141,7 @@ pub struct BakedField {
 }
 
 /// A compute shader's read-write storage buffer (also the slices' vertex
-/// field pass, src/render/slices/gpu_field.rs).
+/// field pass, src/methods/slices/gpu/gpu_field.rs).
 pub(crate) fn compute_storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
@@ -228,9 +228,14 @@ impl BakedField {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("bake"),
             source: wgpu::ShaderSource::Wgsl(
-                crate::gpu::shaders::Pass::Bake
-                    .source(crate::config::RenderMethod::Baked)
-                    .into(),
+                crate::gpu::shaders::assemble_with(
+                    "raymarch/bake.wgsl",
+                    &[],
+                    &super::passes::BAKED,
+                )
+                .map_err(|e| Error::Gpu(format!("assembling the bake: {e}")))?
+                .source
+                .into(),
             ),
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {

@@ -9,18 +9,32 @@ use crate::gpu::uniform::GridInfo;
 use crate::methods::raymarch::pack::{self, GridUniform, MAX_PARCELS, ParcelsUniform};
 use crate::physics::CloudParcel;
 
-/// Uniform buffers of the exact field.
+/// Uniform buffers of the exact field and their bind group (group 3 of
+/// the slotted passes under `exact`).
 pub struct ExactField {
     pub parcels_buf: wgpu::Buffer,
     pub grid_buf: wgpu::Buffer,
+    pub bind: wgpu::BindGroup,
 }
 
 impl ExactField {
-    pub fn new(device: &wgpu::Device) -> Self {
-        let buffer = |label: &str, size| crate::gpu::pipelines::uniform_buffer(device, label, size);
+    pub fn new(device: &wgpu::Device, layouts: &crate::gpu::layouts::Layouts) -> Self {
+        let buffer = |label: &str, size| crate::gpu::layouts::uniform_buffer(device, label, size);
+        let parcels_buf = buffer("parcels uniform", std::mem::size_of::<ParcelsUniform>());
+        let grid_buf = buffer("grid uniform", std::mem::size_of::<GridUniform>());
+        let bind = crate::gpu::resources::bind_in_order(
+            device,
+            "exact: parcels and grid",
+            &layouts.get(&super::passes::EXACT_FIELD),
+            vec![
+                parcels_buf.as_entire_binding(),
+                grid_buf.as_entire_binding(),
+            ],
+        );
         Self {
-            parcels_buf: buffer("parcels uniform", std::mem::size_of::<ParcelsUniform>()),
-            grid_buf: buffer("grid uniform", std::mem::size_of::<GridUniform>()),
+            parcels_buf,
+            grid_buf,
+            bind,
         }
     }
 

@@ -11,5 +11,6 @@ pub mod baked;
 pub mod exact;
 pub mod field;
 pub mod pack;
+pub mod passes;
 pub(crate) mod region;
 pub mod temporal;

@@ -13,13 +13,11 @@
 //!   once, which always fits because `MAX_PARCELS ≤ MAX_GRID_ENTRIES`.
 //!   [`GridInfo::coarsened`] says how often this happened.
 //!
-//! The structs here are the uniforms of shaders/common.wgsl (`Frame`,
-//! `CameraPos`, `FrameNoise`, `Parcel`, `Parcels`, `Grid`), member for
-//! member: a test (src/render/shaders/twins.rs) compares names, offsets
-//! and sizes with naga's layout of the WGSL, and the array sizes are
-//! written into the WGSL from the constants here. Scalars come in fours
-//! and a `vec3` with a scalar after it (`_pad` where none belongs), so
-//! every 16-byte WGSL alignment falls where `#[repr(C)]` puts it.
+//! The structs here are the uniforms of the `exact` field (`Parcel` and
+//! `Parcels` of shaders/raymarch/parcel.wgsl, `Grid` of
+//! shaders/raymarch/field_exact.wgsl), member for member, and the WGSL
+//! array sizes are these constants: tests (src/render/twins.rs)
+//! compare names, offsets, sizes and constants with naga's reflection.
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
@@ -44,7 +42,7 @@ const _: () = assert!(MAX_PARCELS <= MAX_GRID_ENTRIES);
 const _: () =
     assert!(MAX_GRID_CELLS == (MAX_GRID_DIMS[0] * MAX_GRID_DIMS[1] * MAX_GRID_DIMS[2]) as usize);
 
-/// One parcel: `struct Parcel` of shaders/common.wgsl.
+/// One parcel: `struct Parcel` of shaders/raymarch/parcel.wgsl.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable, PartialEq)]
 pub struct GpuParcel {
@@ -59,14 +57,14 @@ pub struct GpuParcel {
     pub _pad: [f32; 2],
 }
 
-/// All parcels: `struct Parcels` of shaders/common.wgsl.
+/// All parcels: `struct Parcels` of shaders/raymarch/parcel.wgsl.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct ParcelsUniform {
     pub parcels: [GpuParcel; MAX_PARCELS],
 }
 
-/// Grid cell lists: `struct Grid` of shaders/common.wgsl.
+/// Grid cell lists: `struct Grid` of shaders/raymarch/field_exact.wgsl.
 /// `cells[i / 2]` holds (start, count) of cell i in xy (even i) or zw (odd i);
 /// `entries[j / 4][j % 4]` is the j-th parcel index.
 #[repr(C)]
@@ -180,7 +178,7 @@ pub fn pack(parcels: &[CloudParcel], shell_m: f32, radius_scale: f32) -> Result<
             "condensed parcel count",
             drawn.len(),
             format!(
-                "at most {MAX_PARCELS} with render.method = \"exact\" (size of the parcel uniform array in pack.rs and common.wgsl); the \"baked\" method has no such limit"
+                "at most {MAX_PARCELS} with render.method = \"exact\" (size of the parcel uniform array in pack.rs and raymarch/parcel.wgsl); the \"baked\" method has no such limit"
             ),
         ));
     }

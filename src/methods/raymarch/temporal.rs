@@ -13,7 +13,8 @@
 
 use glam::Mat4;
 
-use crate::gpu::pipelines::{CLOUD_TARGET_FORMAT, PassLayouts, TEMPORAL_SCALAR_FORMAT};
+use super::passes::{TEMPORAL_IN, TEMPORAL_OUT};
+use crate::gpu::layouts::{CLOUD_TARGET_FORMAT, Layouts, TEMPORAL_SCALAR_FORMAT, TEXTURE_IN};
 
 use crate::gpu::resources::{bind_in_order, texture_2d};
 
@@ -66,7 +67,7 @@ pub struct TemporalGpu {
 }
 
 impl TemporalGpu {
-    pub fn new(device: &wgpu::Device, layouts: &PassLayouts, width: u32, height: u32) -> Self {
+    pub fn new(device: &wgpu::Device, layouts: &Layouts, width: u32, height: u32) -> Self {
         let (qw, qh) = quarter_size(width, height);
         let usage = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING;
         let view = |label, w, h, format| {
@@ -84,16 +85,18 @@ impl TemporalGpu {
             mapped_at_creation: false,
         });
         let bind = |label, layout, resources| bind_in_order(device, label, layout, resources);
+        let (out_layout, in_layout) = (layouts.get(&TEMPORAL_OUT), layouts.get(&TEMPORAL_IN));
+        let texture_layout = layouts.get(&TEXTURE_IN);
         use wgpu::BindingResource::TextureView as Tex;
         let march_bind = bind(
             "temporal: march outputs",
-            &layouts.temporal_out,
+            &out_layout,
             vec![Tex(&fresh), Tex(&depth), uniform.as_entire_binding()],
         );
         let resolve_bind = [0, 1].map(|p| {
             bind(
                 "temporal: resolve",
-                &layouts.temporal_in,
+                &in_layout,
                 vec![
                     Tex(&fresh),
                     Tex(&depth),
@@ -108,7 +111,7 @@ impl TemporalGpu {
         let composite_bind = [0, 1].map(|p| {
             bind(
                 "composite: temporal clouds",
-                &layouts.texture_in,
+                &texture_layout,
                 vec![Tex(&color[1 - p])],
             )
         });

@@ -3,9 +3,9 @@
 
 use std::time::Instant;
 
+use super::passes::Pass;
 use crate::gpu::GpuContext;
 use crate::gpu::pipelines::Pipeline;
-use crate::gpu::shaders::Pass;
 use crate::gpu::timing::{FrameTimings, TimingMode};
 use crate::gpu::uniform::{CameraPos, FrameNoise, FrameUniform};
 use crate::render::FrameInput;
@@ -264,6 +264,9 @@ impl Renderer {
                 });
                 cp.set_pipeline(p);
                 cp.set_bind_group(0, &self.bind_common, &[]);
+                if let Some(g) = self.slot_group() {
+                    cp.set_bind_group(crate::gpu::pass::SLOT_GROUP, g, &[]);
+                }
                 let full = (self.width.div_ceil(8), self.height.div_ceil(8));
                 let (x, y) = match (pass, self.temporal.as_ref()) {
                     (Pass::Temporal, Some(t)) => {
@@ -342,6 +345,11 @@ impl Renderer {
             rp.set_pipeline(p);
         }
         rp.set_bind_group(0, &self.bind_common, &[]);
+        if self.spec_slotted(pass)
+            && let Some(g) = self.slot_group()
+        {
+            rp.set_bind_group(crate::gpu::pass::SLOT_GROUP, g, &[]);
+        }
         match pass {
             Pass::Terrain => {
                 let t = self.terrain.as_ref().expect("terrain mesh exists");
@@ -363,15 +371,8 @@ impl Renderer {
                 self.shadow_fresh = true;
                 // The march of the ray-marched clouds' parcels, or of the
                 // slices' implicit field (group 2, see slices/shadow_field.wgsl).
-                match (pipeline.is_some(), slices) {
-                    (true, false) => rp.draw(0..3, 0..1),
-                    (true, true) => {
-                        if let Some(bind) = &self.slices.bind {
-                            rp.set_bind_group(2, bind, &[]);
-                            rp.draw(0..3, 0..1);
-                        }
-                    }
-                    (false, _) => {}
+                if pipeline.is_some() && (!slices || self.slices.bind.is_some()) {
+                    rp.draw(0..3, 0..1);
                 }
                 if self.features.sprites {
                     let key = self.sprite_shadow_key();
@@ -407,6 +408,11 @@ impl Renderer {
         }
     }
 
+    /// Whether `pass`'s pipeline takes the method's slot group.
+    fn spec_slotted(&self, pass: Pass) -> bool {
+        !matches!(pass, Pass::Bake | Pass::SliceField) && self.spec(pass).slotted
+    }
+
     /// A render pipeline `ensure` built.
     fn render_pipeline(
         &self,
@@ -430,7 +436,7 @@ impl Renderer {
 }
 
 /// The sky-view table as the frame uniform lays it out (`sky_view` in
-/// src/render/pack.rs).
+/// src/methods/raymarch/pack.rs).
 fn sky_view(sky: &crate::sky::SkyLight) -> [[f32; 4]; 3 * crate::sky::SKY_TEXELS] {
     let mut out = [[0.0; 4]; 3 * crate::sky::SKY_TEXELS];
     for (k, texel) in out.chunks_exact_mut(3).enumerate() {
@@ -442,7 +448,7 @@ fn sky_view(sky: &crate::sky::SkyLight) -> [[f32; 4]; 3 * crate::sky::SKY_TEXELS
 }
 
 /// The air table as the frame uniform lays it out (`air` in
-/// src/render/pack.rs).
+/// src/methods/raymarch/pack.rs).
 fn air_table(air: &crate::sky::AirTable) -> [[f32; 4]; 4 * crate::sky::AIR_HEIGHTS] {
     let mut out = [[0.0; 4]; 4 * crate::sky::AIR_HEIGHTS];
     for (node, parts) in out.chunks_exact_mut(4).zip(&air.nodes) {

@@ -3,6 +3,7 @@
 //! pipelines (built ahead for the frame with and without clouds, and in the
 //! background for the settings one click away).
 
+use super::passes::Pass;
 use super::*;
 
 impl Renderer {
@@ -80,7 +81,7 @@ impl Renderer {
                 .unwrap_or(&self.white_view);
             self.bind_terrain = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("terrain: shadow map"),
-                layout: &self.layouts.shadow_tex,
+                layout: &self.layouts.get(&crate::gpu::layouts::SHADOW_TEX),
                 entries: &[wgpu::BindGroupEntry {
                     binding: 0,
                     resource: wgpu::BindingResource::TextureView(view),
@@ -91,7 +92,7 @@ impl Renderer {
             let view = self.depth_view.as_ref().unwrap_or(&self.dummy_depth_view);
             self.bind_clouds = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("clouds: depth"),
-                layout: &self.layouts.depth,
+                layout: &self.layouts.get(&crate::gpu::layouts::DEPTH),
                 entries: &[wgpu::BindGroupEntry {
                     binding: 0,
                     resource: wgpu::BindingResource::TextureView(view),
@@ -132,7 +133,12 @@ impl Renderer {
             ));
         }
         if current.sprites && self.sprites.is_none() {
-            self.sprites = Some(SpritesGpu::new(ctx, &self.layouts.sprites));
+            self.sprites = Some(SpritesGpu::new(
+                ctx,
+                &self
+                    .layouts
+                    .get(&crate::methods::sprites::gpu::passes::SPRITES_GROUP),
+            ));
         }
         self.ensure_ring(ctx)
     }

@@ -34,9 +34,9 @@ use crate::config::method::{MarchPath, RenderMethod};
 use crate::config::{RenderConfig, TerrainConfig};
 use crate::error::{Error, Result};
 use crate::gpu::GpuContext;
+use crate::gpu::layouts::Layouts;
 use crate::gpu::noise;
-use crate::gpu::pipelines::{PassLayouts, PipelineCache, PipelineKey};
-use crate::gpu::shaders::Pass;
+use crate::gpu::pipelines::{PipelineCache, PipelineKey};
 use crate::gpu::timing::Timestamps;
 use crate::gpu::uniform::{FrameUniform, GridInfo};
 use crate::landscape::terrain;
@@ -53,6 +53,7 @@ use crate::render::{Features, FrameInput};
 mod draw;
 mod ensure;
 mod passes;
+pub use passes::{Pass, modules, shader_files, slots};
 mod prepare;
 mod resources;
 mod ring;
@@ -60,7 +61,7 @@ mod ring;
 use crate::gpu::resources::check_size;
 pub(crate) use crate::gpu::resources::texture_2d;
 use crate::methods::raymarch::temporal;
-use resources::{CloudTarget, SceneTarget, make_bind_common};
+use resources::{CloudTarget, SceneTarget, make_bind_common, make_bind_field};
 
 pub use crate::gpu::pipelines::{DEPTH_FORMAT, SCENE_FORMAT, SHADOW_FORMAT};
 pub(crate) use crate::gpu::timing::read_buffer;
@@ -88,13 +89,15 @@ pub struct Renderer {
     frame_buf: wgpu::Buffer,
     exact: ExactField,
     baked: BakedField,
-    /// `baked.generation` that `bind_common` holds.
+    /// `baked.generation` that `bind_field` holds.
     bound_generation: u64,
+    /// Group 3 under `baked`: its field, occupancy and light volume.
+    bind_field: wgpu::BindGroup,
     noise_texels: u32,
     noise_view: wgpu::TextureView,
     repeat_sampler: wgpu::Sampler,
     clamp_sampler: wgpu::Sampler,
-    layouts: PassLayouts,
+    layouts: Layouts,
     bind_common: wgpu::BindGroup,
 
     depth_view: Option<wgpu::TextureView>,
@@ -168,7 +171,7 @@ impl Renderer {
         ] {
             if size as u64 > limits.max_uniform_buffer_binding_size {
                 return Err(Error::Gpu(format!(
-                    "the {name} needs {size} bytes but this device binds at most {} bytes of uniforms; lower MAX_PARCELS/MAX_GRID_* in src/render/pack.rs",
+                    "the {name} needs {size} bytes but this device binds at most {} bytes of uniforms; lower MAX_PARCELS/MAX_GRID_* in src/methods/raymarch/pack.rs",
                     limits.max_uniform_buffer_binding_size
                 )));
             }
@@ -191,7 +194,8 @@ impl Renderer {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let exact = ExactField::new(device);
+        let layouts = Layouts::new(device);
+        let exact = ExactField::new(device, &layouts);
         let mut bake_pipelines = 0;
         let baked = BakedField::new(ctx, &frame_buf, &mut bake_pipelines)?;
 
@@ -205,7 +209,6 @@ impl Renderer {
         let noise_view =
             noise::texture(&NoiseVolume::new(cfg.noise_texels), &ctx.device, &ctx.queue);
 
-        let layouts = PassLayouts::new(device);
         let slices = SlicesGpu::new(device);
 
         let dummy_depth_view = texture_2d(
@@ -257,12 +260,11 @@ impl Renderer {
             device,
             &layouts,
             &frame_buf,
-            &exact,
-            &baked,
             &noise_view,
             &repeat_sampler,
             &clamp_sampler,
         );
+        let bind_field = make_bind_field(device, &layouts, &baked);
         let mut r = Self {
             cfg: cfg.clone(),
             format: target_format,
@@ -277,6 +279,7 @@ impl Renderer {
             upload_ms: 0.0,
             frame_buf,
             bound_generation: baked.generation,
+            bind_field,
             exact,
             baked,
             noise_texels: cfg.noise_texels,
@@ -434,7 +437,14 @@ impl Renderer {
             self.noise_view =
                 noise::texture(&NoiseVolume::new(cfg.noise_texels), &ctx.device, &ctx.queue);
             self.noise_texels = cfg.noise_texels;
-            self.rebind_common(ctx);
+            self.bind_common = make_bind_common(
+                &ctx.device,
+                &self.layouts,
+                &self.frame_buf,
+                &self.noise_view,
+                &self.repeat_sampler,
+                &self.clamp_sampler,
+            );
         }
         self.cfg = cfg.clone();
         self.shadow_fresh = false;

@@ -3,6 +3,133 @@
 //! keys of each pass, and the march path (fragment, compute, temporal).
 
 use super::*;
+use crate::gpu::pass::{PassSpec, Slots};
+use crate::gpu::passes::{COMPOSITE, SHADOW, SKY, TERRAIN, TONEMAP};
+use crate::methods::raymarch::passes as raymarch;
+use crate::methods::slices::gpu::passes as slices;
+use crate::methods::sprites::gpu::passes as sprites;
+
+/// The passes of a frame, in the order they run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Pass {
+    /// Compute bake of the macro field (`baked` method only).
+    Bake,
+    /// Compute pass of the slice vertices' field and shadow (`slices`
+    /// method with `vertex_field = "gpu"` only).
+    SliceField,
+    Shadow,
+    Sky,
+    Terrain,
+    Clouds,
+    /// Sprite clouds (the `sprites` method's parcels, and a scene's
+    /// `[[sprite_clouds]]`/`[[layers]]` under any method). With ray-marched
+    /// clouds in the frame, the march (compute) runs first and this pass
+    /// draws the sprite fragments behind its cloud depth; the composite
+    /// then blends the clouds and draws the fragments in front.
+    Sprites,
+    /// Temporal resolve of the quarter-rate march (`[render] temporal`,
+    /// compute): reprojects and accumulates into the full-size cloud image.
+    Temporal,
+    /// Slicing planes into the float cloud target (`slices` method only).
+    Slices,
+    /// Blends the compute march's (or the slices') texture over the target.
+    Composite,
+    /// The HDR scene target, tone-mapped once into the output.
+    Tonemap,
+}
+
+impl Pass {
+    /// All passes in execution order.
+    pub const ALL: [Pass; 11] = [
+        Pass::Bake,
+        Pass::SliceField,
+        Pass::Shadow,
+        Pass::Sky,
+        Pass::Terrain,
+        Pass::Clouds,
+        Pass::Sprites,
+        Pass::Temporal,
+        Pass::Slices,
+        Pass::Composite,
+        Pass::Tonemap,
+    ];
+
+    /// Name used in timings and `Renderer::pass_names`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Pass::Bake => "bake",
+            Pass::SliceField => "slice_field",
+            Pass::Shadow => "shadow",
+            Pass::Sky => "sky",
+            Pass::Terrain => "terrain",
+            Pass::Sprites => "sprites",
+            Pass::Clouds => "clouds",
+            Pass::Temporal => "temporal",
+            Pass::Slices => "slices",
+            Pass::Composite => "composite",
+            Pass::Tonemap => "tonemap",
+        }
+    }
+}
+
+/// The files `method` binds to the shared shaders' slots.
+pub fn slots(method: RenderMethod) -> &'static Slots {
+    match method {
+        RenderMethod::Exact => &raymarch::EXACT,
+        RenderMethod::Baked => &raymarch::BAKED,
+        RenderMethod::Sprites => &sprites::SLOTS,
+        RenderMethod::Slices => &slices::SLOTS,
+    }
+}
+
+/// Every module a pipeline of any method is built from: (pass, slots),
+/// each once (the shader tests assemble and validate them all).
+pub fn modules() -> Vec<(&'static PassSpec, &'static Slots)> {
+    let mut out: Vec<(&'static PassSpec, &'static Slots)> = Vec::new();
+    let mut add = |p: &'static PassSpec, s: &'static Slots| {
+        let s = p.slots_for(s);
+        if !out
+            .iter()
+            .any(|(q, t)| q.name == p.name && t.name == s.name)
+        {
+            out.push((p, s));
+        }
+    };
+    for m in RenderMethod::ALL {
+        let s = slots(m);
+        for p in [&SKY, &TERRAIN, &COMPOSITE, &TONEMAP] {
+            add(p, s);
+        }
+        for p in sprites::ALL {
+            add(p, s);
+        }
+        if m != RenderMethod::Sprites {
+            add(&SHADOW, s);
+        }
+        if m.ray_marches() {
+            for p in raymarch::ALL {
+                add(p, s);
+            }
+        }
+        if m == RenderMethod::Slices {
+            for p in slices::ALL {
+                add(p, s);
+            }
+        }
+    }
+    out
+}
+
+/// Every shader file of `shaders/`: the shared ones and each method's.
+pub fn shader_files() -> Vec<(&'static str, &'static str)> {
+    crate::gpu::shaders::FILES
+        .iter()
+        .chain(raymarch::FILES)
+        .chain(sprites::FILES)
+        .chain(slices::FILES)
+        .copied()
+        .collect()
+}
 
 impl Renderer {
     /// Features of a frame with or without parcels and sprites: the
@@ -50,25 +177,23 @@ impl Renderer {
     pub(super) fn sprites_front_key(&self) -> PipelineKey {
         let b = |v: bool| if v { 1.0 } else { 0.0 };
         PipelineKey::new(
-            Pass::Sprites,
-            self.cfg.method,
+            &sprites::SPRITES,
+            self.slots(),
             &[
                 ("HAS_TERRAIN", b(self.features.terrain)),
                 ("CLOUD_DEPTH", 2.0),
             ],
             SCENE_FORMAT,
-            false,
         )
     }
 
     /// The sprite pipeline splatting their shadows into the shadow map.
     pub(super) fn sprite_shadow_key(&self) -> PipelineKey {
         PipelineKey::new(
-            Pass::Sprites,
-            self.cfg.method,
+            &sprites::SPRITES_SHADOW,
+            self.slots(),
             &[("HAS_TERRAIN", 0.0), ("SHADOW_SPLAT", 1.0)],
             crate::gpu::pipelines::SHADOW_FORMAT,
-            false,
         )
     }
 
@@ -105,7 +230,10 @@ impl Renderer {
             ("AERIAL_PERSPECTIVE", b(self.cfg.aerial_perspective)),
             ("GRID_CULLING", b(self.cfg.grid_culling)),
         ] {
-            if pass.declares(self.cfg.method, name) {
+            if self
+                .spec(pass)
+                .declares(self.spec(pass).slots_for(self.slots()), name)
+            {
                 c.push((name, v));
             }
         }
@@ -160,25 +288,39 @@ impl Renderer {
         }
     }
 
+    /// The method's slots.
+    pub(super) fn slots(&self) -> &'static Slots {
+        slots(self.cfg.method)
+    }
+
+    /// The pass spec `pass` is drawn with this frame (the cloud pass's:
+    /// fragment, compute or temporal).
+    pub(super) fn spec(&self, pass: Pass) -> &'static PassSpec {
+        match pass {
+            Pass::Sky => &SKY,
+            Pass::Terrain => &TERRAIN,
+            Pass::Shadow => &SHADOW,
+            Pass::Composite => &COMPOSITE,
+            Pass::Tonemap => &TONEMAP,
+            Pass::Sprites => &sprites::SPRITES,
+            Pass::Slices => &slices::SLICES,
+            Pass::Temporal => &raymarch::TEMPORAL,
+            Pass::Clouds if self.features.temporal => &raymarch::CLOUDS_TEMPORAL,
+            Pass::Clouds if self.compute_path() => &raymarch::CLOUDS_COMPUTE,
+            Pass::Clouds => &raymarch::CLOUDS,
+            Pass::Bake | Pass::SliceField => {
+                unreachable!("{} makes its own pipelines", pass.name())
+            }
+        }
+    }
+
     pub(super) fn key(&self, pass: Pass) -> PipelineKey {
-        let compute = (pass == Pass::Clouds && self.compute_path()) || pass == Pass::Temporal;
         let format = if pass == Pass::Tonemap {
             self.format
         } else {
             SCENE_FORMAT
         };
-        let key = PipelineKey::new(
-            pass,
-            self.cfg.method,
-            &self.constants(pass),
-            format,
-            compute,
-        );
-        if pass == Pass::Clouds && self.features.temporal {
-            key.temporal()
-        } else {
-            key
-        }
+        PipelineKey::new(self.spec(pass), self.slots(), &self.constants(pass), format)
     }
 
     /// Both cloud-pass pipelines when `auto` is still measuring (it
@@ -190,15 +332,13 @@ impl Renderer {
             && !self.features.temporal
         {
             let mut other = keys[0].clone();
-            other.compute = !other.compute;
+            other.pass = if self.compute_path() {
+                &raymarch::CLOUDS
+            } else {
+                &raymarch::CLOUDS_COMPUTE
+            };
             keys.push(other);
-            keys.push(PipelineKey::new(
-                Pass::Composite,
-                self.cfg.method,
-                &self.constants(Pass::Composite),
-                SCENE_FORMAT,
-                false,
-            ));
+            keys.push(self.key(Pass::Composite));
         }
         keys
     }

@@ -3,6 +3,7 @@
 //! and pipelines it needs, the frame uniform and the temporal history.
 
 use super::*;
+use crate::methods::sprites::gpu::passes::SPRITES_GROUP;
 
 impl Renderer {
     /// Packs and uploads a frame's data (the exact method fails, without
@@ -60,7 +61,7 @@ impl Renderer {
             self.baked.invalidate();
         }
         if self.baked.generation != self.bound_generation {
-            self.rebind_common(ctx);
+            self.rebind_field(ctx);
         }
         self.grid_info = info;
         let sprite_method = self.cfg.method == RenderMethod::Sprites;
@@ -104,7 +105,7 @@ impl Renderer {
             self.ensure(ctx)?;
         }
         if let Some(gpu) = self.sprites.as_mut() {
-            gpu.upload(ctx, &self.layouts.sprites, &instances)?;
+            gpu.upload(ctx, &self.layouts.get(&SPRITES_GROUP), &instances)?;
         }
         self.sprite_box = sprite_box(&instances);
         let frame = self.frame_uniform(input);

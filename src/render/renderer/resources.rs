@@ -1,36 +1,51 @@
 //! GPU resources the renderer creates: plain textures, the shared bind group (group 0) and the compute march's target.
 
+use crate::config::RenderMethod;
 use crate::gpu::GpuContext;
-use crate::gpu::pipelines::{CLOUD_DEPTH_FORMAT, CLOUD_TARGET_FORMAT, PassLayouts, SCENE_FORMAT};
+use crate::gpu::layouts::{
+    CLOUD_DEPTH_FORMAT, CLOUD_TARGET_FORMAT, COMMON, Layouts, SCENE_FORMAT, TEXTURE_IN,
+};
 use crate::gpu::resources::{bind_in_order, texture_2d};
 use crate::methods::raymarch::baked::BakedField;
-use crate::methods::raymarch::exact::ExactField;
+use crate::methods::raymarch::passes::{BAKED_FIELD, CLOUD_OUT};
+use crate::methods::sprites::gpu::passes::SPRITE_DEPTH;
 
 use super::Renderer;
 
-#[allow(clippy::too_many_arguments)]
+/// Group 0 of every pass: the frame uniform, the noise and the samplers.
 pub(super) fn make_bind_common(
     device: &wgpu::Device,
-    layouts: &PassLayouts,
+    layouts: &Layouts,
     frame: &wgpu::Buffer,
-    exact: &ExactField,
-    baked: &BakedField,
     noise: &wgpu::TextureView,
     repeat: &wgpu::Sampler,
     clamp: &wgpu::Sampler,
 ) -> wgpu::BindGroup {
+    let entry = |binding, resource| wgpu::BindGroupEntry { binding, resource };
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("common"),
+        layout: &layouts.get(&COMMON),
+        entries: &[
+            entry(0, frame.as_entire_binding()),
+            entry(3, wgpu::BindingResource::TextureView(noise)),
+            entry(4, wgpu::BindingResource::Sampler(repeat)),
+            entry(5, wgpu::BindingResource::Sampler(clamp)),
+        ],
+    })
+}
+
+/// Group 3 under `baked`: the field it last baked.
+pub(super) fn make_bind_field(
+    device: &wgpu::Device,
+    layouts: &Layouts,
+    baked: &BakedField,
+) -> wgpu::BindGroup {
     let (field, light, occupancy) = baked.field();
     bind_in_order(
         device,
-        "common",
-        &layouts.common,
+        "baked: field, occupancy, light",
+        &layouts.get(&BAKED_FIELD),
         vec![
-            frame.as_entire_binding(),
-            exact.parcels_buf.as_entire_binding(),
-            exact.grid_buf.as_entire_binding(),
-            wgpu::BindingResource::TextureView(noise),
-            wgpu::BindingResource::Sampler(repeat),
-            wgpu::BindingResource::Sampler(clamp),
             wgpu::BindingResource::TextureView(field),
             occupancy.as_entire_binding(),
             wgpu::BindingResource::TextureView(light),
@@ -39,18 +54,21 @@ pub(super) fn make_bind_common(
 }
 
 impl Renderer {
-    pub(super) fn rebind_common(&mut self, ctx: &GpuContext) {
-        self.bind_common = make_bind_common(
-            &ctx.device,
-            &self.layouts,
-            &self.frame_buf,
-            &self.exact,
-            &self.baked,
-            &self.noise_view,
-            &self.repeat_sampler,
-            &self.clamp_sampler,
-        );
+    /// Rebinds the baked field after a bake made new volumes.
+    pub(super) fn rebind_field(&mut self, ctx: &GpuContext) {
+        self.bind_field = make_bind_field(&ctx.device, &self.layouts, &self.baked);
         self.bound_generation = self.baked.generation;
+    }
+
+    /// Group 3 of the slotted passes under the current method (None: the
+    /// method's slot files bind nothing).
+    pub(super) fn slot_group(&self) -> Option<&wgpu::BindGroup> {
+        match self.cfg.method {
+            RenderMethod::Exact => Some(&self.exact.bind),
+            RenderMethod::Baked => Some(&self.bind_field),
+            RenderMethod::Slices => self.slices.bind.as_ref(),
+            RenderMethod::Sprites => None,
+        }
     }
 
     /// The compute march's target: its colour view, the march's output
@@ -94,12 +112,9 @@ impl Renderer {
                 entries: &entries,
             })
         };
-        let out = bind(
-            "clouds: compute output",
-            &self.layouts.cloud_out,
-            &[&view, &depth],
-        );
-        let input = bind("composite: clouds", &self.layouts.texture_in, &[&view]);
+        let (out_layout, in_layout) = (self.layouts.get(&CLOUD_OUT), self.layouts.get(&TEXTURE_IN));
+        let out = bind("clouds: compute output", &out_layout, &[&view, &depth]);
+        let input = bind("composite: clouds", &in_layout, &[&view]);
         (view, out, input, depth)
     }
 
@@ -114,7 +129,7 @@ impl Renderer {
             .unwrap_or(&self.dummy_cloud_depth_view);
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("sprites: depths"),
-            layout: &self.layouts.sprite_depth,
+            layout: &self.layouts.get(&SPRITE_DEPTH),
             entries: &[
                 wgpu::BindGroupEntry {
                     binding: 0,
@@ -154,7 +169,7 @@ impl Renderer {
         let view = texture.create_view(&Default::default());
         let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("tonemap: HDR scene"),
-            layout: &self.layouts.texture_in,
+            layout: &self.layouts.get(&TEXTURE_IN),
             entries: &[wgpu::BindGroupEntry {
                 binding: 0,
                 resource: wgpu::BindingResource::TextureView(&view),

@@ -8,9 +8,9 @@
 use crate::error::Result;
 use crate::gpu::GpuContext;
 use crate::gpu::pipelines::{Pipeline, PipelineKey};
-use crate::gpu::shaders::Pass;
 use crate::gpu::uniform::FrameUniform;
 use crate::methods::sprites::gpu::RingGpu;
+use crate::methods::sprites::gpu::passes::{SPRITES, SPRITES_GROUP};
 use crate::methods::sprites::gpu::ring::face_camera;
 use crate::methods::sprites::model::impostor::SECTORS;
 use crate::render::FrameInput;
@@ -26,11 +26,10 @@ impl Renderer {
         // Faces hold linear, premultiplied radiance like the scene target
         // the quads are drawn into; the frame's one tone map comes after.
         PipelineKey::new(
-            Pass::Sprites,
-            self.cfg.method,
+            &SPRITES,
+            self.slots(),
             &[("HAS_TERRAIN", b(terrain)), ("IMPOSTOR_QUAD", b(quad))],
             SCENE_FORMAT,
-            false,
         )
     }
 
@@ -51,7 +50,7 @@ impl Renderer {
                 if self.ring.as_ref().map(|g| g.model.config.radius_m) != Some(r) {
                     self.ring = Some(RingGpu::new(
                         ctx,
-                        &self.layouts.sprites,
+                        &self.layouts.get(&SPRITES_GROUP),
                         SCENE_FORMAT,
                         r,
                         std::mem::size_of::<FrameUniform>() as u64,
@@ -124,7 +123,8 @@ impl Renderer {
         let instances = self
             .sprite_scene
             .face_instances(cam, r, k, input.sun.direction);
-        ring.face.upload(ctx, &self.layouts.sprites, &instances)?;
+        ring.face
+            .upload(ctx, &self.layouts.get(&SPRITES_GROUP), &instances)?;
         let c = face_camera(cam, k, input.camera.far_m).clip_from_world(1.0);
         let mut face = *frame;
         face.clip_from_world = c.to_cols_array_2d();
@@ -136,8 +136,6 @@ impl Renderer {
             &ctx.device,
             &self.layouts,
             &ring.face_frame_buf,
-            &self.exact,
-            &self.baked,
             &self.noise_view,
             &self.repeat_sampler,
             &self.clamp_sampler,

@@ -1,5 +1,5 @@
 //! Schpok 2003's authored clouds on the CPU: the model, mouse editing and
-//! the slicing geometry (the GPU side is `render::slices`).
+//! the slicing geometry (the GPU side is `methods::slices::gpu`).
 
 mod model;
 mod pick;

@@ -1,4 +1,4 @@
-//! The CPU side of the Schpok 2003 authored clouds (src/authored): Wyvill
+//! The CPU side of the Schpok 2003 authored clouds (src/methods/slices/model): Wyvill
 //! blending, ellipsoid fields, keyframes and particle dynamics, media
 //! filters, the qualitative controls, noise-octave transforms and the
 //! authored scene profile. The slicing geometry is in authored::slicing.

@@ -1,4 +1,4 @@
-//! Mouse editing of the ellipsoids (src/authored/pick.rs and the window's
+//! Mouse editing of the ellipsoids (src/methods/slices/model/pick.rs and the window's
 //! src/app/ellipsoid_mouse.rs), headless: ray–ellipsoid picking, dragging
 //! in the plane facing the camera, resizing, outlines and the cursor ray.
 

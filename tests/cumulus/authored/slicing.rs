@@ -1,4 +1,4 @@
-//! The slicing geometry of Schpok 2003 §4.1 on the CPU (src/authored/
+//! The slicing geometry of Schpok 2003 §4.1 on the CPU (src/methods/slices/model/
 //! slicing.rs): the orientation rule, back-to-front order, the field at
 //! the vertices and the shadow of eq. 2 along the light.
 

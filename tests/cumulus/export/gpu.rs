@@ -1,4 +1,4 @@
-//! The CPU density the exporter writes (src/render/field.rs) against the GPU:
+//! The CPU density the exporter writes (src/methods/raymarch/field.rs) against the GPU:
 //! a small frame rendered by the real cloud pass, and the same pixels'
 //! view rays integrated through `CloudField::density` on the CPU, must agree
 //! on which pixels hold cloud. Needs an adapter: without one the test fails

@@ -1,7 +1,7 @@
 //! The GPU noise (`noise3` in shaders/common.wgsl, one fetch of the RGBA
 //! octave texture plus a second for octaves 5–6, mip level from the view
 //! cone) against its CPU twin (`NoiseVolume::noise3_lod`, which the export
-//! and src/render/field.rs use): the real common.wgsl, the real texture and
+//! and src/methods/raymarch/field.rs use): the real common.wgsl, the real texture and
 //! sampler, evaluated by a compute shader at points near and far from the
 //! eye. Needs an adapter: without one the test fails (see `common::gpu` for
 //! the opt-in skip).
@@ -36,7 +36,7 @@ fn gpu_noise(
     noise: [f32; 4],
 ) -> Vec<f32> {
     let device = &ctx.device;
-    let src = format!("{}{}{}", shaders::prelude(), shaders::COMMON_WGSL, ENTRY);
+    let src = format!("{}{}{}", shaders::prelude(), shaders::FILES[0].1, ENTRY);
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("noise3 test"),
         source: wgpu::ShaderSource::Wgsl(src.into()),

@@ -11,7 +11,6 @@ use crate::common;
 use std::path::{Path, PathBuf};
 
 use cumulus::config::{Camera, RenderConfig, RenderMethod};
-use cumulus::gpu::shaders::Pass;
 use cumulus::methods::standin;
 use cumulus::render::headless::Headless;
 use cumulus::render::{FrameInput, GpuContext};
@@ -131,7 +130,12 @@ fn the_field_index_gives_the_field() {
 #[test]
 fn wgsl_media_filter_ids_match_the_rust_filters() {
     use cumulus::methods::slices::model::MediaFilter;
-    let src = cumulus::gpu::shaders::IMPLICIT_WGSL;
+    let files = cumulus::methods::slices::gpu::passes::FILES;
+    let src = files
+        .iter()
+        .find(|(p, _)| *p == "slices/implicit.wgsl")
+        .unwrap()
+        .1;
     // The shader's switch names each non-default filter by its id; the
     // default branch is cumulus and stratus (the same formula).
     for (f, comment) in [
@@ -152,14 +156,21 @@ fn wgsl_media_filter_ids_match_the_rust_filters() {
 
 #[test]
 fn only_the_slices_method_builds_the_slices_pass() {
+    // No ray-march module under slices (nor under sprites); the shadow
+    // map of the slices comes from their own implicit field, the
+    // ray-marching methods march their parcels into it.
+    let modules = cumulus::render::renderer::modules();
+    let built = |pass: &str, m: RenderMethod| {
+        let s = cumulus::render::renderer::slots(m);
+        modules
+            .iter()
+            .any(|(p, t)| p.name == pass && t.name == p.slots_for(s).name)
+    };
     for m in RenderMethod::ALL {
-        assert_eq!(Pass::Slices.used_by(m), m == RenderMethod::Slices, "{m}");
-        // No ray-march under slices (nor under sprites); the shadow map of
-        // the slices comes from their own implicit field, the ray-marching
-        // methods march their parcels into it.
-        assert_eq!(Pass::Clouds.used_by(m), m.ray_marches(), "{m}");
+        assert_eq!(built("slices", m), m == RenderMethod::Slices, "{m}");
+        assert_eq!(built("clouds", m), m.ray_marches(), "{m}");
         assert_eq!(
-            Pass::Shadow.used_by(m),
+            built("shadow", m),
             m.ray_marches() || m == RenderMethod::Slices,
             "{m}"
         );

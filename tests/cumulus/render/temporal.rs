@@ -9,7 +9,7 @@
 //!   frames (rays start at the near plane; clouds end at the terrain), and
 //!   with temporal on, no ghost of the cloud once the camera has left it.
 //!
-//! The scene is the deterministic stand-in field (src/render/standin.rs)
+//! The scene is the deterministic stand-in field (src/methods/standin.rs)
 //! with the default render settings, baked method.
 
 use crate::common;

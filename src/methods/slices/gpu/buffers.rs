@@ -71,7 +71,7 @@ pub struct SlicesGpu {
     params: wgpu::Buffer,
     primitives: Option<wgpu::Buffer>,
     cells: Option<wgpu::Buffer>,
-    /// Group 2 of the slices passes (None until the first upload).
+    /// Group 3 of the slices passes (None until the first upload).
     pub bind: Option<wgpu::BindGroup>,
     vertices: Option<wgpu::Buffer>,
     indices: Option<wgpu::Buffer>,
@@ -90,7 +90,7 @@ pub struct SlicesGpu {
 
 impl SlicesGpu {
     pub fn new(device: &wgpu::Device) -> Self {
-        let uniform = |label, size| crate::gpu::pipelines::uniform_buffer(device, label, size);
+        let uniform = |label, size| crate::gpu::layouts::uniform_buffer(device, label, size);
         Self {
             octaves: uniform("slices: octaves", std::mem::size_of::<OctaveUniform>()),
             params: uniform(
@@ -118,7 +118,7 @@ impl SlicesGpu {
     pub fn upload(
         &mut self,
         ctx: &GpuContext,
-        layouts: &crate::gpu::pipelines::PassLayouts,
+        layouts: &crate::gpu::layouts::Layouts,
         frame: &SlicesFrame,
         mode: VertexField,
     ) -> Result<()> {
@@ -145,7 +145,7 @@ impl SlicesGpu {
             "slices: primitive index",
         );
         if rebind || self.bind.is_none() {
-            self.bind = Some(self.make_bind(&ctx.device, &layouts.slices));
+            self.bind = Some(self.make_bind(&ctx.device, &layouts.get(&super::passes::PRIMITIVES)));
         }
         self.field_pending = false;
         if g.indices.is_empty() {
@@ -180,7 +180,7 @@ impl SlicesGpu {
     pub fn make_field_pass(
         &mut self,
         ctx: &GpuContext,
-        layouts: &crate::gpu::pipelines::PassLayouts,
+        layouts: &crate::gpu::layouts::Layouts,
     ) -> Result<()> {
         if self.field.is_none() {
             self.field = Some(FieldPass::new(ctx, layouts)?);
@@ -261,7 +261,7 @@ impl SlicesGpu {
         if self.index_count == 0 {
             return;
         }
-        rp.set_bind_group(2, bind, &[]);
+        rp.set_bind_group(crate::gpu::pass::SLOT_GROUP, bind, &[]);
         rp.set_vertex_buffer(0, v.slice(..));
         rp.set_index_buffer(i.slice(..), wgpu::IndexFormat::Uint32);
         rp.draw_indexed(0..self.index_count, 0, 0..1);

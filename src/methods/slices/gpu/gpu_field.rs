@@ -9,12 +9,11 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::SlicesFrame;
-use crate::config::RenderMethod;
+use super::passes::{FIELD_JOB, PRIMITIVES, SLICE_FIELD, SLOTS};
 use crate::error::{Error, Result};
 use crate::gpu::GpuContext;
-use crate::gpu::pipelines::{PassLayouts, uniform_buffer, uniform_entry};
-use crate::gpu::shaders::Pass;
-use crate::methods::raymarch::baked::compute_storage_entry;
+use crate::gpu::layouts::{COMMON, Layouts, uniform_buffer};
+use crate::gpu::pass::SLOT_GROUP;
 use crate::methods::slices::model::slicing::ShadowRays;
 
 /// Threads per workgroup of both entry points (`@workgroup_size(64)`).
@@ -64,20 +63,22 @@ pub struct FieldPass {
 }
 
 impl FieldPass {
-    pub fn new(ctx: &GpuContext, layouts: &PassLayouts) -> Result<Self> {
+    pub fn new(ctx: &GpuContext, layouts: &Layouts) -> Result<Self> {
         let device = &ctx.device;
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("slice field: job and vertices"),
-            entries: &[uniform_entry(0), compute_storage_entry(1)],
-        });
+        let layout = layouts.get(&FIELD_JOB);
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("slice field"),
-            source: wgpu::ShaderSource::Wgsl(Pass::SliceField.source(RenderMethod::Slices).into()),
+            source: wgpu::ShaderSource::Wgsl(SLICE_FIELD.source(&SLOTS).into()),
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("slice field"),
-            bind_group_layouts: &[Some(&layouts.common), Some(&layout), Some(&layouts.slices)],
+            bind_group_layouts: &[
+                Some(&layouts.get(&COMMON)),
+                Some(&layout),
+                None,
+                Some(&layouts.get(&PRIMITIVES)),
+            ],
             immediate_size: 0,
         });
         let pipeline = |entry: &str| {
@@ -163,7 +164,7 @@ impl FieldPass {
         });
         cp.set_bind_group(0, common, &[]);
         cp.set_bind_group(1, bind, &[]);
-        cp.set_bind_group(2, slices, &[]);
+        cp.set_bind_group(SLOT_GROUP, slices, &[]);
         for (pipeline, threads) in [(&self.field, self.vertices), (&self.shadow, self.rays)] {
             if threads == 0 {
                 continue;

@@ -17,8 +17,10 @@
 pub mod buffers;
 pub mod field;
 pub mod gpu_field;
+pub mod passes;
 
 pub use buffers::SlicesGpu;
+pub use passes::VERTEX_ATTRIBUTES;
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
@@ -270,24 +272,3 @@ pub fn slices_frame(
         cfg: s.clone(),
     })
 }
-
-/// Group 2 of the slices passes: the octave transforms, the controls, the
-/// primitives and their grid index: the bindings of
-/// shaders/slices/implicit.wgsl (wgpu checks them against each pipeline's
-/// shader).
-pub fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    use crate::gpu::pipelines::{storage_entry, uniform_entry};
-    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("slices: octaves, controls, primitives"),
-        entries: &[
-            uniform_entry(0),
-            uniform_entry(1),
-            storage_entry(2),
-            storage_entry(3),
-        ],
-    })
-}
-
-/// Vertex layout of [`crate::methods::slices::model::SliceVertex`]: position, field, shadow.
-pub const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
-    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32, 2 => Float32];

@@ -90,7 +90,7 @@ impl EllipsoidState {
 
     /// The map from world offsets (p − centre) to the unit ball's
     /// coordinates: diag(1/radii) · rotationᵀ. The GPU's primitives carry
-    /// it (src/render/slices/buffers.rs), so both sides compute s² alike.
+    /// it (src/methods/slices/gpu/buffers.rs), so both sides compute s² alike.
     pub fn unit_from_world(&self) -> glam::Mat3 {
         Mat3::from_diagonal(self.radii_m.recip()) * self.rotation.transpose()
     }

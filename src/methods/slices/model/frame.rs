@@ -1,7 +1,7 @@
 //! One frame of an authored scene on the CPU alone (Table 1's CPU row):
 //! the ellipsoids at a time, their slicing geometry for the current light
 //! and view, and the noise-octave uniform, pivoting on the cloud's centre.
-//! The renderer builds its frames with `render::slices::slices_frame`,
+//! The renderer builds its frames with `methods::slices::gpu::slices_frame`,
 //! which adds the physics' parcels and the first noise octave in the
 //! shadow; this is the same frame for the ellipsoids alone, without the
 //! renderer's noise volume.

@@ -270,7 +270,7 @@ impl SliceGeometry {
     /// tessellated planes stay as static geometry and only the per-vertex
     /// values are refreshed. `octave_weight`, when given, multiplies each
     /// vertex's density in the shadow sum (the first noise octave, see
-    /// `render::slices::field::first_octave_weight`). Valid while the light
+    /// `methods::slices::gpu::field::first_octave_weight`). Valid while the light
     /// and view keep the same slicing (orientation and normal) and the
     /// states fit in the old bounds; otherwise rebuild with [`slice_grid`].
     pub fn evaluate(

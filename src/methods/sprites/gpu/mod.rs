@@ -168,3 +168,4 @@ pub fn cloud_labels(
         })
         .collect()
 }
+pub mod passes;

@@ -3,8 +3,10 @@
 //! (member names in order, offsets and size), and the constants both sides
 //! define.
 
-use crate::config::RenderMethod;
-use crate::gpu::shaders::Pass;
+use crate::gpu::pass::{PassSpec, Slots};
+use crate::methods::raymarch::passes::{self as raymarch, BAKED, EXACT};
+use crate::methods::slices::gpu::passes as slices;
+use crate::methods::sprites::gpu::passes as sprites;
 
 /// (size, [(member name, offset)]) of a Rust struct, its fields listed in
 /// order; with the size, the list must cover every field to match WGSL.
@@ -36,8 +38,8 @@ fn wgsl_layout(module: &naga::Module, name: &str) -> (usize, Vec<(String, usize)
     (layouter[handle].size as usize, members)
 }
 
-pub(crate) fn module(pass: Pass, method: RenderMethod) -> naga::Module {
-    let src = pass.source(method);
+pub(crate) fn module(pass: &PassSpec, slots: &Slots) -> naga::Module {
+    let src = pass.source(slots);
     naga::front::wgsl::parse_str(&src).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&src)))
 }
 
@@ -55,7 +57,7 @@ fn frame_parcels_and_grid_match_pack_rs() {
     use crate::gpu::uniform::{CameraPos, FrameNoise, FrameUniform};
     use crate::methods::raymarch::pack::{GpuParcel, GridUniform, ParcelsUniform};
     use bytemuck::Zeroable;
-    let m = module(Pass::Clouds, RenderMethod::Exact);
+    let m = module(&raymarch::CLOUDS, &EXACT);
     check(
         &m,
         "Frame",
@@ -132,16 +134,8 @@ fn temporal_uniform_matches() {
             size,
         })
     };
-    check(
-        &module(Pass::Clouds, RenderMethod::Baked),
-        "Temporal",
-        rust(),
-    );
-    check(
-        &module(Pass::Temporal, RenderMethod::Baked),
-        "Temporal",
-        rust(),
-    );
+    check(&module(&raymarch::CLOUDS, &BAKED), "Temporal", rust());
+    check(&module(&raymarch::TEMPORAL, &BAKED), "Temporal", rust());
 }
 
 #[test]
@@ -150,7 +144,7 @@ fn slices_structs_match() {
     use crate::methods::slices::gpu::buffers::GpuPrimitive;
     use crate::methods::slices::gpu::gpu_field::FieldJob;
     use crate::methods::slices::model::octaves::{OctaveUniform, TierUniform};
-    let m = module(Pass::Slices, RenderMethod::Slices);
+    let m = module(&slices::SLICES, &slices::SLOTS);
     check(
         &m,
         "SlicesTier",
@@ -178,7 +172,7 @@ fn slices_structs_match() {
     );
     check(&m, "Primitive", rust_layout!(GpuPrimitive { rows, centre }));
     check(
-        &module(Pass::SliceField, RenderMethod::Slices),
+        &module(&slices::SLICE_FIELD, &slices::SLOTS),
         "FieldJob",
         rust_layout!(FieldJob {
             counts,
@@ -192,7 +186,7 @@ fn slices_structs_match() {
 fn sprite_instance_matches() {
     use crate::methods::sprites::gpu::SpriteInstance;
     check(
-        &module(Pass::Sprites, RenderMethod::Sprites),
+        &module(&sprites::SPRITES, &sprites::SLOTS),
         "SpriteInstance",
         rust_layout!(SpriteInstance {
             corners,
@@ -220,11 +214,29 @@ pub(crate) fn wgsl_const(module: &naga::Module, name: &str) -> f64 {
 #[test]
 fn constants_shared_with_rust_match() {
     use crate::methods::raymarch::baked;
-    let bake = module(Pass::Bake, RenderMethod::Baked);
+    let bake = {
+        let src = crate::gpu::shaders::assemble_with("raymarch/bake.wgsl", &[], &BAKED)
+            .unwrap()
+            .source;
+        naga::front::wgsl::parse_str(&src).unwrap()
+    };
     assert_eq!(wgsl_const(&bake, "BAKE_BLOCK"), baked::BAKE_BLOCK as f64);
     assert_eq!(wgsl_const(&bake, "PLANE_SHELL"), baked::PLANE_SHELL as f64);
     assert_eq!(
         wgsl_const(&bake, "PLANE_SHELL"),
         crate::methods::raymarch::field::PLANE_SHELL as f64
+    );
+    // The array sizes of the parcel and grid uniforms.
+    use crate::methods::raymarch::pack::{MAX_GRID_CELLS, MAX_GRID_ENTRIES, MAX_PARCELS};
+    let exact = module(&raymarch::CLOUDS, &EXACT);
+    assert_eq!(wgsl_const(&exact, "MAX_PARCELS"), MAX_PARCELS as f64);
+    assert_eq!(wgsl_const(&bake, "MAX_PARCELS"), MAX_PARCELS as f64);
+    assert_eq!(
+        wgsl_const(&exact, "GRID_CELL_PAIRS"),
+        (MAX_GRID_CELLS / 2) as f64
+    );
+    assert_eq!(
+        wgsl_const(&exact, "GRID_ENTRY_QUADS"),
+        (MAX_GRID_ENTRIES / 4) as f64
     );
 }
