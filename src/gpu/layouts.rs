@@ -120,6 +120,21 @@ pub const fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
+/// A read-write storage buffer of the compute passes (the bake's
+/// accumulators, the slices' vertices).
+pub const fn compute_storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: false },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
 /// A filterable float 2D texture (binding `binding`).
 pub const fn float2d_entry(binding: u32, filterable: bool) -> wgpu::BindGroupLayoutEntry {
     texture_entry(

@@ -42,7 +42,7 @@ use glam::Vec3;
 
 use crate::error::{Error, Result};
 use crate::gpu::GpuContext;
-use crate::gpu::layouts::storage_texture_entry_of;
+use crate::gpu::layouts::{compute_storage_entry, storage_texture_entry_of};
 use crate::gpu::uniform::GridInfo;
 use crate::methods::raymarch::pack::{self, GpuParcel, MAX_PARCELS, ParcelsUniform};
 use crate::methods::raymarch::region::{Region, region};
@@ -138,21 +138,6 @@ pub struct BakedField {
     /// Bumped whenever the field texture or occupancy buffer is replaced
     /// (the renderer then rebinds them).
     pub generation: u64,
-}
-
-/// A compute shader's read-write storage buffer (also the slices' vertex
-/// field pass, src/methods/slices/gpu/gpu_field.rs).
-pub(crate) fn compute_storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: false },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
 }
 
 /// A 3D texture the bake writes and the march samples.

@@ -4,7 +4,9 @@
 //! (`ground_shadow`), with the layout of the primitives' group
 //! [`SLOT_GROUP`](crate::gpu::pass::SLOT_GROUP).
 
-use crate::gpu::layouts::{CLOUD_TARGET_FORMAT, COMMON, DEPTH, storage_entry, uniform_entry};
+use crate::gpu::layouts::{
+    CLOUD_TARGET_FORMAT, COMMON, DEPTH, compute_storage_entry, storage_entry, uniform_entry,
+};
 use crate::gpu::pass::{LayoutSpec, PassKind, PassSpec, Slots, VertexLayout};
 
 /// The slices' files under `shaders/slices/`.
@@ -30,19 +32,7 @@ pub static PRIMITIVES: LayoutSpec = LayoutSpec {
 /// Group 1 of the vertex-field pass: its job and the vertices it writes.
 pub static FIELD_JOB: LayoutSpec = LayoutSpec {
     label: "slice field: job and vertices",
-    entries: &[
-        uniform_entry(0),
-        wgpu::BindGroupLayoutEntry {
-            binding: 1,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Storage { read_only: false },
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        },
-    ],
+    entries: &[uniform_entry(0), compute_storage_entry(1)],
 };
 
 /// Vertex layout of [`crate::methods::slices::model::SliceVertex`]:
