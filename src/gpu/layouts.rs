@@ -185,6 +185,16 @@ pub static TEXTURE_IN: LayoutSpec = LayoutSpec {
     entries: &[float2d_entry(0, true)],
 };
 
+/// Group 2 of a compute pass writing the shared float cloud image: the
+/// image and its cloud depth.
+pub static CLOUD_OUT: LayoutSpec = LayoutSpec {
+    label: "clouds: compute output",
+    entries: &[
+        storage_texture_entry(0, CLOUD_TARGET_FORMAT),
+        storage_texture_entry(1, CLOUD_DEPTH_FORMAT),
+    ],
+};
+
 /// Every declared layout this device has needed, created once each (cheap
 /// to clone: the background builder holds a copy).
 #[derive(Clone)]

@@ -8,6 +8,7 @@
 mod context;
 pub mod frame;
 pub mod layouts;
+pub mod method;
 pub mod noise;
 pub mod pass;
 pub mod passes;

@@ -139,3 +139,34 @@ impl PassSpec {
         groups
     }
 }
+
+impl PassSpec {
+    /// The pipeline key of this pass under `slots`, with its own
+    /// `override` values `own` and the shared libraries' switches wherever
+    /// its module declares them (`AERIAL_PERSPECTIVE` of air.wgsl,
+    /// `GRID_CULLING` of raymarch/field_exact.wgsl), into `format`.
+    pub fn key(
+        &'static self,
+        slots: &'static Slots,
+        cfg: &crate::config::RenderConfig,
+        own: &[(&'static str, f64)],
+        format: wgpu::TextureFormat,
+    ) -> crate::gpu::pipelines::PipelineKey {
+        let mut c = own.to_vec();
+        let slots = self.slots_for(slots);
+        for (name, on) in [
+            ("AERIAL_PERSPECTIVE", cfg.aerial_perspective),
+            ("GRID_CULLING", cfg.grid_culling),
+        ] {
+            if self.declares(slots, name) {
+                c.push((name, if on { 1.0 } else { 0.0 }));
+            }
+        }
+        crate::gpu::pipelines::PipelineKey::new(self, slots, &c, format)
+    }
+}
+
+/// 1.0 for true, 0.0 for false: a boolean `override` value.
+pub fn flag(v: bool) -> f64 {
+    if v { 1.0 } else { 0.0 }
+}

@@ -191,3 +191,98 @@ pub(crate) fn read_buffer(ctx: &GpuContext, buffer: &wgpu::Buffer, size: u64) ->
     buffer.unmap();
     Ok(bytes)
 }
+
+/// Records a frame's passes, each timed: with GPU timestamps, into one
+/// command encoder (each pass given its pair of query indices, or none
+/// when this frame is not measured); with the CPU clock, each pass in an
+/// encoder of its own, submitted and waited for. A method encodes its
+/// passes through [`Recorder::pass`] and never sees which.
+pub struct Recorder<'a> {
+    ctx: &'a GpuContext,
+    /// The frame's encoder (GPU timing).
+    enc: Option<wgpu::CommandEncoder>,
+    /// The query set when this frame is measured.
+    queries: Option<&'a wgpu::QuerySet>,
+    /// Passes encoded, in order (GPU timing).
+    pub names: Vec<&'static str>,
+    /// CPU timing: each pass's wall-clock time. units: ms
+    pub cpu: Option<Vec<(String, f64)>>,
+}
+
+impl<'a> Recorder<'a> {
+    /// GPU timing into one encoder; `queries` when this frame is measured.
+    pub fn gpu(ctx: &'a GpuContext, queries: Option<&'a wgpu::QuerySet>) -> Self {
+        Self {
+            ctx,
+            enc: Some(ctx.device.create_command_encoder(&Default::default())),
+            queries,
+            names: Vec::new(),
+            cpu: None,
+        }
+    }
+
+    /// CPU timing: a queue wait after each pass.
+    pub fn cpu(ctx: &'a GpuContext) -> Self {
+        Self {
+            ctx,
+            enc: None,
+            queries: None,
+            names: Vec::new(),
+            cpu: Some(Vec::new()),
+        }
+    }
+
+    /// Encodes one pass named `name` (its timing name): `f` gets the
+    /// encoder and, when measured, (query set, index of the pass's begin
+    /// query; the end query follows).
+    pub fn pass<R>(
+        &mut self,
+        name: &'static str,
+        f: impl FnOnce(&mut wgpu::CommandEncoder, Option<(&wgpu::QuerySet, u32)>) -> R,
+    ) -> R {
+        match (&mut self.enc, &mut self.cpu) {
+            (Some(enc), _) => {
+                let i = 2 * self.names.len() as u32;
+                self.names.push(name);
+                f(enc, self.queries.map(|q| (q, i)))
+            }
+            (None, Some(times)) => {
+                let start = std::time::Instant::now();
+                let mut enc = self.ctx.device.create_command_encoder(&Default::default());
+                let r = f(&mut enc, None);
+                self.ctx.queue.submit([enc.finish()]);
+                self.ctx.wait_idle();
+                times.push((name.to_string(), start.elapsed().as_secs_f64() * 1e3));
+                r
+            }
+            (None, None) => unreachable!("a recorder times on the GPU or the CPU"),
+        }
+    }
+
+    /// The frame's encoder (GPU timing), to resolve the queries and submit.
+    pub fn finish(self) -> (Option<wgpu::CommandEncoder>, Vec<&'static str>) {
+        (self.enc, self.names)
+    }
+}
+
+/// A compute pass's timestamp writes at query `i` and `i + 1`.
+pub fn compute_writes(
+    ts: Option<(&wgpu::QuerySet, u32)>,
+) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+    ts.map(|(set, i)| wgpu::ComputePassTimestampWrites {
+        query_set: set,
+        beginning_of_pass_write_index: Some(i),
+        end_of_pass_write_index: Some(i + 1),
+    })
+}
+
+/// A render pass's timestamp writes at query `i` and `i + 1`.
+pub fn render_writes(
+    ts: Option<(&wgpu::QuerySet, u32)>,
+) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+    ts.map(|(set, i)| wgpu::RenderPassTimestampWrites {
+        query_set: set,
+        beginning_of_pass_write_index: Some(i),
+        end_of_pass_write_index: Some(i + 1),
+    })
+}

@@ -14,3 +14,23 @@ pub mod raymarch;
 pub mod slices;
 pub mod sprites;
 pub mod standin;
+
+use crate::config::RenderMethod;
+use crate::gpu::method::MethodEntry;
+
+/// Every render method, one registration line each: the renderer, its
+/// background pipeline builder, the shader tests and the bench's tables
+/// take the methods from here.
+pub static METHODS: [&MethodEntry; 3] = [
+    &raymarch::method::ENTRY,
+    &sprites::gpu::method::ENTRY,
+    &slices::gpu::method::ENTRY,
+];
+
+/// The index in [`METHODS`] of the entry that draws `method`.
+pub fn index_of(method: RenderMethod) -> usize {
+    METHODS
+        .iter()
+        .position(|e| e.methods.contains(&method))
+        .unwrap_or_else(|| panic!("no registered method draws {method}"))
+}

@@ -36,5 +36,5 @@ pub mod renderer;
 pub(crate) mod twins;
 
 pub use crate::gpu::GpuContext;
-pub use crate::gpu::frame::{Features, FrameInput};
-pub use renderer::{FrameTimings, Renderer, TimingMode};
+pub use crate::gpu::frame::FrameInput;
+pub use renderer::{Features, FrameTimings, Renderer, TimingMode};

@@ -7,7 +7,6 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 use crate::output::{write_atomic, write_png_atomic};
-use crate::render::renderer::Pass;
 
 use super::BenchResults;
 use super::accuracy::{PhysicsError, RenderError};
@@ -55,7 +54,7 @@ pub(super) fn csv_bytes(header: &[&str], rows: &[Vec<String>]) -> Result<Vec<u8>
 }
 
 fn pass_names() -> Vec<&'static str> {
-    Pass::ALL.iter().map(|p| p.name()).collect()
+    crate::render::renderer::all_pass_names()
 }
 
 /// performance.csv.

@@ -10,6 +10,7 @@ pub mod auto_march;
 pub mod baked;
 pub mod exact;
 pub mod field;
+pub mod method;
 pub mod pack;
 pub mod passes;
 pub(crate) mod region;

@@ -6,7 +6,7 @@
 //! pipelines are in [`super::baked`].
 
 use crate::gpu::layouts::{
-    CLOUD_DEPTH_FORMAT, CLOUD_TARGET_FORMAT, COMMON, DEPTH, TEMPORAL_SCALAR_FORMAT, float2d_entry,
+    CLOUD_OUT, CLOUD_TARGET_FORMAT, COMMON, DEPTH, TEMPORAL_SCALAR_FORMAT, float2d_entry,
     storage_entry, storage_texture_entry, texture_entry, uniform_entry,
 };
 use crate::gpu::pass::{LayoutSpec, PassKind, PassSpec, Slots};
@@ -46,15 +46,6 @@ const fn volume_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
 pub static BAKED_FIELD: LayoutSpec = LayoutSpec {
     label: "baked: field, occupancy, light",
     entries: &[volume_entry(0), storage_entry(1), volume_entry(2)],
-};
-
-/// Group 2 of the compute march: its cloud image and cloud depth.
-pub static CLOUD_OUT: LayoutSpec = LayoutSpec {
-    label: "clouds: compute output",
-    entries: &[
-        storage_texture_entry(0, CLOUD_TARGET_FORMAT),
-        storage_texture_entry(1, CLOUD_DEPTH_FORMAT),
-    ],
 };
 
 /// Group 2 of the temporal march (clouds.wgsl `cs_temporal`): quarter

@@ -1,12 +1,8 @@
-//! Drawing a prepared frame: the frame uniform, the pass order, each pass's
-//! encoding (render, compute bake, compute march) and its timing.
+//! Drawing a prepared frame: the frame uniform, and the frame's passes
+//! recorded and timed (by GPU timestamps or the CPU clock).
 
-use std::time::Instant;
-
-use super::passes::Pass;
 use crate::gpu::GpuContext;
-use crate::gpu::pipelines::Pipeline;
-use crate::gpu::timing::{FrameTimings, TimingMode};
+use crate::gpu::timing::{FrameTimings, Recorder, TimingMode};
 use crate::gpu::uniform::{CameraPos, FrameNoise, FrameUniform};
 use crate::render::FrameInput;
 
@@ -114,7 +110,7 @@ impl Renderer {
                 format!("{SCENE_FORMAT:?} (linear HDR, as the renderer's own scene target)"),
             ));
         }
-        if self.features.terrain {
+        if self.features.around.terrain {
             return Err(crate::error::Error::invalid(
                 "render.terrain.enabled",
                 true,
@@ -144,15 +140,6 @@ impl Renderer {
             timings.gpu_timestamps = false;
             return timings;
         }
-        let passes: Vec<Pass> = Pass::ALL
-            .into_iter()
-            .filter(|p| match p {
-                Pass::Bake => self.baked.dirty(),
-                Pass::Shadow => !self.shadow_reusable(),
-                _ => true,
-            } && self.needed(*p)
-                && !(clouds_only && matches!(p, Pass::Sky | Pass::Terrain | Pass::Tonemap)))
-            .collect();
         let scene_view = if clouds_only {
             target.clone()
         } else {
@@ -162,35 +149,33 @@ impl Renderer {
                 .view
                 .clone()
         };
-        let names: Vec<&'static str> = passes.iter().map(|p| p.name()).collect();
+        let views = (target, &scene_view, clouds_only);
+        let mut methods = std::mem::take(&mut self.methods);
+        let method = methods[crate::methods::index_of(self.cfg.method)].as_mut();
         let mode = self.timing_mode();
         let mut ts = self.timestamps.take();
+        let shadow_drawn;
         match (mode, ts.as_mut()) {
             (TimingMode::GpuBlocking, Some(ts)) => {
-                let mut enc = ctx.device.create_command_encoder(&Default::default());
-                for (i, pass) in passes.iter().enumerate() {
-                    self.encode_pass(
-                        &mut enc,
-                        *pass,
-                        target,
-                        &scene_view,
-                        Some((&ts.set, 2 * i as u32)),
-                    );
-                }
-                ts.resolve(&mut enc, passes.len() as u32);
+                let mut rec = Recorder::gpu(ctx, Some(&ts.set));
+                shadow_drawn = self.encode_frame(&mut rec, method, views);
+                let (enc, names) = rec.finish();
+                let mut enc = enc.expect("GPU timing records into one encoder");
+                ts.resolve(&mut enc, names.len() as u32);
                 ctx.queue.submit([enc.finish()]);
                 (timings.passes, timings.frame_ms) = ts.read_now(ctx, &names);
             }
             (TimingMode::GpuLagged, Some(ts)) => {
                 (timings.passes, timings.frame_ms) = ts.collect(ctx);
                 let measure = ts.lagged_ready();
-                let mut enc = ctx.device.create_command_encoder(&Default::default());
-                for (i, pass) in passes.iter().enumerate() {
-                    let writes = measure.then_some((&ts.set, 2 * i as u32));
-                    self.encode_pass(&mut enc, *pass, target, &scene_view, writes);
-                }
+                let (enc, names) = {
+                    let mut rec = Recorder::gpu(ctx, measure.then_some(&ts.set));
+                    shadow_drawn = self.encode_frame(&mut rec, method, views);
+                    rec.finish()
+                };
+                let mut enc = enc.expect("GPU timing records into one encoder");
                 if measure {
-                    ts.resolve(&mut enc, passes.len() as u32);
+                    ts.resolve(&mut enc, names.len() as u32);
                 }
                 ctx.queue.submit([enc.finish()]);
                 if measure {
@@ -198,245 +183,26 @@ impl Renderer {
                 }
             }
             _ => {
-                for pass in passes {
-                    let start = Instant::now();
-                    let mut enc = ctx.device.create_command_encoder(&Default::default());
-                    self.encode_pass(&mut enc, pass, target, &scene_view, None);
-                    ctx.queue.submit([enc.finish()]);
-                    ctx.wait_idle();
-                    timings
-                        .passes
-                        .push((pass.name().to_string(), start.elapsed().as_secs_f64() * 1e3));
-                }
+                let mut rec = Recorder::cpu(ctx);
+                shadow_drawn = self.encode_frame(&mut rec, method, views);
+                timings.passes = rec.cpu.take().unwrap_or_default();
                 timings.frame_ms = timings.total_ms();
             }
         }
         self.timestamps = ts;
-        if let Some(t) = self.temporal.as_mut() {
-            t.finish_frame();
-        }
-        // The temporal path, and frames with sprites (which sort against
-        // the compute march's cloud depth), always march in compute: such
-        // frames say nothing about fragment against compute.
-        if self.features.temporal || self.split() {
-            return timings;
-        }
-        if self.features.clouds {
-            self.auto_march.drew();
-        }
-        let was = self.auto_march.chosen();
-        self.auto_march.record(&timings);
-        if was != self.auto_march.chosen() {
+        self.shadow_fresh |= shadow_drawn;
+        let rebuild = method.frame_drawn(&self.cfg, self.features.around, &timings);
+        self.methods = methods;
+        if rebuild {
             // Decided: build (normally: find cached) the chosen pipelines.
             let _ = self.ensure(ctx);
         }
         timings
     }
-
-    /// Encodes one pass; `timestamps` = (query set, index of its begin
-    /// query; the end query follows).
-    fn encode_pass(
-        &mut self,
-        enc: &mut wgpu::CommandEncoder,
-        pass: Pass,
-        target: &wgpu::TextureView,
-        scene_view: &wgpu::TextureView,
-        timestamps: Option<(&wgpu::QuerySet, u32)>,
-    ) {
-        if pass == Pass::Bake {
-            self.baked.encode(enc, timestamps);
-            return;
-        }
-        if pass == Pass::SliceField {
-            self.slices.encode_field(enc, &self.bind_common, timestamps);
-            return;
-        }
-        let pipeline = match self.pipelines.get(&self.key(pass)) {
-            Some(Pipeline::Render(p)) => Some(p),
-            Some(Pipeline::Compute(p)) => {
-                let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some(pass.name()),
-                    timestamp_writes: timestamps.map(|(set, i)| wgpu::ComputePassTimestampWrites {
-                        query_set: set,
-                        beginning_of_pass_write_index: Some(i),
-                        end_of_pass_write_index: Some(i + 1),
-                    }),
-                });
-                cp.set_pipeline(p);
-                cp.set_bind_group(0, &self.bind_common, &[]);
-                if let Some(g) = self.slot_group() {
-                    cp.set_bind_group(crate::gpu::pass::SLOT_GROUP, g, &[]);
-                }
-                let full = (self.width.div_ceil(8), self.height.div_ceil(8));
-                let (x, y) = match (pass, self.temporal.as_ref()) {
-                    (Pass::Temporal, Some(t)) => {
-                        cp.set_bind_group(1, t.resolve_bind(), &[]);
-                        full
-                    }
-                    (_, Some(t)) => {
-                        cp.set_bind_group(1, self.bind_clouds.as_ref(), &[]);
-                        cp.set_bind_group(2, &t.march_bind, &[]);
-                        t.march_workgroups()
-                    }
-                    (_, None) => {
-                        let (_, out, _, _) =
-                            self.cloud_target.as_ref().expect("compute target exists");
-                        cp.set_bind_group(1, self.bind_clouds.as_ref(), &[]);
-                        cp.set_bind_group(2, out, &[]);
-                        full
-                    }
-                };
-                cp.dispatch_workgroups(x, y, 1);
-                return;
-            }
-            // The shadow map of sprites alone (no ray-marched clouds): the
-            // pass only clears it and splats them.
-            None if pass == Pass::Shadow => None,
-            None => panic!("ensure built every needed pipeline ({})", pass.name()),
-        };
-        // The impostor ring's face of this frame is rendered first; the
-        // pair of timestamps then spans both passes.
-        let face = pass == Pass::Sprites && self.encode_ring_face(enc, timestamps);
-        let timestamp_writes = timestamps.map(|(set, i)| wgpu::RenderPassTimestampWrites {
-            query_set: set,
-            beginning_of_pass_write_index: (!face).then_some(i),
-            end_of_pass_write_index: Some(i + 1),
-        });
-        let color = |view, load| [Some(crate::gpu::stored_color(view, load))];
-        let clear = wgpu::LoadOp::Clear(wgpu::Color::WHITE);
-        let slices = self.cfg.method == crate::config::RenderMethod::Slices;
-        // The paper's Background control: a flat colour instead of the sky.
-        let background = (slices && !self.cfg.slices.sky).then(|| {
-            let [r, g, b] = self.cfg.slices.background_colour.map(f64::from);
-            wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a: 1.0 })
-        });
-        let scene = self.scene.as_ref().expect("ensure made the scene target");
-        let cloud_target = || &self.cloud_target.as_ref().expect("cloud target exists").0;
-        let attachments = match pass {
-            Pass::Slices => color(
-                cloud_target(),
-                wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-            ),
-            Pass::Shadow => color(
-                &self.shadow_view.as_ref().expect("shadow map exists").1,
-                clear,
-            ),
-            Pass::Sky => color(scene_view, background.unwrap_or(clear)),
-            Pass::Tonemap => color(target, clear),
-            _ => color(scene_view, wgpu::LoadOp::Load),
-        };
-        let depth = (pass == Pass::Terrain).then(|| wgpu::RenderPassDepthStencilAttachment {
-            view: self.depth_view.as_ref().expect("depth exists with terrain"),
-            depth_ops: Some(wgpu::Operations {
-                load: wgpu::LoadOp::Clear(1.0),
-                store: wgpu::StoreOp::Store,
-            }),
-            stencil_ops: None,
-        });
-        let mut rp = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some(pass.name()),
-            color_attachments: &attachments,
-            depth_stencil_attachment: depth,
-            timestamp_writes,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        if let Some(p) = pipeline {
-            rp.set_pipeline(p);
-        }
-        rp.set_bind_group(0, &self.bind_common, &[]);
-        if self.spec_slotted(pass)
-            && let Some(g) = self.slot_group()
-        {
-            rp.set_bind_group(crate::gpu::pass::SLOT_GROUP, g, &[]);
-        }
-        match pass {
-            Pass::Terrain => {
-                let t = self.terrain.as_ref().expect("terrain mesh exists");
-                rp.set_bind_group(1, self.bind_terrain.as_ref(), &[]);
-                rp.set_vertex_buffer(0, t.vertices.slice(..));
-                rp.set_index_buffer(t.indices.slice(..), wgpu::IndexFormat::Uint32);
-                rp.draw_indexed(0..t.index_count, 0, 0..1);
-            }
-            Pass::Clouds => {
-                rp.set_bind_group(1, self.bind_clouds.as_ref(), &[]);
-                rp.draw(0..3, 0..1);
-            }
-            Pass::Sprites => {
-                rp.set_bind_group(1, self.bind_sprites.as_ref(), &[]);
-                self.draw_ring_quads(&mut rp);
-                self.draw_sprites(&mut rp, pipeline);
-            }
-            Pass::Shadow => {
-                self.shadow_fresh = true;
-                // The march of the ray-marched clouds' parcels, or of the
-                // slices' implicit field (group 2, see slices/shadow_field.wgsl).
-                if pipeline.is_some() && (!slices || self.slices.bind.is_some()) {
-                    rp.draw(0..3, 0..1);
-                }
-                if self.features.sprites {
-                    let key = self.sprite_shadow_key();
-                    rp.set_bind_group(1, self.bind_sprites.as_ref(), &[]);
-                    self.draw_sprites(&mut rp, self.render_pipeline(&key));
-                }
-            }
-            Pass::Slices => {
-                rp.set_bind_group(1, self.bind_clouds.as_ref(), &[]);
-                self.slices.draw(&mut rp);
-            }
-            Pass::Composite => {
-                let input = match self.temporal.as_ref() {
-                    Some(t) => t.composite_bind(),
-                    None => &self.cloud_target.as_ref().expect("compute target exists").2,
-                };
-                rp.set_bind_group(1, input, &[]);
-                rp.draw(0..3, 0..1);
-                if self.split() {
-                    // The sprite fragments in front of the clouds.
-                    let key = self.sprites_front_key();
-                    rp.set_bind_group(1, self.bind_sprites.as_ref(), &[]);
-                    self.draw_sprites(&mut rp, self.render_pipeline(&key));
-                }
-            }
-            Pass::Tonemap => {
-                rp.set_bind_group(1, &scene.bind, &[]);
-                rp.draw(0..3, 0..1);
-            }
-            // The background colour is the clear; nothing to draw.
-            Pass::Sky if background.is_some() => {}
-            _ => rp.draw(0..3, 0..1),
-        }
-    }
-
-    /// Whether `pass`'s pipeline takes the method's slot group.
-    fn spec_slotted(&self, pass: Pass) -> bool {
-        !matches!(pass, Pass::Bake | Pass::SliceField) && self.spec(pass).slotted
-    }
-
-    /// A render pipeline `ensure` built.
-    fn render_pipeline(
-        &self,
-        key: &crate::gpu::pipelines::PipelineKey,
-    ) -> Option<&wgpu::RenderPipeline> {
-        match self.pipelines.get(key) {
-            Some(Pipeline::Render(p)) => Some(p),
-            _ => None,
-        }
-    }
-
-    /// Draws this frame's sprite instances with `pipeline` (group 1 set
-    /// by the caller).
-    fn draw_sprites(&self, rp: &mut wgpu::RenderPass<'_>, pipeline: Option<&wgpu::RenderPipeline>) {
-        let s = self.sprites.as_ref().expect("sprite resources exist");
-        let p = pipeline.expect("ensure built the sprite pipelines");
-        rp.set_pipeline(p);
-        rp.set_bind_group(2, &s.bind, &[]);
-        rp.draw(0..6, 0..s.count);
-    }
 }
 
 /// The sky-view table as the frame uniform lays it out (`sky_view` in
-/// src/methods/raymarch/pack.rs).
+/// src/gpu/uniform.rs).
 fn sky_view(sky: &crate::sky::SkyLight) -> [[f32; 4]; 3 * crate::sky::SKY_TEXELS] {
     let mut out = [[0.0; 4]; 3 * crate::sky::SKY_TEXELS];
     for (k, texel) in out.chunks_exact_mut(3).enumerate() {
@@ -448,7 +214,7 @@ fn sky_view(sky: &crate::sky::SkyLight) -> [[f32; 4]; 3 * crate::sky::SKY_TEXELS
 }
 
 /// The air table as the frame uniform lays it out (`air` in
-/// src/methods/raymarch/pack.rs).
+/// src/gpu/uniform.rs).
 fn air_table(air: &crate::sky::AirTable) -> [[f32; 4]; 4 * crate::sky::AIR_HEIGHTS] {
     let mut out = [[0.0; 4]; 4 * crate::sky::AIR_HEIGHTS];
     for (node, parts) in out.chunks_exact_mut(4).zip(&air.nodes) {

@@ -3,7 +3,6 @@
 //! pipelines (built ahead for the frame with and without clouds, and in the
 //! background for the settings one click away).
 
-use super::passes::Pass;
 use super::*;
 
 impl Renderer {
@@ -13,7 +12,7 @@ impl Renderer {
         let f = self.features;
 
         // Resources.
-        if f.terrain {
+        if f.around.terrain {
             if self.terrain.as_ref().map(|t| &t.cfg) != Some(&self.cfg.terrain) {
                 let mesh = terrain::build_mesh(&self.cfg.terrain)?;
                 use wgpu::util::DeviceExt as _;
@@ -45,12 +44,12 @@ impl Renderer {
                     )
                     .create_view(&Default::default()),
                 );
-                self.bind_clouds = None;
+                self.bind_depth = None;
             }
         } else {
             self.terrain = None;
             if self.depth_view.take().is_some() {
-                self.bind_clouds = None;
+                self.bind_depth = None;
             }
         }
         let shadow_n = self.cfg.shadow_texels;
@@ -73,7 +72,7 @@ impl Renderer {
         }
 
         // Bind groups of group 1.
-        if f.terrain && self.bind_terrain.is_none() {
+        if f.around.terrain && self.bind_terrain.is_none() {
             let view = self
                 .shadow_view
                 .as_ref()
@@ -88,9 +87,9 @@ impl Renderer {
                 }],
             }));
         }
-        if (f.clouds || f.sprites || f.slices) && self.bind_clouds.is_none() {
+        if self.bind_depth.is_none() {
             let view = self.depth_view.as_ref().unwrap_or(&self.dummy_depth_view);
-            self.bind_clouds = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+            self.bind_depth = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("clouds: depth"),
                 layout: &self.layouts.get(&crate::gpu::layouts::DEPTH),
                 entries: &[wgpu::BindGroupEntry {
@@ -103,36 +102,29 @@ impl Renderer {
         // Pipelines: built once per key and kept (see pipelines.rs), for
         // the frame with clouds and the one without as well as the current
         // one, so clouds appearing or vanishing never wait for a compile.
-        let current = self.features;
-        for key in self.settings_keys() {
+        for key in self.settings_keys(&self.cfg, f) {
             self.pipelines.ensure(ctx, &self.layouts, &key)?;
         }
         // And, in the background, those of every setting one click away.
         self.request_neighbours();
-        let target_needed =
-            (current.clouds && !current.temporal && self.cfg.march != MarchPath::Fragment)
-                || current.slices
-                || self.split();
-        if target_needed && self.cloud_target.is_none() {
-            self.cloud_target = Some(self.make_cloud_target(device));
+        if f.method.cloud_image && self.cloud_image.is_none() {
+            self.cloud_image = Some(self.make_cloud_image(device));
         }
-        if current.sprites {
+        if f.around.layers {
             self.bind_sprites = Some(self.make_bind_sprites(device));
         }
         if self.scene.is_none() {
             self.scene = Some(self.make_scene_target(device));
         }
-        if !current.temporal {
-            self.temporal = None;
-        } else if self.temporal.is_none() {
-            self.temporal = Some(temporal::TemporalGpu::new(
-                device,
-                &self.layouts,
-                self.width,
-                self.height,
-            ));
-        }
-        if current.sprites && self.sprites.is_none() {
+        let i = crate::methods::index_of(self.cfg.method);
+        self.methods[i].ensure(
+            ctx,
+            &self.layouts,
+            &self.cfg,
+            f.around,
+            (self.width, self.height),
+        )?;
+        if f.around.layers && self.sprites.is_none() {
             self.sprites = Some(SpritesGpu::new(
                 ctx,
                 &self
@@ -141,42 +133,6 @@ impl Renderer {
             ));
         }
         self.ensure_ring(ctx)
-    }
-
-    /// The pipelines the current settings use: the frame with clouds, the
-    /// one without, and the current features.
-    fn settings_keys(&mut self) -> Vec<PipelineKey> {
-        let current = self.features;
-        let scene_sprites = !self.sprite_scene.is_empty();
-        let mut keys = Vec::new();
-        for features in [
-            self.features_for(true, scene_sprites),
-            self.features_for(false, scene_sprites),
-            current,
-        ] {
-            self.features = features;
-            // The shadow pass marches only the ray-marched clouds or the
-            // slices' field; the sprites splat into it with a pipeline of
-            // their own.
-            keys.extend(
-                Pass::ALL
-                    .into_iter()
-                    .filter(|p| !matches!(p, Pass::Bake | Pass::SliceField) && self.needed(*p))
-                    .filter(|p| *p != Pass::Shadow || self.map_marches(self.features))
-                    .map(|p| self.key(p)),
-            );
-            if self.features.clouds {
-                keys.extend(self.cloud_keys());
-            }
-            if self.split() {
-                keys.push(self.sprites_front_key());
-            }
-            if self.features.sprites && self.features.shadows {
-                keys.push(self.sprite_shadow_key());
-            }
-        }
-        self.features = current;
-        keys
     }
 
     /// Asks the background builder (when on: [`Renderer::set_prebuild`])
@@ -188,7 +144,7 @@ impl Renderer {
         if !self.pipelines.prebuilding() {
             return;
         }
-        let (cfg, features) = (self.cfg.clone(), self.features);
+        let cfg = &self.cfg;
         let mut variants = Vec::new();
         let mut with = |f: &dyn Fn(&mut RenderConfig)| {
             let mut c = cfg.clone();
@@ -207,25 +163,22 @@ impl Renderer {
         for m in [MarchPath::Fragment, MarchPath::Compute, MarchPath::Auto] {
             with(&|c| c.march = m);
         }
-        for v in variants {
-            if v == cfg {
-                continue;
-            }
-            self.cfg = v;
-            self.features = self.features_for(self.any_clouds, !self.sprite_scene.is_empty());
-            for key in self.settings_keys() {
-                self.pipelines.request(&key);
-            }
+        let scene_sprites = !self.sprite_scene.is_empty();
+        let mut keys = Vec::new();
+        for v in variants.iter().filter(|v| *v != cfg) {
+            let current = self.features_for(v, self.any_clouds, scene_sprites);
+            keys.extend(self.settings_keys(v, current));
         }
-        self.cfg = cfg;
-        self.features = features;
+        for key in keys {
+            self.pipelines.request(&key);
+        }
     }
 
     /// How many pipelines (render and compute) this renderer has created
     /// on its own thread, where a frame waits for them (the background
     /// builder's are counted apart: [`Renderer::pipelines_prebuilt`]).
     pub fn pipelines_built(&self) -> u32 {
-        self.pipelines.built + self.bake_pipelines + self.slices.field_pipelines
+        self.pipelines.built + self.methods.iter().map(|m| m.own_pipelines()).sum::<u32>()
     }
 
     /// Pipelines the background builder made and handed over so far.
@@ -244,7 +197,9 @@ impl Renderer {
         self.pipelines
             .set_prebuild(on.then_some((&ctx.device, &self.layouts)));
         if on {
-            self.slices.make_field_pass(ctx, &self.layouts)?;
+            for m in &mut self.methods {
+                m.prebuild(ctx, &self.layouts)?;
+            }
         }
         self.request_neighbours();
         Ok(())

@@ -1,28 +1,26 @@
-//! The renderer: owns the GPU resources of the shared passes, the render
-//! method's cloud data ([`crate::methods::raymarch`],
-//! [`crate::methods::sprites::gpu`], [`crate::methods::slices::gpu`]) and the
-//! pipelines, and draws a frame into any texture view (window surface or
-//! offscreen).
-//! Pass order ([`Pass::ALL`]): bake (`baked` method, only when the
-//! parcels, the shell or the sun moved) → slice_field (`slices` with
-//! `vertex_field = "gpu"`) → shadow map (kept from an earlier frame while
-//! nothing it shows changed) → sky → terrain → clouds (fragment, or
-//! compute) → sprites (the impostor ring's face first; behind the clouds'
-//! depth when both draw) → temporal resolve → slicing planes into the
-//! float cloud target → composite (of the compute march, the temporal
-//! image or the planes, then the sprites in front of the clouds) →
-//! tonemap. Sky, terrain and clouds write linear radiance into one HDR
-//! scene target ([`SCENE_FORMAT`]) and composite there in linear light;
-//! the tone-map pass alone writes the output (window surface or headless
-//! texture, the same path for both).
-//! This file holds the state and the configuration; `prepare` uploads a
-//! frame; `passes` says which passes and pipelines a frame needs;
-//! `ensure` creates them; `draw` encodes and times a frame; `resources`
-//! holds the textures and bind groups it creates; `ring` the impostor
-//! ring's GPU side and [`temporal`] the temporal amortisation.
+//! The renderer: owns the GPU resources of the shared passes and one
+//! instance of each registered render method ([`crate::methods::METHODS`]),
+//! and draws a frame into any texture view (window surface or offscreen)
+//! by driving the current method through its trait
+//! ([`crate::gpu::method::CloudMethod`]) between the shared passes:
+//! the method's Prepare passes (the bake, the slice field) → shadow map
+//! (kept from an earlier frame while nothing it shows changed) → sky →
+//! terrain → the method's Clouds passes (the march) → the sprite layer
+//! (the impostor ring's face first; behind the clouds' depth when both
+//! draw) → the method's Resolve passes (temporal resolve, slicing planes)
+//! → composite (the method's cloud image, then the sprites in front of
+//! the clouds) → tonemap. Sky, terrain and clouds write linear radiance
+//! into one HDR scene target ([`SCENE_FORMAT`]) and composite there in
+//! linear light; the tone-map pass alone writes the output (window surface
+//! or headless texture, the same path for both).
+//! This file holds the state and the configuration; `passes` says which
+//! passes and pipelines a frame needs; `ensure` creates them; `prepare`
+//! uploads a frame; `draw` encodes and times it; `shared` encodes the
+//! shared passes; `resources` holds the textures and bind groups it
+//! creates; `ring` the sprite layer's impostor ring.
 //!
 //! "Leave out what a scene does not need": [`Features`] decides which passes
-//! and resources exist; pipelines come from a cache keyed by pass, method
+//! and resources exist; pipelines come from a cache keyed by pass, slots
 //! and `override` constants ([`crate::gpu::pipelines`]), so a toggled
 //! setting builds only pipelines it has never seen and clouds appearing
 //! never wait for a shader compile. `prepare` uploads (and times the
@@ -35,43 +33,75 @@ use crate::config::{RenderConfig, TerrainConfig};
 use crate::error::{Error, Result};
 use crate::gpu::GpuContext;
 use crate::gpu::layouts::Layouts;
+use crate::gpu::method::{Around, CloudImage, CloudMethod, Needs};
 use crate::gpu::noise;
-use crate::gpu::pipelines::{PipelineCache, PipelineKey};
+use crate::gpu::pipelines::PipelineCache;
+use crate::gpu::resources::check_size;
 use crate::gpu::timing::Timestamps;
 use crate::gpu::uniform::{FrameUniform, GridInfo};
 use crate::landscape::terrain;
-use crate::methods::raymarch::auto_march::AutoMarch;
-use crate::methods::raymarch::baked::{BakeInfo, BakedField};
-use crate::methods::raymarch::exact::ExactField;
-use crate::methods::raymarch::pack::{GridUniform, ParcelsUniform};
-use crate::methods::slices::gpu::{SlicesGpu, slices_frame};
+use crate::methods::METHODS;
+use crate::methods::raymarch::baked::BakeInfo;
+use crate::methods::raymarch::method::Raymarch;
+use crate::methods::slices::gpu::method::Slices;
 use crate::methods::sprites::gpu::{RingGpu, SpriteScene, SpriteStats, SpritesGpu};
 use crate::noise::NoiseVolume;
-use crate::physics::CloudParcel;
-use crate::render::{Features, FrameInput};
+use crate::render::FrameInput;
 
 mod draw;
 mod ensure;
 mod passes;
-pub use passes::{Pass, modules, shader_files, slots};
 mod prepare;
 mod resources;
 mod ring;
+mod shared;
 
-use crate::gpu::resources::check_size;
 pub(crate) use crate::gpu::resources::texture_2d;
-use crate::methods::raymarch::temporal;
-use resources::{CloudTarget, SceneTarget, make_bind_common, make_bind_field};
+pub use passes::{all_pass_names, modules, shader_files, slots};
+use resources::{SceneTarget, make_bind_common};
 
 pub use crate::gpu::pipelines::{DEPTH_FORMAT, SCENE_FORMAT, SHADOW_FORMAT};
 pub(crate) use crate::gpu::timing::read_buffer;
 pub use crate::gpu::timing::{FrameTimings, TimingMode};
+
+/// Most passes one frame encodes (timestamp queries are made for these).
+const MAX_PASSES: u32 = 16;
 
 struct TerrainGpu {
     cfg: TerrainConfig,
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
     index_count: u32,
+}
+
+/// Which passes and shader code a frame needs ("leave out what a scene
+/// does not need"): the frame around the method, what the method draws,
+/// and the shared passes that follow.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Features {
+    pub around: Around,
+    /// What the current method draws and asks of the shared passes.
+    pub method: Needs,
+    /// The cloud-shadow map pass: the method's field marched into it
+    /// and the sprite layer's shadows splatted in.
+    pub shadow_map: bool,
+}
+
+impl Features {
+    /// The terrain mesh pass.
+    pub fn terrain(&self) -> bool {
+        self.around.terrain
+    }
+
+    /// The sprite layer draws.
+    pub fn sprites(&self) -> bool {
+        self.around.layers
+    }
+
+    /// Cloud shadows on the terrain.
+    pub fn shadows(&self) -> bool {
+        self.around.shadows
+    }
 }
 
 /// Draws frames; see the module docs.
@@ -81,18 +111,17 @@ pub struct Renderer {
     width: u32,
     height: u32,
     features: Features,
-    /// The last prepared frame had parcels (true before the first).
+    /// The last prepared frame had clouds for the method (true before the
+    /// first).
     any_clouds: bool,
     grid_info: GridInfo,
     upload_ms: f64,
 
+    /// One instance of each registered method ([`METHODS`]), made with the
+    /// renderer and kept, so a method switched back finds its state.
+    methods: Vec<Box<dyn CloudMethod>>,
+
     frame_buf: wgpu::Buffer,
-    exact: ExactField,
-    baked: BakedField,
-    /// `baked.generation` that `bind_field` holds.
-    bound_generation: u64,
-    /// Group 3 under `baked`: its field, occupancy and light volume.
-    bind_field: wgpu::BindGroup,
     noise_texels: u32,
     noise_view: wgpu::TextureView,
     repeat_sampler: wgpu::Sampler,
@@ -103,53 +132,37 @@ pub struct Renderer {
     depth_view: Option<wgpu::TextureView>,
     dummy_depth_view: wgpu::TextureView,
     shadow_view: Option<(u32, wgpu::TextureView)>,
-    /// The shadow map holds the `baked` clouds of the last bake under the
-    /// current settings (see [`Renderer::shadow_reusable`]).
+    /// The shadow map holds what the current frame would draw into it if
+    /// the method's clouds did not move (see `Renderer::shadow_reusable`).
     shadow_fresh: bool,
     white_view: wgpu::TextureView,
     terrain: Option<TerrainGpu>,
 
     pipelines: PipelineCache,
-    bake_pipelines: u32,
     bind_terrain: Option<wgpu::BindGroup>,
-    bind_clouds: Option<wgpu::BindGroup>,
+    /// Group 1 of the passes that test the terrain depth.
+    bind_depth: Option<wgpu::BindGroup>,
     timestamps: Option<Timestamps>,
     /// How passes are timed (GPU modes fall back to Cpu without timestamps).
     timing: TimingMode,
-    /// Re-bake every frame (bench: the cost when every parcel moves).
-    always_bake: bool,
-    /// The compute march's output: (view, its storage bind group, its
-    /// sampled bind group for the composite, the cloud-depth view).
-    cloud_target: Option<CloudTarget>,
-    /// Cloud depth bound while no march target exists (never read then).
+    /// The float cloud image a method draws into (and its depth).
+    cloud_image: Option<CloudImage>,
+    /// Cloud depth bound while no cloud image exists (never read then).
     dummy_cloud_depth_view: wgpu::TextureView,
     /// Group 1 of the sprite pipelines (terrain and cloud depth).
     bind_sprites: Option<wgpu::BindGroup>,
     /// Box around this frame's directly drawn sprites (min, max; None
     /// without any): the cloud-shadow map covers it. units: m
     sprite_box: Option<(glam::Vec3, glam::Vec3)>,
-    /// `march = "auto"`: measurements and decision.
-    auto_march: AutoMarch,
     /// The HDR scene target (made by `ensure`, dropped on resize).
     scene: Option<SceneTarget>,
-    /// The scene's sprite clouds and their per-sprite state.
+    /// The sprite layer: the scene's sprite clouds (and the `sprites`
+    /// method's parcels) and their per-sprite state.
     sprite_scene: SpriteScene,
     /// Atlas and instances, created with the first sprite.
     sprites: Option<SpritesGpu>,
-    /// The `slices` method's buffers.
-    slices: SlicesGpu,
-    /// The noise volume on the CPU (its side), for the first octave of the
-    /// vertex shadows when the CPU evaluates them (`slices` method).
-    slices_noise: Option<(u32, NoiseVolume)>,
-    /// Authored clouds the `slices` method draws besides the parcels.
-    authored: (
-        Vec<crate::methods::slices::model::Ellipsoid>,
-        crate::methods::slices::model::ParticleConfig,
-    ),
     /// The impostor ring (`[render.sprites] impostor_radius_m`).
     ring: Option<RingGpu>,
-    /// The temporal path's targets and history (`[render] temporal`).
-    temporal: Option<temporal::TemporalGpu>,
 }
 
 impl Renderer {
@@ -164,17 +177,12 @@ impl Renderer {
         check_size(ctx, width, height)?;
         let device = &ctx.device;
         let limits = device.limits();
-        for (name, size) in [
-            ("frame uniform", std::mem::size_of::<FrameUniform>()),
-            ("parcel uniform", std::mem::size_of::<ParcelsUniform>()),
-            ("grid uniform", std::mem::size_of::<GridUniform>()),
-        ] {
-            if size as u64 > limits.max_uniform_buffer_binding_size {
-                return Err(Error::Gpu(format!(
-                    "the {name} needs {size} bytes but this device binds at most {} bytes of uniforms; lower MAX_PARCELS/MAX_GRID_* in src/methods/raymarch/pack.rs",
-                    limits.max_uniform_buffer_binding_size
-                )));
-            }
+        let frame_size = std::mem::size_of::<FrameUniform>();
+        if frame_size as u64 > limits.max_uniform_buffer_binding_size {
+            return Err(Error::Gpu(format!(
+                "the frame uniform needs {frame_size} bytes but this device binds at most {} bytes of uniforms",
+                limits.max_uniform_buffer_binding_size
+            )));
         }
         if cfg.noise_texels > limits.max_texture_dimension_3d
             || cfg.shadow_texels > limits.max_texture_dimension_2d
@@ -188,16 +196,12 @@ impl Renderer {
             )));
         }
 
-        let frame_buf = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("frame uniform"),
-            size: std::mem::size_of::<FrameUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let frame_buf = crate::gpu::layouts::uniform_buffer(device, "frame uniform", frame_size);
         let layouts = Layouts::new(device);
-        let exact = ExactField::new(device, &layouts);
-        let mut bake_pipelines = 0;
-        let baked = BakedField::new(ctx, &frame_buf, &mut bake_pipelines)?;
+        let methods = METHODS
+            .iter()
+            .map(|e| (e.create)(ctx, &layouts, &frame_buf))
+            .collect::<Result<Vec<_>>>()?;
 
         let repeat_sampler = noise::repeat_sampler(device);
         let clamp_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
@@ -208,54 +212,8 @@ impl Renderer {
         });
         let noise_view =
             noise::texture(&NoiseVolume::new(cfg.noise_texels), &ctx.device, &ctx.queue);
-
-        let slices = SlicesGpu::new(device);
-
-        let dummy_depth_view = texture_2d(
-            device,
-            "dummy depth",
-            1,
-            1,
-            DEPTH_FORMAT,
-            wgpu::TextureUsages::TEXTURE_BINDING,
-        )
-        .create_view(&Default::default());
-        let dummy_cloud_depth_view = texture_2d(
-            device,
-            "no cloud depth",
-            1,
-            1,
-            crate::gpu::pipelines::CLOUD_DEPTH_FORMAT,
-            wgpu::TextureUsages::TEXTURE_BINDING,
-        )
-        .create_view(&Default::default());
-        let white = texture_2d(
-            device,
-            "no shadow",
-            1,
-            1,
-            SHADOW_FORMAT,
-            wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        );
-        ctx.queue.write_texture(
-            white.as_image_copy(),
-            &[255],
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(1),
-                rows_per_image: None,
-            },
-            wgpu::Extent3d {
-                width: 1,
-                height: 1,
-                depth_or_array_layers: 1,
-            },
-        );
-        let white_view = white.create_view(&Default::default());
-
-        let timestamps = ctx
-            .timestamps
-            .then(|| Timestamps::new(device, Pass::ALL.len() as u32));
+        let (dummy_depth_view, dummy_cloud_depth_view, white_view) = resources::placeholders(ctx);
+        let timestamps = ctx.timestamps.then(|| Timestamps::new(device, MAX_PASSES));
         let bind_common = make_bind_common(
             device,
             &layouts,
@@ -264,24 +222,28 @@ impl Renderer {
             &repeat_sampler,
             &clamp_sampler,
         );
-        let bind_field = make_bind_field(device, &layouts, &baked);
         let mut r = Self {
             cfg: cfg.clone(),
             format: target_format,
             width,
             height,
-            // Built for a frame with clouds, ahead of the first condensed
-            // parcel (no compile when it appears).
-            features: Features::new(cfg, true),
+            // Placeholder; set below for a frame with clouds, ahead of the
+            // first condensed parcel (no compile when it appears).
+            features: Features {
+                around: Around {
+                    any_clouds: true,
+                    terrain: false,
+                    layers: false,
+                    shadows: false,
+                },
+                method: Needs::default(),
+                shadow_map: false,
+            },
             any_clouds: true,
-            grid_info: crate::methods::raymarch::pack::pack(&[], cfg.shell_m, cfg.radius_scale)?
-                .info,
+            grid_info: GridInfo::EMPTY,
             upload_ms: 0.0,
+            methods,
             frame_buf,
-            bound_generation: baked.generation,
-            bind_field,
-            exact,
-            baked,
             noise_texels: cfg.noise_texels,
             noise_view,
             repeat_sampler,
@@ -291,32 +253,46 @@ impl Renderer {
             depth_view: None,
             dummy_depth_view,
             shadow_view: None,
+            shadow_fresh: false,
             white_view,
             terrain: None,
             pipelines: PipelineCache::default(),
-            bake_pipelines,
             bind_terrain: None,
-            bind_clouds: None,
+            bind_depth: None,
             timestamps,
             timing: TimingMode::GpuBlocking,
-            always_bake: false,
-            shadow_fresh: false,
-            cloud_target: None,
+            cloud_image: None,
             dummy_cloud_depth_view,
             bind_sprites: None,
             sprite_box: None,
-            auto_march: AutoMarch::default(),
             scene: None,
             sprite_scene: SpriteScene::default(),
             sprites: None,
-            slices,
-            slices_noise: None,
-            authored: Default::default(),
             ring: None,
-            temporal: None,
         };
+        r.features = r.features_for(&r.cfg, true, false);
         r.ensure(ctx)?;
         Ok(r)
+    }
+
+    /// The current method.
+    fn method(&self) -> &dyn CloudMethod {
+        self.methods[crate::methods::index_of(self.cfg.method)].as_ref()
+    }
+
+    /// The registered method of type `M` (the accessors of one method).
+    fn method_of<M: 'static>(&self) -> &M {
+        self.methods
+            .iter()
+            .find_map(|m| m.as_any().downcast_ref::<M>())
+            .expect("every registered method is made with the renderer")
+    }
+
+    fn method_of_mut<M: 'static>(&mut self) -> &mut M {
+        self.methods
+            .iter_mut()
+            .find_map(|m| m.as_any_mut().downcast_mut::<M>())
+            .expect("every registered method is made with the renderer")
     }
 
     /// Sets the authored clouds (a scene's `[[ellipsoids]]` and
@@ -328,13 +304,14 @@ impl Renderer {
         ellipsoids: &[crate::methods::slices::model::Ellipsoid],
         particles: &crate::methods::slices::model::ParticleConfig,
     ) {
-        self.authored = (ellipsoids.to_vec(), particles.clone());
+        self.method_of_mut::<Slices>()
+            .set_authored(ellipsoids, particles);
     }
 
     /// Primitives (ellipsoids and parcel spheres) the `slices` method drew
     /// in the last prepared frame.
     pub fn slice_primitives(&self) -> u32 {
-        self.slices.primitives_drawn
+        self.method_of::<Slices>().primitives()
     }
 
     /// The slices' vertex buffer after the last frame (tests compare the
@@ -344,7 +321,7 @@ impl Renderer {
         ctx: &GpuContext,
         count: usize,
     ) -> Result<Vec<crate::methods::slices::model::SliceVertex>> {
-        self.slices.read_vertices(ctx, count)
+        self.method_of::<Slices>().vertices(ctx, count)
     }
 
     /// The current configuration.
@@ -365,18 +342,7 @@ impl Renderer {
 
     /// What the baked field covers (zeros before the first bake).
     pub fn bake_info(&self) -> BakeInfo {
-        self.baked.info()
-    }
-
-    /// Names of the passes that exist for the current features, in
-    /// execution order (the bake, and under `baked` the shadow map, run
-    /// only in frames whose parcels or sun moved).
-    pub fn pass_names(&self) -> Vec<&'static str> {
-        Pass::ALL
-            .into_iter()
-            .filter(|p| self.needed(*p))
-            .map(|p| p.name())
-            .collect()
+        self.method_of::<Raymarch>().bake_info()
     }
 
     /// Times passes with GPU timestamps (when the device has them; the
@@ -405,7 +371,20 @@ impl Renderer {
     /// Re-bake the baked field every frame, moved or not (for the bench:
     /// the cost of a frame whose parcels all moved).
     pub fn set_always_bake(&mut self, on: bool) {
-        self.always_bake = on;
+        self.method_of_mut::<Raymarch>().set_always_bake(on);
+    }
+
+    /// Frames drawn on the temporal path since its history began (0 when
+    /// it is off or has just restarted).
+    pub fn temporal_frames(&self) -> u32 {
+        self.method_of::<Raymarch>().temporal_frames()
+    }
+
+    /// The march path in use: the configured one, or what `auto` chose
+    /// (None while it is still measuring).
+    pub fn march_path(&self) -> Option<MarchPath> {
+        self.method_of::<Raymarch>()
+            .march_path(&self.cfg, self.features.around)
     }
 
     /// Frame size in pixels.
@@ -420,10 +399,12 @@ impl Renderer {
             self.width = width;
             self.height = height;
             self.depth_view = None;
-            self.bind_clouds = None;
-            self.cloud_target = None;
+            self.bind_depth = None;
+            self.cloud_image = None;
             self.scene = None;
-            self.temporal = None;
+            for m in &mut self.methods {
+                m.resize();
+            }
             self.ensure(ctx)?;
         }
         Ok(())
@@ -451,11 +432,9 @@ impl Renderer {
         // The method's own sprites come from the settings; besides them only
         // the scene's sprite clouds (the last method's sprites, or its
         // impostor ring, must not carry over into the next method).
-        self.features = self.features_for(self.any_clouds, !self.sprite_scene.is_empty());
-        // Another march (step, noise, light…) gives other images: the
-        // temporal history starts again.
-        if let Some(t) = self.temporal.as_mut() {
-            t.history_valid = false;
+        self.features = self.features_for(cfg, self.any_clouds, !self.sprite_scene.is_empty());
+        for m in &mut self.methods {
+            m.settings_changed();
         }
         self.ensure(ctx)
     }
@@ -469,7 +448,8 @@ impl Renderer {
         clouds: Vec<crate::methods::sprites::model::SpriteCloud>,
     ) -> Result<()> {
         self.sprite_scene = SpriteScene::new(clouds);
-        self.features = self.features_for(self.any_clouds, !self.sprite_scene.is_empty());
+        self.features =
+            self.features_for(&self.cfg, self.any_clouds, !self.sprite_scene.is_empty());
         self.ensure(ctx)
     }
 

@@ -1,13 +1,14 @@
-//! GPU resources the renderer creates: plain textures, the shared bind group (group 0) and the compute march's target.
+//! GPU resources the renderer creates: the shared bind group (group 0),
+//! placeholders, the float cloud image, the sprites' depths and the HDR
+//! scene target.
 
-use crate::config::RenderMethod;
 use crate::gpu::GpuContext;
 use crate::gpu::layouts::{
-    CLOUD_DEPTH_FORMAT, CLOUD_TARGET_FORMAT, COMMON, Layouts, SCENE_FORMAT, TEXTURE_IN,
+    CLOUD_DEPTH_FORMAT, CLOUD_OUT, CLOUD_TARGET_FORMAT, COMMON, DEPTH_FORMAT, Layouts,
+    SCENE_FORMAT, SHADOW_FORMAT, TEXTURE_IN,
 };
-use crate::gpu::resources::{bind_in_order, texture_2d};
-use crate::methods::raymarch::baked::BakedField;
-use crate::methods::raymarch::passes::{BAKED_FIELD, CLOUD_OUT};
+use crate::gpu::method::CloudImage;
+use crate::gpu::resources::texture_2d;
 use crate::methods::sprites::gpu::passes::SPRITE_DEPTH;
 
 use super::Renderer;
@@ -34,47 +35,55 @@ pub(super) fn make_bind_common(
     })
 }
 
-/// Group 3 under `baked`: the field it last baked.
-pub(super) fn make_bind_field(
-    device: &wgpu::Device,
-    layouts: &Layouts,
-    baked: &BakedField,
-) -> wgpu::BindGroup {
-    let (field, light, occupancy) = baked.field();
-    bind_in_order(
+/// The placeholders bound where a frame has no such texture (never read
+/// then): a depth, a cloud depth, and a white (no shadow) shadow map.
+pub(super) fn placeholders(
+    ctx: &GpuContext,
+) -> (wgpu::TextureView, wgpu::TextureView, wgpu::TextureView) {
+    let device = &ctx.device;
+    let view = |label, format, usage| {
+        texture_2d(device, label, 1, 1, format, usage).create_view(&Default::default())
+    };
+    let depth = view(
+        "dummy depth",
+        DEPTH_FORMAT,
+        wgpu::TextureUsages::TEXTURE_BINDING,
+    );
+    let cloud_depth = view(
+        "no cloud depth",
+        CLOUD_DEPTH_FORMAT,
+        wgpu::TextureUsages::TEXTURE_BINDING,
+    );
+    let white = texture_2d(
         device,
-        "baked: field, occupancy, light",
-        &layouts.get(&BAKED_FIELD),
-        vec![
-            wgpu::BindingResource::TextureView(field),
-            occupancy.as_entire_binding(),
-            wgpu::BindingResource::TextureView(light),
-        ],
-    )
+        "no shadow",
+        1,
+        1,
+        SHADOW_FORMAT,
+        wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+    );
+    ctx.queue.write_texture(
+        white.as_image_copy(),
+        &[255],
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(1),
+            rows_per_image: None,
+        },
+        wgpu::Extent3d {
+            width: 1,
+            height: 1,
+            depth_or_array_layers: 1,
+        },
+    );
+    (depth, cloud_depth, white.create_view(&Default::default()))
 }
 
 impl Renderer {
-    /// Rebinds the baked field after a bake made new volumes.
-    pub(super) fn rebind_field(&mut self, ctx: &GpuContext) {
-        self.bind_field = make_bind_field(&ctx.device, &self.layouts, &self.baked);
-        self.bound_generation = self.baked.generation;
-    }
-
-    /// Group 3 of the slotted passes under the current method (None: the
-    /// method's slot files bind nothing).
-    pub(super) fn slot_group(&self) -> Option<&wgpu::BindGroup> {
-        match self.cfg.method {
-            RenderMethod::Exact => Some(&self.exact.bind),
-            RenderMethod::Baked => Some(&self.bind_field),
-            RenderMethod::Slices => self.slices.bind.as_ref(),
-            RenderMethod::Sprites => None,
-        }
-    }
-
-    /// The compute march's target: its colour view, the march's output
+    /// The float cloud image: its colour view, the compute march's output
     /// bind group (colour and cloud depth), the composite's input bind
     /// group, and the cloud-depth view (the sprites sort against it).
-    pub(super) fn make_cloud_target(&self, device: &wgpu::Device) -> CloudTarget {
+    pub(super) fn make_cloud_image(&self, device: &wgpu::Device) -> CloudImage {
         let view = texture_2d(
             device,
             "clouds (compute)",
@@ -115,7 +124,12 @@ impl Renderer {
         let (out_layout, in_layout) = (self.layouts.get(&CLOUD_OUT), self.layouts.get(&TEXTURE_IN));
         let out = bind("clouds: compute output", &out_layout, &[&view, &depth]);
         let input = bind("composite: clouds", &in_layout, &[&view]);
-        (view, out, input, depth)
+        CloudImage {
+            view,
+            compute_out: out,
+            composite_in: input,
+            depth,
+        }
     }
 
     /// Group 1 of the sprite pipelines: the terrain depth (or a dummy)
@@ -123,9 +137,9 @@ impl Renderer {
     pub(super) fn make_bind_sprites(&self, device: &wgpu::Device) -> wgpu::BindGroup {
         let depth = self.depth_view.as_ref().unwrap_or(&self.dummy_depth_view);
         let clouds = self
-            .cloud_target
+            .cloud_image
             .as_ref()
-            .map(|t| &t.3)
+            .map(|t| &t.depth)
             .unwrap_or(&self.dummy_cloud_depth_view);
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("sprites: depths"),
@@ -182,14 +196,6 @@ impl Renderer {
         }
     }
 }
-
-/// See [`Renderer::make_cloud_target`].
-pub(super) type CloudTarget = (
-    wgpu::TextureView,
-    wgpu::BindGroup,
-    wgpu::BindGroup,
-    wgpu::TextureView,
-);
 
 /// The linear HDR target the scene passes draw into (see
 /// [`crate::gpu::layouts::SCENE_FORMAT`]).

@@ -22,12 +22,12 @@ impl Renderer {
     /// no depth) or for the ring's quads.
     pub(super) fn ring_key(&self, quad: bool) -> PipelineKey {
         let b = |v: bool| if v { 1.0 } else { 0.0 };
-        let terrain = quad && self.features.terrain;
+        let terrain = quad && self.features.around.terrain;
         // Faces hold linear, premultiplied radiance like the scene target
         // the quads are drawn into; the frame's one tone map comes after.
         PipelineKey::new(
             &SPRITES,
-            self.slots(),
+            super::slots(self.cfg.method),
             &[("HAS_TERRAIN", b(terrain)), ("IMPOSTOR_QUAD", b(quad))],
             SCENE_FORMAT,
         )
@@ -40,7 +40,7 @@ impl Renderer {
             .cfg
             .sprites
             .impostor_radius_m
-            .filter(|_| self.features.sprites);
+            .filter(|_| self.features.around.layers);
         match radius {
             None => {
                 self.ring = None;

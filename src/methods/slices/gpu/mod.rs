@@ -17,6 +17,7 @@
 pub mod buffers;
 pub mod field;
 pub mod gpu_field;
+pub mod method;
 pub mod passes;
 
 pub use buffers::SlicesGpu;

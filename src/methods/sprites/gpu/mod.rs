@@ -168,4 +168,5 @@ pub fn cloud_labels(
         })
         .collect()
 }
+pub mod method;
 pub mod passes;
