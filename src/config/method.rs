@@ -15,54 +15,59 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::Error;
 
-/// How the clouds are drawn.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum RenderMethod {
+/// Declares [`RenderMethod`]: each method once, with its doc, its
+/// attributes and its name in scene files (the enum, [`RenderMethod::ALL`]
+/// and [`RenderMethod::name`] come from this one list).
+macro_rules! render_methods {
+    ($($(#[$meta:meta])* $variant:ident = $name:literal,)*) => {
+        /// How the clouds are drawn: a method registered in
+        /// [`crate::methods::METHODS`].
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+        pub enum RenderMethod {
+            $($(#[$meta])* #[serde(rename = $name)] $variant,)*
+        }
+
+        impl RenderMethod {
+            /// Every method, in the order the panel and the bench list them.
+            pub const ALL: [RenderMethod; [$($name),*].len()] = [$(RenderMethod::$variant),*];
+
+            /// Name in scene files, on the command line and in tables.
+            pub fn name(self) -> &'static str {
+                match self {
+                    $(RenderMethod::$variant => $name,)*
+                }
+            }
+        }
+    };
+}
+
+render_methods! {
     /// The parcels are splatted by compute passes into a 3D texture of the
     /// macro field (re-baked only when they move); the march reads it with
     /// one filtered fetch per sample and skips empty space with a coarse
     /// occupancy grid: cost per pixel independent of the parcel count.
     #[default]
-    Baked,
+    Baked = "baked",
     /// The paper's path (§6.2): parcels and a culling grid in uniform
     /// buffers, the union of parcels evaluated per sample. The reference the
     /// baked method is measured against; at most
     /// [`crate::methods::raymarch::pack::MAX_PARCELS`] condensed parcels.
-    Exact,
+    Exact = "exact",
     /// Wang 2003: every condensed parcel becomes a cloud of camera-facing,
     /// textured, artist-shaded sprites drawn back to front (no ray-march,
     /// no field upload). Scene `[[sprite_clouds]]`/`[[layers]]` are drawn
     /// as sprites under every method.
-    Sprites,
+    Sprites = "sprites",
     /// Schpok et al. 2003 (§4): slicing planes aligned with the light,
     /// the implicit field (authored `[[ellipsoids]]` and the parcels as
     /// spheres) and its shadow evaluated at the planes' vertices on the
     /// CPU (or in a compute pass, `vertex_field = "gpu"`), noise octaves
     /// composited per fragment, blended back to front into a float
     /// target. Controlled by `[render.slices]`.
-    Slices,
+    Slices = "slices",
 }
 
 impl RenderMethod {
-    /// Every method, in the order the panel and the bench list them.
-    pub const ALL: [RenderMethod; 4] = [
-        RenderMethod::Baked,
-        RenderMethod::Exact,
-        RenderMethod::Sprites,
-        RenderMethod::Slices,
-    ];
-
-    /// Name in scene files, on the command line and in tables.
-    pub fn name(self) -> &'static str {
-        match self {
-            RenderMethod::Baked => "baked",
-            RenderMethod::Exact => "exact",
-            RenderMethod::Sprites => "sprites",
-            RenderMethod::Slices => "slices",
-        }
-    }
-
     /// Whether the method ray-marches a density field (and so needs the
     /// field upload, the cloud and shadow passes).
     pub fn ray_marches(self) -> bool {

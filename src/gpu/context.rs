@@ -196,3 +196,31 @@ pub fn stored_color(
         },
     }
 }
+
+/// Begins a render pass into `view` (loaded or cleared by `load`), with
+/// the terrain depth when `depth` is given, timed by `ts` (begin, end).
+pub fn begin_pass<'e>(
+    enc: &'e mut wgpu::CommandEncoder,
+    label: &'static str,
+    view: &wgpu::TextureView,
+    load: wgpu::LoadOp<wgpu::Color>,
+    depth: Option<&wgpu::TextureView>,
+    ts: Option<wgpu::RenderPassTimestampWrites<'_>>,
+) -> wgpu::RenderPass<'e> {
+    enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[Some(crate::gpu::stored_color(view, load))],
+        depth_stencil_attachment: depth.map(|view| wgpu::RenderPassDepthStencilAttachment {
+            view,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(1.0),
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: ts,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+    .forget_lifetime()
+}

@@ -152,15 +152,18 @@ pub trait CloudMethod {
     /// After the frame uniform is written: uploads what depends on it.
     fn prepared(&mut self, _ctx: &GpuContext, _frame: &FrameUniform) {}
 
-    /// Creates what this frame needs and drops what it does not.
+    /// Creates what this frame needs and drops what it does not (a frame
+    /// of `size` pixels; nothing by default).
     fn ensure(
         &mut self,
-        ctx: &GpuContext,
-        layouts: &Layouts,
-        cfg: &RenderConfig,
-        around: Around,
-        size: (u32, u32),
-    ) -> Result<()>;
+        _ctx: &GpuContext,
+        _layouts: &Layouts,
+        _cfg: &RenderConfig,
+        _around: Around,
+        _size: (u32, u32),
+    ) -> Result<()> {
+        Ok(())
+    }
 
     /// The frame size changed: drop what depends on it.
     fn resize(&mut self) {}

@@ -10,22 +10,28 @@
 //! [`standin`] is a deterministic stand-in cloud field for the tests and
 //! the bench (parcels any method draws).
 
-pub mod raymarch;
-pub mod slices;
-pub mod sprites;
 pub mod standin;
 
 use crate::config::RenderMethod;
 use crate::gpu::method::MethodEntry;
 
-/// Every render method, one registration line each: the renderer, its
-/// background pipeline builder, the shader tests and the bench's tables
-/// take the methods from here.
-pub static METHODS: [&MethodEntry; 3] = [
-    &raymarch::method::ENTRY,
-    &sprites::gpu::method::ENTRY,
-    &slices::gpu::method::ENTRY,
-];
+/// Declares each method's module and registers its entry in [`METHODS`].
+macro_rules! register {
+    ($($module:ident => $entry:path,)*) => {
+        $(pub mod $module;)*
+
+        /// Every render method, one registration line each: the renderer,
+        /// its background pipeline builder, the shader tests and the
+        /// bench's tables take the methods from here.
+        pub static METHODS: [&MethodEntry; [$(stringify!($module)),*].len()] = [$(&$entry),*];
+    };
+}
+
+register! {
+    raymarch => raymarch::method::ENTRY,
+    sprites => sprites::gpu::method::ENTRY,
+    slices => slices::gpu::method::ENTRY,
+}
 
 /// The index in [`METHODS`] of the entry that draws `method`.
 pub fn index_of(method: RenderMethod) -> usize {

@@ -15,7 +15,7 @@ use super::passes::{self, BAKED, BAKED_FIELD, CLOUDS, CLOUDS_COMPUTE, CLOUDS_TEM
 use super::temporal::TemporalGpu;
 use crate::config::{MarchPath, RenderConfig, RenderMethod};
 use crate::error::{Error, Result};
-use crate::gpu::GpuContext;
+use crate::gpu::{GpuContext, begin_pass};
 use crate::gpu::frame::FrameInput;
 use crate::gpu::layouts::{Layouts, SCENE_FORMAT};
 use crate::gpu::method::{Around, CloudMethod, MethodEntry, Needs, Phase, Prepared, Shared};
@@ -347,17 +347,9 @@ impl CloudMethod for Raymarch {
                         cp.dispatch_workgroups(x, y, 1);
                     }),
                     Some(Pipeline::Render(p)) => rec.pass("clouds", |enc, ts| {
-                        let mut rp = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-                            label: Some("clouds"),
-                            color_attachments: &[Some(crate::gpu::stored_color(
-                                shared.scene,
-                                wgpu::LoadOp::Load,
-                            ))],
-                            depth_stencil_attachment: None,
-                            timestamp_writes: render_writes(ts),
-                            occlusion_query_set: None,
-                            multiview_mask: None,
-                        });
+                        let (scene, load) = (shared.scene, wgpu::LoadOp::Load);
+                        let mut rp =
+                            begin_pass(enc, "clouds", scene, load, None, render_writes(ts));
                         rp.set_pipeline(p);
                         rp.set_bind_group(0, shared.common, &[]);
                         rp.set_bind_group(1, shared.depth, &[]);

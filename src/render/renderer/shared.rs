@@ -3,6 +3,7 @@
 //! order of the module docs of [`super`].
 
 use super::*;
+use crate::gpu::begin_pass as begin;
 use crate::gpu::method::{Phase, Shared};
 use crate::gpu::pass::{SLOT_GROUP, flag};
 use crate::gpu::passes::{COMPOSITE, SHADOW, SKY, TERRAIN, TONEMAP};
@@ -11,34 +12,6 @@ use crate::gpu::timing::Recorder;
 
 /// The output view, the scene view and whether only the clouds are drawn.
 pub(super) type Views<'v> = (&'v wgpu::TextureView, &'v wgpu::TextureView, bool);
-
-/// Begins a render pass into `view` (loaded or cleared by `load`), with
-/// the terrain depth when `depth` is given, timed by `ts` (begin, end).
-fn begin<'e>(
-    enc: &'e mut wgpu::CommandEncoder,
-    label: &'static str,
-    view: &wgpu::TextureView,
-    load: wgpu::LoadOp<wgpu::Color>,
-    depth: Option<&wgpu::TextureView>,
-    ts: Option<wgpu::RenderPassTimestampWrites<'_>>,
-) -> wgpu::RenderPass<'e> {
-    enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some(label),
-        color_attachments: &[Some(crate::gpu::stored_color(view, load))],
-        depth_stencil_attachment: depth.map(|view| wgpu::RenderPassDepthStencilAttachment {
-            view,
-            depth_ops: Some(wgpu::Operations {
-                load: wgpu::LoadOp::Clear(1.0),
-                store: wgpu::StoreOp::Store,
-            }),
-            stencil_ops: None,
-        }),
-        timestamp_writes: ts,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    })
-    .forget_lifetime()
-}
 
 const WHITE: wgpu::LoadOp<wgpu::Color> = wgpu::LoadOp::Clear(wgpu::Color::WHITE);
 

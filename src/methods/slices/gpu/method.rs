@@ -12,7 +12,7 @@ use super::passes::{self, SLICES, SLOTS};
 use super::{SlicesGpu, slices_frame};
 use crate::config::{RenderConfig, RenderMethod, VertexField};
 use crate::error::Result;
-use crate::gpu::GpuContext;
+use crate::gpu::{GpuContext, begin_pass};
 use crate::gpu::frame::FrameInput;
 use crate::gpu::layouts::{Layouts, SCENE_FORMAT};
 use crate::gpu::method::{Around, CloudMethod, MethodEntry, Needs, Phase, Prepared, Shared};
@@ -153,17 +153,6 @@ impl CloudMethod for Slices {
         })
     }
 
-    fn ensure(
-        &mut self,
-        _: &GpuContext,
-        _: &Layouts,
-        _: &RenderConfig,
-        _: Around,
-        _: (u32, u32),
-    ) -> Result<()> {
-        Ok(())
-    }
-
     fn pass_names(&self, cfg: &RenderConfig, around: Around, phase: Phase) -> Vec<&'static str> {
         let draws = self.needs(cfg, around).draws;
         match phase {
@@ -193,17 +182,9 @@ impl CloudMethod for Slices {
                 let image = shared.cloud_image.expect("ensure made the cloud image");
                 let gpu = &self.gpu;
                 rec.pass("slices", |enc, ts| {
-                    let mut rp = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-                        label: Some("slices"),
-                        color_attachments: &[Some(crate::gpu::stored_color(
-                            &image.view,
-                            wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                        ))],
-                        depth_stencil_attachment: None,
-                        timestamp_writes: render_writes(ts),
-                        occlusion_query_set: None,
-                        multiview_mask: None,
-                    });
+                    let clear = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
+                    let mut rp =
+                        begin_pass(enc, "slices", &image.view, clear, None, render_writes(ts));
                     rp.set_pipeline(p);
                     rp.set_bind_group(0, shared.common, &[]);
                     rp.set_bind_group(1, shared.depth, &[]);

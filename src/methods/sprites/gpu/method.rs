@@ -77,17 +77,6 @@ impl CloudMethod for Sprites {
         })
     }
 
-    fn ensure(
-        &mut self,
-        _: &GpuContext,
-        _: &Layouts,
-        _: &RenderConfig,
-        _: Around,
-        _: (u32, u32),
-    ) -> Result<()> {
-        Ok(())
-    }
-
     fn pass_names(&self, _: &RenderConfig, _: Around, _: Phase) -> Vec<&'static str> {
         Vec::new()
     }
