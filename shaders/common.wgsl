@@ -173,8 +173,10 @@ fn sky_texel(k: u32, part: u32) -> vec3<f32> {
 // Rayleigh and Mie parts times their phase of the angle to the sun (the
 // glow around the sun is the Mie lobe), plus the isotropic multiple part;
 // below the horizon, the horizon's radiance darkening toward the ground
-// haze. CPU twin: SkyLight::radiance in src/sky/view.rs (keep in sync;
-// benches/pathtraced.py mirrors it too).
+// haze. CPU twin: SkyLight::radiance in src/sky/view.rs (the test
+// sky::aerial::sky_pass_draws_the_cpu_twin_of_sky_color compares them;
+// benches/pathtraced.py mirrors it, compared by
+// render::pathtraced::the_path_tracer_s_tone_curve_and_sky_are_the_renderer_s).
 fn sky_color(dir: vec3<f32>) -> vec3<f32> {
     let sun = frame.sun_dir;
     let el = asin(clamp(dir.z, 0.0, 1.0));
@@ -229,8 +231,10 @@ const FIELD_ALBEDO: vec3<f32> = vec3<f32>(0.10, 0.13, 0.05);
 // HDR scene target: exposure k (`RenderConfig::tone_exposure` in
 // src/config/render.rs, also written to the export sidecar), then a filmic
 // curve, then the exact sRGB encoding when the output format does not
-// encode itself (ENCODE_SRGB). Keep it in sync with benches/pathtraced.py
-// (`tone_map`) and tests/cumulus/render/cli.rs.
+// encode itself (ENCODE_SRGB). Its twins: tone_map in
+// tests/cumulus/common/hdr.rs (render::cli::exr_is_the_linear_scene_the_png_tone_maps
+// compares it with this pass) and in benches/pathtraced.py (compared with
+// that one by render::pathtraced::the_path_tracer_s_tone_curve_and_sky_are_the_renderer_s).
 fn tone_map(c: vec3<f32>) -> vec3<f32> {
     let t = filmic(max(c, vec3<f32>(0.0)) * frame.exposure);
     if ENCODE_SRGB {

@@ -5,7 +5,10 @@
 // method, the cloud-shadow map (shadow_field.wgsl). The CPU twin of every
 // routine here is the reference: src/methods/slices/model/ellipsoid.rs (Wyvill blend,
 // s², the grid index) and src/methods/slices/gpu/field.rs (tiers, octaves,
-// media filters, the first-octave shadow weight). Keep them in sync.
+// media filters, the first-octave shadow weight); the tests
+// render::slices_twin::gpu_slices_density_matches_its_cpu_twin (the
+// density) and render::slices::the_compute_pass_gives_the_cpu_vertex_field
+// (the vertex field and shadows) compare them.
 // The structs below are TierUniform and OctaveUniform of
 // src/methods/slices/model/octaves.rs, SlicesParams of src/methods/slices/gpu/mod.rs and
 // GpuPrimitive of src/methods/slices/gpu/buffers.rs.
@@ -77,8 +80,9 @@ fn composite_noise(tier: u32, p: vec3<f32>) -> f32 {
 }
 
 // The media filters of Table 2; ids and formulas as MediaFilter::apply in
-// src/config/slices.rs (tests/cumulus/render/slices.rs checks the ids;
-// the formulas are twins, keep them in sync). n in [0, 1] → [0, 1].
+// src/config/slices.rs (tests/cumulus/render/slices.rs checks the ids,
+// render::slices_twin::gpu_slices_density_matches_its_cpu_twin the
+// density they give). n in [0, 1] → [0, 1].
 fn media_filter(id: u32, n: f32) -> f32 {
     switch id {
         case 2u: { return 1.0 - 2.0 * abs(n - 0.5); }  // wispy

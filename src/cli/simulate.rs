@@ -35,33 +35,40 @@ pub struct Args {
 /// memory (about 150 bytes each), so 10⁷ frames is ~1.5 GB.
 const MAX_FRAMES: f64 = 1.0e7;
 
-/// CSV header; keep in sync with [`row`].
-const HEADER: &str = "time_s,parcels,condensed_parcels,cloud_base_m,cloud_top_m,total_water_kg,kinetic_energy_j,substeps,dt_s,budget_hit,emitted,escaped,evaporated,grounded,aged,clamps_total";
+/// One CSV row: each column's name beside its value, so the header and
+/// the rows cannot disagree.
+fn columns(d: &Diagnostics, r: &StepReport) -> [(&'static str, String); 16] {
+    [
+        ("time_s", format!("{:.3}", d.time_s)),
+        ("parcels", d.parcels.to_string()),
+        ("condensed_parcels", d.condensed_parcels.to_string()),
+        ("cloud_base_m", opt(d.cloud_base_m)),
+        ("cloud_top_m", opt(d.cloud_top_m)),
+        ("total_water_kg", format!("{:.6e}", d.total_water_kg)),
+        ("kinetic_energy_j", format!("{:.6e}", d.kinetic_energy_j)),
+        ("substeps", r.substeps.to_string()),
+        ("dt_s", format!("{:.6}", r.dt_s)),
+        ("budget_hit", (r.budget_hit as u8).to_string()),
+        ("emitted", d.fates.emitted.to_string()),
+        ("escaped", d.escaped.to_string()),
+        ("evaporated", d.fates.evaporated.to_string()),
+        ("grounded", d.fates.grounded.to_string()),
+        ("aged", d.fates.aged.to_string()),
+        ("clamps_total", d.clamps.total().to_string()),
+    ]
+}
 
 fn opt(v: Option<f64>) -> String {
     v.map(|x| format!("{x:.3}")).unwrap_or_default()
 }
 
-fn row(d: &Diagnostics, r: &StepReport) -> String {
-    format!(
-        "{:.3},{},{},{},{},{:.6e},{:.6e},{},{:.6},{},{},{},{},{},{},{}",
-        d.time_s,
-        d.parcels,
-        d.condensed_parcels,
-        opt(d.cloud_base_m),
-        opt(d.cloud_top_m),
-        d.total_water_kg,
-        d.kinetic_energy_j,
-        r.substeps,
-        r.dt_s,
-        r.budget_hit as u8,
-        d.fates.emitted,
-        d.escaped,
-        d.fates.evaporated,
-        d.fates.grounded,
-        d.fates.aged,
-        d.clamps.total(),
-    )
+/// The header and the row of one step.
+fn header_and_row(d: &Diagnostics, r: &StepReport) -> (String, String) {
+    let c = columns(d, r);
+    let join = |f: &dyn Fn(&(&'static str, String)) -> String| {
+        c.iter().map(f).collect::<Vec<_>>().join(",")
+    };
+    (join(&|(n, _)| n.to_string()), join(&|(_, v)| v.clone()))
 }
 
 /// Runs `cumulus simulate`.
@@ -136,9 +143,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     } else {
         0
     });
-    if args.out.is_some() {
-        lines.push(HEADER.to_string());
-    }
     // When the first cloud forms and when the cloud field peaks: what a
     // scene's [simulation] start_s is chosen from.
     let mut first_cloud_s: Option<f64> = None;
@@ -159,7 +163,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             );
         }
         if args.out.is_some() {
-            lines.push(row(&d, &report));
+            let (header, row) = header_and_row(&d, &report);
+            if lines.is_empty() {
+                lines.push(header);
+            }
+            lines.push(row);
         }
         if d.condensed_parcels > 0 && first_cloud_s.is_none() {
             first_cloud_s = Some(d.time_s);

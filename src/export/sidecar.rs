@@ -6,7 +6,10 @@
 //! (shaders/raymarch/lighting.wgsl `HG_BACK_G`, `HG_BACK_WEIGHT`,
 //! `LIGHT_DENSITY`; a test compares them); what the sidecar says of the
 //! phase, the sky and the tone curve describes `sun_phase_weights` there
-//! and `sky_color` and `tone_map` of shaders/common.wgsl (keep in sync);
+//! and `sky_color` and `tone_map` of shaders/common.wgsl (benches/
+//! pathtraced.py reads it; the test
+//! `render::pathtraced::the_path_tracer_s_tone_curve_and_sky_are_the_renderer_s`
+//! checks that what it computes from it is the renderer's);
 //! the sky itself is the frame's sky-view table from the atmosphere model
 //! (src/sky).
 

@@ -115,8 +115,10 @@ impl Atmosphere {
 
 impl SkyLight {
     /// Sky radiance toward unit `dir` for the sun toward unit `sun`; the
-    /// CPU twin of `sky_color` in shaders/common.wgsl (keep in sync; so is
-    /// benches/pathtraced.py): the table bilinear in (azimuth from the
+    /// CPU twin of `sky_color` in shaders/common.wgsl and of benches/
+    /// pathtraced.py's (tests `sky::aerial::sky_pass_draws_the_cpu_twin_of_sky_color`
+    /// and `render::pathtraced::the_path_tracer_s_tone_curve_and_sky_are_the_renderer_s`
+    /// compare them): the table bilinear in (azimuth from the
     /// sun, √(elevation)), the single-scattered parts times their phase,
     /// plus the multiple-scattered part; below the horizon the horizon's
     /// radiance, darkening by up to 40% toward the ground haze.

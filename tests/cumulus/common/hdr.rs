@@ -88,3 +88,17 @@ pub fn half_means(lum: &[f32], mask: &[bool], w: u32) -> (f32, f32, [u32; 2]) {
     }
     (sum[0] / n[0].max(1) as f32, sum[1] / n[1].max(1) as f32, n)
 }
+
+/// The display transform of shaders/common.wgsl `tone_map` (exposure `k`,
+/// the filmic curve, then the sRGB encoding), to compare an EXR with the PNG of
+/// one frame (the GPU's curve: `exr_is_the_linear_scene_the_png_tone_maps`).
+pub fn tone_map(c: f32, k: f32) -> f32 {
+    // Narkowicz's ACES fit, clamped to [0, 1].
+    let x = c.max(0.0) * k;
+    let t = (x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0);
+    if t <= 0.003_130_8 {
+        12.92 * t
+    } else {
+        1.055 * t.powf(1.0 / 2.4) - 0.055
+    }
+}

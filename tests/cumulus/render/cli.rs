@@ -110,20 +110,6 @@ fn bad_render_table_names_the_field() {
     .expect_failure_containing(&["render.step_m"]);
 }
 
-/// The display transform of shaders/common.wgsl `tone_map` (exposure `k`,
-/// the filmic curve, then the sRGB encoding), to compare an EXR with the PNG of
-/// one frame.
-fn tone_map(c: f32, k: f32) -> f32 {
-    // Narkowicz's ACES fit, clamped to [0, 1].
-    let x = c.max(0.0) * k;
-    let t = (x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0);
-    if t <= 0.003_130_8 {
-        12.92 * t
-    } else {
-        1.055 * t.powf(1.0 / 2.4) - 0.055
-    }
-}
-
 #[test]
 fn exr_is_the_linear_scene_the_png_tone_maps() {
     if common::context("GPU render test").is_none() {
@@ -172,7 +158,7 @@ fn exr_is_the_linear_scene_the_png_tone_maps() {
         let mut worst = 0i32;
         for (e, p) in exr.pixels().zip(png.pixels()) {
             for c in 0..3 {
-                let mapped = (tone_map(e[c], k) * 255.0).round() as i32;
+                let mapped = (common::hdr::tone_map(e[c], k) * 255.0).round() as i32;
                 worst = worst.max((mapped - p[c] as i32).abs());
             }
         }

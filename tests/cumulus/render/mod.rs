@@ -12,5 +12,6 @@ mod pathtraced;
 mod renderer;
 mod shaders;
 mod slices;
+mod slices_twin;
 mod temporal;
 mod tower_body;

@@ -270,3 +270,123 @@ fn a_tower_is_shaded_like_the_path_traced_one() {
         );
     }
 }
+
+/// benches/pathtraced.py's mirrors of the renderer's display transform and
+/// sky (`tone_map`, `sky_color`) against the Rust twins: the tone curve
+/// the CLI test checks against the GPU's
+/// (`render::cli::exr_is_the_linear_scene_the_png_tone_maps`) and
+/// `SkyLight::radiance`, which `sky::aerial::sky_pass_draws_the_cpu_twin_of_sky_color`
+/// checks against the sky pass. Needs Python with numpy only (no GPU).
+#[test]
+fn the_path_tracer_s_tone_curve_and_sky_are_the_renderer_s() {
+    use cumulus::config::RenderConfig;
+    use glam::Vec3;
+    let has_numpy = Command::new(python())
+        .args(["-c", "import numpy"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !has_numpy {
+        assert!(
+            std::env::var("CI").as_deref() != Ok("true"),
+            "CI=true needs {} with numpy",
+            python()
+        );
+        eprintln!(
+            "NOTICE: skipping the Python twins: no numpy in {}",
+            python()
+        );
+        return;
+    }
+    let cfg = RenderConfig {
+        sun_elevation_deg: 25.0,
+        ..RenderConfig::default()
+    };
+    let sun = cfg.sun();
+    let to_sun = sun.direction.normalize();
+    // Directions all round, below the horizon too; radiances across the
+    // curve's toe, shoulder and clamp.
+    let dirs: Vec<Vec3> = (0..48)
+        .map(|k| {
+            let az = k as f32 * 0.37;
+            let el = -0.3 + 1.8 * (k as f32 / 47.0);
+            Vec3::new(az.sin() * el.cos(), az.cos() * el.cos(), el.sin())
+        })
+        .collect();
+    let radiance: Vec<f32> = (0..40).map(|k| 0.002 * 1.25f32.powi(k)).collect();
+    let k = cfg.tone_exposure();
+    let sidecar = cumulus::export::sidecar::Sidecar::new(
+        "twins",
+        0.0,
+        "none.vol",
+        &cumulus::export::GridSpec {
+            min: Vec3::ZERO,
+            voxel_m: 1.0,
+            dims: [1, 1, 1],
+        },
+        &cfg,
+        &cumulus::config::Camera::from(&cumulus::config::CameraConfig::default()),
+        &sun,
+    );
+    let input = serde_json::json!({
+        "sky": sidecar.light.sky,
+        "sun": to_sun.to_array(),
+        "dirs": dirs.iter().map(|d| d.to_array()).collect::<Vec<_>>(),
+        "radiance": radiance,
+        "exposure": k,
+    });
+    let script = format!(
+        "import sys, json, numpy as np\n\
+         sys.path.insert(0, {benches:?})\n\
+         import pathtraced as p\n\
+         d = json.load(sys.stdin)\n\
+         sky = p.sky_color(np.array(d['dirs']), np.array(d['sun']), d['sky'])\n\
+         tone = p.tone_map(np.array(d['radiance']), d['exposure'])\n\
+         print(json.dumps({{'sky': sky.tolist(), 'tone': tone.tolist()}}))\n",
+        benches = concat!(env!("CARGO_MANIFEST_DIR"), "/benches"),
+    );
+    let mut child = Command::new(python())
+        .args(["-c", &script])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    use std::io::Write as _;
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(input.to_string().as_bytes())
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let got: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    // 1e-4 relative (and 1e-6 absolute for the tone curve's black): both
+    // sides compute the same formulas in double (Python) and single
+    // (Rust) precision; a changed constant or a dropped term differs by
+    // percents.
+    let mut worst = 0.0f64;
+    for (d, py) in dirs.iter().zip(got["sky"].as_array().unwrap()) {
+        let want = sun.sky.radiance(*d, to_sun);
+        for c in 0..3 {
+            let p = py[c].as_f64().unwrap();
+            let w = f64::from(want[c]);
+            worst = worst.max((p - w).abs() / w.abs().max(1e-9));
+        }
+    }
+    assert!(worst < 1e-4, "pathtraced.py sky_color off by {worst:.2e}");
+    for (r, py) in radiance.iter().zip(got["tone"].as_array().unwrap()) {
+        let (p, w) = (
+            py.as_f64().unwrap(),
+            f64::from(common::hdr::tone_map(*r, k)),
+        );
+        assert!(
+            (p - w).abs() <= 1e-4 * w + 1e-6,
+            "pathtraced.py tone_map({r}) = {p}, the renderer's {w}"
+        );
+    }
+}

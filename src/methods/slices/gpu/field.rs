@@ -1,8 +1,9 @@
 //! The CPU twin of the slices pass's density: the implicit field of every
 //! primitive times the tier's media filter of the composited noise octaves,
 //! exactly the product `shaders/slices/slices.wgsl` multiplies the plane opacity
-//! by (keep in sync with `tier_at`, `composite_noise` and `media_filter`
-//! there). `cumulus export` samples it for authored scenes, so an
+//! by (`implicit_field` × `media_at` of shaders/slices/implicit.wgsl; the
+//! test `render::slices_twin::gpu_slices_density_matches_its_cpu_twin`
+//! compares them). `cumulus export` samples it for authored scenes, so an
 //! animation's frames leave for offline renderers with the detail the
 //! window shows.
 
