@@ -22,6 +22,10 @@
 //!   only the clouds into another program's HDR target
 //!   (`examples/embed.rs`). [`render::headless::Headless`] renders to
 //!   memory.
+//! - A render method: [`gpu::method::CloudMethod`], implemented by each
+//!   folder of [`methods`] and registered in [`methods::METHODS`]; the
+//!   renderer drives the current one between the shared passes
+//!   ([`gpu::passes`]).
 //! - Aerology without a GPU: [`atmosphere`] (soundings, lifted parcels,
 //!   CAPE/CIN); the stiff cases: [`stability`]; tables: [`bench`](mod@bench).
 //!

@@ -1,19 +1,14 @@
-//! GPU renderer (paper §6): draws the cloud field by one of the four
-//! [`RenderMethod`](crate::config::RenderMethod)s (the ray-march's `baked` and `exact` paths, Wang's
-//! `sprites`, Schpok's `slices`) over a sky and a terrain with cloud
-//! shadows. One `render` path serves the window, headless commands and
-//! tests. Its settings are plain data in [`crate::config`].
+//! The renderer (paper §6): draws the cloud field by one of the render
+//! methods registered in [`crate::methods::METHODS`] (the ray-march's
+//! `baked` and `exact` paths, Wang's `sprites`, Schpok's `slices`) over a
+//! sky and a terrain with cloud shadows. One `render` path serves the
+//! window, headless commands and tests. Its settings are plain data in
+//! [`crate::config`]; the device, pipelines and shared passes are the GPU
+//! core's ([`crate::gpu`]).
 //!
-//! [`pack`], [`field`] and [`standin`] are pure CPU (unit-tested without a
-//! GPU): the frame's uniforms and culling grid, the CPU twin of the
-//! ray-marched density, a deterministic stand-in cloud field. [`gpu`]
-//! opens the device; [`noise`] uploads the noise volume; [`raymarch`],
-//! [`sprites`] and [`slices`] hold each method's GPU side; [`shaders`]
-//! assembles the WGSL modules; [`layouts`] the target formats and shared
-//! bind-group layouts; [`pipelines`] the pipeline cache (built ahead on a
-//! background thread by `prebuild`); [`auto_march`] picks the faster march
-//! path; [`timing`] the GPU timestamps; [`renderer`] owns and orders the
-//! passes; [`headless`] renders to an offscreen texture and reads it back.
+//! [`renderer`] owns the shared resources and one instance of each
+//! method, and orders the passes around the method's phases;
+//! [`headless`] renders to an offscreen texture and reads it back.
 //!
 //! Use (window, bench, tests alike):
 //!
@@ -27,8 +22,9 @@
 //! ```
 //!
 //! The passes and their shaders are described in the headers of the
-//! files in `shaders/` (grouped by owner, see [`shaders`]);
-//! the density of the hypertexture (paper eq. 18) in `shaders/raymarch/density.wgsl`.
+//! files in `shaders/` (grouped by owner, see [`crate::gpu::shaders`]);
+//! the density of the hypertexture (paper eq. 18) in
+//! `shaders/raymarch/density.wgsl`.
 
 pub mod headless;
 pub mod renderer;

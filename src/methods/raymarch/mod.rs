@@ -1,10 +1,18 @@
-//! Ray-marched methods (paper eq. 18): `exact` evaluates the union of
-//! parcels per sample from uniform buffers (the paper's path); `baked`
-//! splats the parcels into a 3D texture by compute passes and marches that.
-//! Both share the march, density and lighting WGSL (shaders/raymarch/clouds.wgsl,
-//! density.wgsl, lighting.wgsl); they differ only in the macro field
-//! (shaders/raymarch/field_exact.wgsl, field_baked.wgsl) and in what reaches the GPU,
-//! which these submodules own.
+//! Goswami & Neyret 2016's ray-march (paper eq. 18) as two render
+//! methods: `exact` evaluates the union of parcels per sample from uniform
+//! buffers (the paper's path); `baked` splats the parcels into a 3D
+//! texture by compute passes and marches that. Both share the march,
+//! density and lighting WGSL (`shaders/raymarch/`); they differ only in
+//! the macro field (`field_exact.wgsl`, `field_baked.wgsl`, the `<field>`
+//! slot) and in what reaches the GPU.
+//!
+//! - CPU side: the parcels come from [`crate::physics`]; [`pack`] packs
+//!   them and the culling grid for `exact`; [`field`] is the CPU twin of
+//!   the density (the export samples it);
+//! - GPU side: [`method`] implements the render-method trait; [`passes`]
+//!   declares its passes, layouts, slots and files; [`exact`] and
+//!   [`baked`] upload the field; [`temporal`] is the quarter-rate march's
+//!   history; [`auto_march`] picks the faster march path.
 
 pub mod auto_march;
 pub mod baked;

@@ -5,9 +5,10 @@
 //! stores field and shadow at the vertices; this module uploads those
 //! vertices, the noise-octave transforms ([`OctaveUniform`]) and the
 //! qualitative controls ([`SlicesParams`]) into the buffers of
-//! [`buffers`], and the renderer draws them
-//! with `shaders/slices/slices.wgsl` into the float cloud target, which the
-//! composite pass blends over sky and terrain. With `vertex_field =
+//! [`buffers`]; [`method`] (the render-method trait) draws them with
+//! `shaders/slices/slices.wgsl` into the float cloud image, which the
+//! composite pass blends over sky and terrain; [`passes`] declares the
+//! passes, layouts, slots and files. With `vertex_field =
 //! "gpu"` the vertex values come from a compute pass instead
 //! ([`gpu_field`]); the same primitives and grid index feed the
 //! cloud-shadow map on the terrain (shaders/slices/shadow_field.wgsl).

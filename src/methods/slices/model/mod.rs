@@ -7,8 +7,8 @@
 //! - [`ellipsoid`]: `[[ellipsoids]]` in a scene, Wyvill blending, the field;
 //! - [`animation`]: keyframes, particle dynamics, the cumulonimbus preset;
 //! - [`octaves`]: per-octave noise transforms (eq. 3), tiers, the Base tier;
-//! - [`media`]: the cloud media filters of Table 2;
-//! - [`controls`]: `[render.slices]`, the qualitative controls of Table 2;
+//! - the media filters and the qualitative controls of Table 2
+//!   (`[render.slices]`) are configuration: [`crate::config::slices`];
 //! - [`pick`]: picking, moving and resizing ellipsoids with the mouse;
 //! - [`slicing`]: light-aligned slicing planes, vertex field and shadows;
 //! - [`frame`]: all of it for one frame, as the slice renderer takes it.

@@ -110,7 +110,7 @@ pub struct TierUniform {
     pub texture_from_world: [[[f32; 4]; 4]; MAX_OCTAVES],
     /// x: bottom of the tier (units: m); y: first octave's weight; z, w: 0.
     pub bottom_m: [f32; 4],
-    /// x: media filter id ([`MediaFilter::gpu_id`]); y, z, w: 0.
+    /// x: media filter id ([`crate::config::slices::MediaFilter::gpu_id`]); y, z, w: 0.
     pub media: [u32; 4],
 }
 

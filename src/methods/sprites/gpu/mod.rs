@@ -7,6 +7,10 @@
 //! the clouds beyond the impostor radius are drawn into the ring of
 //! impostors ([`ring`]) instead.
 //!
+//! These draw the renderer's sprite layer, under every method (a scene's
+//! `[[sprite_clouds]]` and `[[layers]]`); [`method`] is the `sprites`
+//! render method, which hands the frame's parcels to that layer;
+//! [`passes`] declares the sprite passes, layouts, slots and files.
 //! Nothing here exists until a frame has a sprite: the renderer creates
 //! [`SpritesGpu`] (atlas upload, buffer, bind group) and the sprite
 //! pipeline only for a scene or method that draws sprites.
