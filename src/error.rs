@@ -40,6 +40,10 @@ pub enum Error {
     /// The GPU rejected a resource or ran out of limits.
     #[error("GPU: {0}")]
     Gpu(String),
+    /// The adapter cannot run what was asked (the message names the
+    /// adapter, what it lacks and the fix); the command exits with code 2.
+    #[error("{0}")]
+    Unsupported(String),
 }
 
 impl Error {

@@ -51,7 +51,13 @@ fn main() -> std::process::ExitCode {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
-            std::process::ExitCode::FAILURE
+            // 2: this machine's adapter cannot run it (no adapter, or a
+            // method it lacks a capability for); the message says the fix.
+            let unsupported = matches!(
+                e.downcast_ref::<cumulus::Error>(),
+                Some(cumulus::Error::Unsupported(_) | cumulus::Error::NoAdapter(_))
+            );
+            std::process::ExitCode::from(if unsupported { 2 } else { 1 })
         }
     }
 }

@@ -35,7 +35,9 @@
 // Read the terrain depth (false: no terrain pass, rays run to the box end).
 override HAS_TERRAIN: bool = true;
 
-@group(1) @binding(0) var depth_tex: texture_depth_2d;
+// The terrain depth, read as an unfilterable float texture (OpenGL's GLSL
+// cannot load from a depth texture binding).
+@group(1) @binding(0) var depth_tex: texture_2d<f32>;
 
 @vertex
 fn vs_main(@builtin(vertex_index) i: u32) -> FullscreenOut {
@@ -78,7 +80,7 @@ fn march(pix: vec2<f32>, ndc: vec2<f32>, jitter: f32) -> MarchOut {
     let t_near = distance(world_from_ndc(ndc, 0.0), ro);
     var t_end = 1e30;
     if HAS_TERRAIN {
-        let depth = textureLoad(depth_tex, vec2<i32>(pix), 0);
+        let depth = textureLoad(depth_tex, vec2<i32>(pix), 0).r;
         if depth < 1.0 {
             t_end = distance(world_from_ndc(ndc, depth), ro);
         }

@@ -28,7 +28,9 @@
 // Read the terrain depth (false: no terrain pass, nothing hides the planes).
 override HAS_TERRAIN: bool = true;
 
-@group(1) @binding(0) var depth_tex: texture_depth_2d;
+// The terrain depth, read as an unfilterable float texture (OpenGL's GLSL
+// cannot load from a depth texture binding).
+@group(1) @binding(0) var depth_tex: texture_2d<f32>;
 
 struct SliceIn {
     @location(0) position_m: vec3<f32>,
@@ -66,7 +68,7 @@ fn vs_main(v: SliceIn) -> SliceOut {
 fn fs_main(in: SliceOut) -> @location(0) vec4<f32> {
     if HAS_TERRAIN {
         // Behind the terrain: hidden (the same projection wrote the depth).
-        let depth = textureLoad(depth_tex, vec2<i32>(in.pos.xy), 0);
+        let depth = textureLoad(depth_tex, vec2<i32>(in.pos.xy), 0).r;
         if in.pos.z > depth {
             discard;
         }

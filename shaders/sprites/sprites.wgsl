@@ -41,7 +41,9 @@ struct SpriteInstance {
     uv: vec4<f32>,                // atlas rectangle u0, v0, u1, v1 (v down)
 }
 
-@group(1) @binding(0) var depth_tex: texture_depth_2d;
+// The terrain depth, read as an unfilterable float texture (OpenGL's GLSL
+// cannot load from a depth texture binding).
+@group(1) @binding(0) var depth_tex: texture_2d<f32>;
 @group(1) @binding(1) var cloud_depth_tex: texture_2d<f32>;
 @group(2) @binding(0) var atlas_tex: texture_2d<f32>;
 @group(2) @binding(1) var atlas_sampler: sampler;
@@ -123,7 +125,7 @@ fn fs_main(in: SpriteOut) -> @location(0) vec4<f32> {
         }
     }
     if HAS_TERRAIN {
-        let depth = textureLoad(depth_tex, vec2<i32>(in.pos.xy), 0);
+        let depth = textureLoad(depth_tex, vec2<i32>(in.pos.xy), 0).r;
         if in.pos.z > depth {
             discard;
         }

@@ -271,7 +271,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let mut clouds = Clouds::new(&args.clouds, &scene, &source.base_dir())?;
 
     let ctx = GpuContext::new_headless(args.adapter.as_deref())?;
-    eprintln!("adapter: {}", ctx.describe());
+    eprintln!("adapter: {} ({})", ctx.describe(), ctx.choice());
+    let (method, note) = cumulus::render::renderer::method_for(&ctx, &cfg, args.method.is_some());
+    if let Some(note) = note {
+        eprintln!("{note}");
+        cfg.method = method;
+    }
     let mut headless = Headless::new(&ctx, &cfg, args.width, args.height)?;
     let sprite_clouds = scene.build_sprite_clouds();
     if !sprite_clouds.is_empty() {

@@ -4,6 +4,27 @@
 
 use crate::error::{Error, Result};
 
+/// Rank of an adapter, lower first: Vulkan, Metal and DirectX 12 before
+/// OpenGL/GLES (which runs fewer of our passes; it is taken when nothing
+/// else exists, or when `WGPU_BACKEND` asks for it, since the instance
+/// then offers nothing else), then a discrete GPU before an integrated,
+/// virtual or software one.
+pub fn preference(info: &wgpu::AdapterInfo) -> (u8, u8) {
+    let backend = match info.backend {
+        wgpu::Backend::Vulkan | wgpu::Backend::Metal | wgpu::Backend::Dx12 => 0,
+        wgpu::Backend::Gl => 1,
+        _ => 2,
+    };
+    let device = match info.device_type {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Cpu => 3,
+        wgpu::DeviceType::Other => 4,
+    };
+    (backend, device)
+}
+
 /// An open GPU device and what it is.
 pub struct GpuContext {
     pub instance: wgpu::Instance,
@@ -46,21 +67,10 @@ impl GpuContext {
                         ))
                     })?
             }
-            None => {
-                let opts = wgpu::RequestAdapterOptions {
-                    power_preference: wgpu::PowerPreference::HighPerformance,
-                    force_fallback_adapter: false,
-                    compatible_surface: None,
-                    ..Default::default()
-                };
-                match pollster::block_on(instance.request_adapter(&opts)) {
-                    Ok(a) => a,
-                    Err(e) => adapters
-                        .into_iter()
-                        .next()
-                        .ok_or_else(|| Error::NoAdapter(format!("{e}; adapters found: none")))?,
-                }
-            }
+            None => adapters
+                .into_iter()
+                .min_by_key(|a| preference(&a.get_info()))
+                .ok_or_else(|| Error::NoAdapter("adapters found: none".into()))?,
         };
         Self::from_adapter(instance, adapter)
     }
@@ -128,6 +138,13 @@ impl GpuContext {
                 adapter.get_info().name
             ))
         })?;
+        // An error outside every error scope (a resource or pass the
+        // renderer did not wrap) is printed, never wgpu's panic: the
+        // operations that can fail on an adapter (pipeline creation) run
+        // under scopes and become errors ([`catching`]).
+        device.on_uncaptured_error(std::sync::Arc::new(|e: wgpu::Error| {
+            eprintln!("warning: GPU error: {e}");
+        }));
         Ok(Self {
             instance,
             adapter,
@@ -151,6 +168,22 @@ impl GpuContext {
     /// Backend, e.g. "Vulkan".
     pub fn backend(&self) -> String {
         format!("{:?}", self.adapter.get_info().backend)
+    }
+
+    /// Why this adapter: the backend preference ([`preference`]) or the
+    /// user's `WGPU_BACKEND`.
+    pub fn choice(&self) -> String {
+        let info = self.adapter.get_info();
+        match std::env::var("WGPU_BACKEND") {
+            Ok(v) if !v.is_empty() => format!("WGPU_BACKEND={v} chose the backend"),
+            _ if info.backend == wgpu::Backend::Gl => {
+                "OpenGL: no Vulkan, Metal or DirectX 12 adapter here".into()
+            }
+            _ => format!(
+                "{:?} preferred over OpenGL, a discrete GPU over an integrated or software one",
+                info.backend
+            ),
+        }
     }
 
     /// Whether this is a software (CPU) adapter.
@@ -223,4 +256,33 @@ pub fn begin_pass<'e>(
         multiview_mask: None,
     })
     .forget_lifetime()
+}
+
+/// Runs `f` with every wgpu error it causes on this thread caught
+/// (validation, internal (a shader the backend cannot translate, as
+/// OpenGL's GLSL for some WGSL), out of memory), and returns the first as
+/// an [`crate::error::Error::Gpu`] naming `what`, never wgpu's panic.
+pub fn catching<T>(
+    device: &wgpu::Device,
+    what: &str,
+    f: impl FnOnce() -> T,
+) -> crate::error::Result<T> {
+    let scopes = [
+        wgpu::ErrorFilter::OutOfMemory,
+        wgpu::ErrorFilter::Internal,
+        wgpu::ErrorFilter::Validation,
+    ]
+    .map(|filter| device.push_error_scope(filter));
+    let value = f();
+    let mut first = None;
+    // Popped innermost first.
+    for scope in scopes.into_iter().rev() {
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            first.get_or_insert(e);
+        }
+    }
+    match first {
+        None => Ok(value),
+        Some(e) => Err(crate::error::Error::Gpu(format!("{what}: {e}"))),
+    }
 }

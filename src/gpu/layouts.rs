@@ -168,14 +168,11 @@ pub static SHADOW_TEX: LayoutSpec = LayoutSpec {
 };
 
 /// Group 1 of the passes that test the terrain's depth (the clouds, the
-/// slices).
+/// slices): the depth as an unfilterable float texture, which every
+/// backend can load from (OpenGL's GLSL cannot load from a depth binding).
 pub static DEPTH: LayoutSpec = LayoutSpec {
     label: "clouds: depth",
-    entries: &[texture_entry(
-        0,
-        wgpu::TextureSampleType::Depth,
-        wgpu::TextureViewDimension::D2,
-    )],
+    entries: &[float2d_entry(0, false)],
 };
 
 /// Group 1 of the composite (a method's cloud image) and of the tone map

@@ -234,4 +234,7 @@ pub struct MethodEntry {
     pub marches_shadow: bool,
     /// The names of all its passes (their timings), by phase, in order.
     pub pass_names: &'static [(Phase, &'static str)],
+    /// Why it cannot draw `render.method` on this adapter (None: it can),
+    /// checked before a renderer is made.
+    pub unsupported: fn(&wgpu::AdapterInfo, RenderMethod) -> Option<&'static str>,
 }

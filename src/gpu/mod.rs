@@ -19,5 +19,5 @@ pub mod shaders;
 pub mod timing;
 pub mod uniform;
 
-pub use context::{GpuContext, begin_pass, stored_color};
+pub use context::{GpuContext, begin_pass, catching, stored_color};
 pub use frame::FrameInput;

@@ -13,7 +13,7 @@
 
 use std::collections::HashMap;
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::gpu::GpuContext;
 use crate::gpu::pass::{PassKind, PassSpec, Slots};
 use crate::gpu::prebuild::Prebuilder;
@@ -131,15 +131,16 @@ impl PipelineCache {
             }
             // It failed over there: build it here for the error message.
         }
-        let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let pipeline = self.modules.build(&ctx.device, layouts, key);
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            self.modules.forget(key);
-            return Err(Error::Gpu(format!(
-                "creating the {} pass ({}): {e}",
-                key.pass.name, key.slots.name
-            )));
-        }
+        let what = format!("creating the {} pass ({})", key.pass.name, key.slots.name);
+        let pipeline = match crate::gpu::catching(&ctx.device, &what, || {
+            self.modules.build(&ctx.device, layouts, key)
+        }) {
+            Ok(p) => p,
+            Err(e) => {
+                self.modules.forget(key);
+                return Err(e);
+            }
+        };
         self.built += 1;
         self.pipelines.insert(key.clone(), pipeline);
         Ok(())

@@ -46,13 +46,14 @@ impl Prebuilder {
                         break;
                     }
                     // Error scopes belong to the thread that pushes them.
-                    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-                    let pipeline = modules.build(&device, &layouts, &key);
-                    let failed = pollster::block_on(scope.pop()).is_some();
-                    if failed {
+                    let built = crate::gpu::catching(&device, "prebuild", || {
+                        modules.build(&device, &layouts, &key)
+                    })
+                    .ok();
+                    if built.is_none() {
                         modules.forget(&key);
                     }
-                    if tx.send((key, (!failed).then_some(pipeline))).is_err() {
+                    if tx.send((key, built)).is_err() {
                         break;
                     }
                 }

@@ -209,19 +209,13 @@ impl BakedField {
                 resource: frame_buf.as_entire_binding(),
             }],
         });
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let source = crate::gpu::shaders::assemble_with("raymarch/bake.wgsl", &[], &super::passes::BAKED)
+            .map_err(|e| Error::Gpu(format!("assembling the bake: {e}")))?
+            .source;
+        let (splat, light, resolve) = crate::gpu::catching(device, "creating the bake pipelines", || {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("bake"),
-            source: wgpu::ShaderSource::Wgsl(
-                crate::gpu::shaders::assemble_with(
-                    "raymarch/bake.wgsl",
-                    &[],
-                    &super::passes::BAKED,
-                )
-                .map_err(|e| Error::Gpu(format!("assembling the bake: {e}")))?
-                .source
-                .into(),
-            ),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("bake"),
@@ -238,12 +232,8 @@ impl BakedField {
                 cache: None,
             })
         };
-        let splat = compute("splat");
-        let light = compute("light");
-        let resolve = compute("resolve");
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(Error::Gpu(format!("creating the bake pipelines: {e}")));
-        }
+        (compute("splat"), compute("light"), compute("resolve"))
+        })?;
         *built += 3;
         let empty = volume_texture(device, "baked macro field", FIELD_FORMAT, [1, 1, 1]);
         // IEEE half-precision −1 (v far from every parcel), then G, B, A = 0.

@@ -174,6 +174,7 @@ impl Renderer {
         height: u32,
     ) -> Result<Self> {
         cfg.validate()?;
+        check_method(ctx, cfg.method)?;
         check_size(ctx, width, height)?;
         let device = &ctx.device;
         let limits = device.limits();
@@ -414,6 +415,7 @@ impl Renderer {
     /// A new method takes effect at the next `prepare`.
     pub fn set_config(&mut self, ctx: &GpuContext, cfg: &RenderConfig) -> Result<()> {
         cfg.validate()?;
+        check_method(ctx, cfg.method)?;
         if cfg.noise_texels != self.noise_texels {
             self.noise_view =
                 noise::texture(&NoiseVolume::new(cfg.noise_texels), &ctx.device, &ctx.queue);
@@ -461,6 +463,59 @@ impl Renderer {
     /// The scene's sprite clouds.
     pub fn sprite_clouds(&self) -> &[crate::methods::sprites::model::SpriteCloud] {
         self.sprite_scene.clouds()
+    }
+}
+
+/// Why `method` cannot draw on this adapter, if it cannot.
+pub fn unsupported(ctx: &GpuContext, method: RenderMethod) -> Option<&'static str> {
+    let entry = METHODS[crate::methods::index_of(method)];
+    (entry.unsupported)(&ctx.adapter.get_info(), method)
+}
+
+/// `method` can draw on this adapter, or the error naming the adapter,
+/// what it lacks and the fix.
+pub fn check_method(ctx: &GpuContext, method: RenderMethod) -> Result<()> {
+    match unsupported(ctx, method) {
+        None => Ok(()),
+        Some(why) => {
+            let others: Vec<&str> = RenderMethod::ALL
+                .into_iter()
+                .filter(|m| unsupported(ctx, *m).is_none())
+                .map(|m| m.name())
+                .collect();
+            Err(Error::Unsupported(format!(
+                "the {method} method cannot draw on {} ({}): {why}. Use --method {} (or set [render] method), or give wgpu a Vulkan adapter (Debian/Ubuntu: apt-get install mesa-vulkan-drivers libvulkan1; unset WGPU_BACKEND)",
+                ctx.adapter_name(),
+                ctx.backend(),
+                others.join(" or --method ")
+            )))
+        }
+    }
+}
+
+/// The method to draw with on this adapter: `cfg.method` when it can, or
+/// (when the user did not ask for it: `asked` false) the first method that
+/// can, with a note saying so.
+pub fn method_for(
+    ctx: &GpuContext,
+    cfg: &RenderConfig,
+    asked: bool,
+) -> (RenderMethod, Option<String>) {
+    match unsupported(ctx, cfg.method) {
+        Some(why) if !asked => {
+            let m = RenderMethod::ALL
+                .into_iter()
+                .find(|m| unsupported(ctx, *m).is_none())
+                .unwrap_or(cfg.method);
+            let note = format!(
+                "note: drawing with the {m} method: {} cannot draw on {} ({}): {why}",
+                cfg.method,
+                ctx.adapter_name(),
+                ctx.backend()
+            );
+            (m, Some(note))
+        }
+        _ => (cfg.method, None),
     }
 }
 

@@ -5,6 +5,7 @@
 
 mod cli;
 mod embed;
+mod gl;
 mod lighting;
 mod methods;
 mod noise;

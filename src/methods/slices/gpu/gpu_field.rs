@@ -10,7 +10,7 @@ use bytemuck::{Pod, Zeroable};
 
 use super::SlicesFrame;
 use super::passes::{FIELD_JOB, PRIMITIVES, SLICE_FIELD, SLOTS};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::gpu::GpuContext;
 use crate::gpu::layouts::{COMMON, Layouts, uniform_buffer};
 use crate::gpu::pass::SLOT_GROUP;
@@ -66,7 +66,7 @@ impl FieldPass {
     pub fn new(ctx: &GpuContext, layouts: &Layouts) -> Result<Self> {
         let device = &ctx.device;
         let layout = layouts.get(&FIELD_JOB);
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let (field, shadow) = crate::gpu::catching(device, "creating the slice_field pass", || {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("slice field"),
             source: wgpu::ShaderSource::Wgsl(SLICE_FIELD.source(&SLOTS).into()),
@@ -91,10 +91,8 @@ impl FieldPass {
                 cache: None,
             })
         };
-        let (field, shadow) = (pipeline("cs_field"), pipeline("cs_shadow"));
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(Error::Gpu(format!("creating the slice_field pass: {e}")));
-        }
+        (pipeline("cs_field"), pipeline("cs_shadow"))
+        })?;
         let job = uniform_buffer(device, "slice field: job", std::mem::size_of::<FieldJob>());
         Ok(Self {
             layout,

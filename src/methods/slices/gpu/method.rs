@@ -32,6 +32,7 @@ pub static ENTRY: MethodEntry = MethodEntry {
     files: passes::FILES,
     marches_shadow: true,
     pass_names: &[(Phase::Prepare, "slice_field"), (Phase::Resolve, "slices")],
+    unsupported: |_, _| None,
 };
 
 /// The slices' GPU state and the authored clouds they draw.

@@ -28,6 +28,7 @@ pub static ENTRY: MethodEntry = MethodEntry {
     files: super::passes::FILES,
     marches_shadow: false,
     pass_names: &[],
+    unsupported: |_, _| None,
 };
 
 /// The `sprites` method; see the module docs.

@@ -3,7 +3,7 @@
 //! splatting their shadows into the cloud-shadow map.
 
 use crate::gpu::layouts::{
-    COMMON, SHADOW_FORMAT, float2d_entry, sampler_entry, storage_entry, texture_entry,
+    COMMON, SHADOW_FORMAT, float2d_entry, sampler_entry, storage_entry,
 };
 use crate::gpu::pass::{LayoutSpec, PassKind, PassSpec, Slots};
 
@@ -15,11 +15,8 @@ pub const FILES: &[(&str, &str)] = crate::gpu::shaders::shader_files!["sprites/s
 pub static SPRITE_DEPTH: LayoutSpec = LayoutSpec {
     label: "sprites: terrain and cloud depth",
     entries: &[
-        texture_entry(
-            0,
-            wgpu::TextureSampleType::Depth,
-            wgpu::TextureViewDimension::D2,
-        ),
+        // The depth as an unfilterable float (see gpu::layouts::DEPTH).
+        float2d_entry(0, false),
         float2d_entry(1, false),
     ],
 };
