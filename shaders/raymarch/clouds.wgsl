@@ -203,15 +203,15 @@ fn temporal_jitter(pix: vec2<f32>, frame_index: u32) -> f32 {
 
 @compute @workgroup_size(8, 8)
 fn cs_temporal(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let quarter = temporal.size.zw;
+    let quarter = temporal.quarter;
     if any(gid.xy >= quarter) {
         return;
     }
-    let full = temporal.size.xy;
+    let full = temporal.size;
     // The block's marched pixel this frame (inside the frame on odd sizes).
-    let p = min(2u * gid.xy + temporal.params.xy, full - 1u);
+    let p = min(2u * gid.xy + temporal.offset, full - 1u);
     let pix = vec2<f32>(p) + 0.5;
-    let m = march(pix, ndc_of(pix, full), temporal_jitter(pix, temporal.params.z));
+    let m = march(pix, ndc_of(pix, full), temporal_jitter(pix, temporal.frame_index));
     textureStore(cloud_out, gid.xy, m.color);
     textureStore(cloud_depth_out, gid.xy, vec4<f32>(m.depth, 0.0, 0.0, 0.0));
 }

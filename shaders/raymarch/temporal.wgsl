@@ -48,15 +48,15 @@ const REJECT: f32 = 0.1;
 
 @compute @workgroup_size(8, 8)
 fn cs_resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let full = temporal.size.xy;
+    let full = temporal.size;
     if any(gid.xy >= full) {
         return;
     }
-    let quarter = vec2<i32>(temporal.size.zw);
+    let quarter = vec2<i32>(temporal.quarter);
     let block = vec2<i32>(gid.xy / 2u);
     let fresh = textureLoad(fresh_color, block, 0);
     let depth = textureLoad(fresh_depth, block, 0).x;
-    let marched = all(min(2u * (gid.xy / 2u) + temporal.params.xy, full - 1u) == gid.xy);
+    let marched = all(min(2u * (gid.xy / 2u) + temporal.offset, full - 1u) == gid.xy);
 
     // The box of the fresh samples around the pixel.
     var lo = fresh;
@@ -79,7 +79,7 @@ fn cs_resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
     let prev_ndc = prev.xy / max(prev.w, 1e-6);
     let prev_uv = vec2<f32>(0.5 * prev_ndc.x + 0.5, 0.5 - 0.5 * prev_ndc.y);
     let on_screen = prev.w > 0.0 && all(prev_uv >= vec2<f32>(0.0)) && all(prev_uv <= vec2<f32>(1.0));
-    let have_history = temporal.params.w != 0u && on_screen;
+    let have_history = temporal.history_valid != 0u && on_screen;
 
     // Branch-free below: Mesa's lavapipe (22.3) crashes on this shader
     // with nested branches, and every lane does the same work anyway.

@@ -4,6 +4,9 @@
 
 struct Temporal {
     prev_clip_from_world: mat4x4<f32>,
-    params: vec4<u32>, // x, y: offset of the marched pixel in its 2×2 block; z: frame index; w: history valid
-    size: vec4<u32>,   // frame width, height; quarter width, height
+    offset: vec2<u32>,   // the marched pixel's offset in its 2×2 block
+    frame_index: u32,
+    history_valid: u32,  // 1: the history holds the previous frame
+    size: vec2<u32>,     // frame width, height (px)
+    quarter: vec2<u32>,  // quarter-size width, height (px)
 }

@@ -17,29 +17,44 @@
 
 struct SlicesTier {
     texture_from_world: array<mat4x4<f32>, 8>, // per octave; unused are zero
-    bottom_m: vec4<f32>,  // x: bottom of the tier (m); y: first octave's weight
-    media: vec4<u32>,     // x: media filter id (MediaFilter::gpu_id)
+    bottom_m: f32,        // bottom of the tier (m)
+    first_weight: f32,    // the first octave's weight
+    media: u32,           // media filter id (MediaFilter::gpu_id)
+    _pad: u32,
 }
 
 struct SlicesOctaves {
     tiers: array<SlicesTier, 4>,
-    counts: vec4<u32>,    // x: tiers in use; y: octaves in use
+    tier_count: u32,      // tiers in use
+    octave_count: u32,    // octaves in use
+    _pad: vec2<u32>,
 }
 
 struct SlicesParams {
-    opacity: vec4<f32>,       // x: plane opacity; y: alpha cutoff; z: sun to colour scale; w: shadow scale
-    cloud_colour: vec4<f32>,  // rgb: lit cloud (linear)
-    shadow_colour: vec4<f32>, // rgb: fully shadowed cloud (linear)
-    index_min: vec4<f32>,     // xyz: the primitive index's minimum corner (m); w: cells per axis
-    index_cell: vec4<f32>,    // xyz: its cell size (m); w: shadow-map extinction per unit density (1/m)
+    plane_opacity: f32,
+    alpha_cutoff: f32,
+    sun_to_colour: f32,           // sun irradiance to cloud colour scale
+    shadow_scale: f32,            // vertex shadow to optical depth
+    cloud_colour: vec3<f32>,      // lit cloud (linear)
+    _pad0: f32,
+    shadow_colour: vec3<f32>,     // fully shadowed cloud (linear)
+    _pad1: f32,
+    index_min: vec3<f32>,         // the primitive index's minimum corner (m)
+    cells_per_axis: f32,
+    index_cell: vec3<f32>,        // its cell size (m)
+    shadow_extinction_per_m: f32, // shadow-map extinction per unit density (1/m)
 }
 
 // s² = |unit_from_world · (p − centre)|² (EllipsoidState::unit_from_world).
 struct Primitive {
-    // xyz: the rows of unit_from_world; w: strength (rows[0]), flat base
-    // altitude (m, rows[1]).
-    rows: array<vec4<f32>, 3>,
-    centre: vec4<f32>, // xyz: centre (m)
+    row0: vec3<f32>,   // the rows of unit_from_world
+    strength: f32,
+    row1: vec3<f32>,
+    base_z_m: f32,     // flat base altitude (m)
+    row2: vec3<f32>,
+    _pad0: f32,
+    centre_m: vec3<f32>,
+    _pad1: f32,
 }
 
 @group(3) @binding(0) var<uniform> octaves: SlicesOctaves;
@@ -52,8 +67,8 @@ struct Primitive {
 // (the first tier also covers everything below it).
 fn tier_at(z: f32) -> u32 {
     var t = 0u;
-    for (var i = 1u; i < octaves.counts.x; i++) {
-        if z >= octaves.tiers[i].bottom_m.x {
+    for (var i = 1u; i < octaves.tier_count; i++) {
+        if z >= octaves.tiers[i].bottom_m {
             t = i;
         }
     }
@@ -70,9 +85,9 @@ fn octave_noise(tier: u32, o: u32, p: vec3<f32>) -> f32 {
 // (persistence ½, normalised on the CPU so the weights sum to 1): the
 // composite stays in [0, 1] like each fetch.
 fn composite_noise(tier: u32, p: vec3<f32>) -> f32 {
-    var w = octaves.tiers[tier].bottom_m.y;
+    var w = octaves.tiers[tier].first_weight;
     var sum = 0.0;
-    for (var o = 0u; o < octaves.counts.y; o++) {
+    for (var o = 0u; o < octaves.octave_count; o++) {
         sum += w * octave_noise(tier, o, p);
         w *= 0.5;
     }
@@ -94,7 +109,7 @@ fn media_filter(id: u32, n: f32) -> f32 {
 // The tier's media filter of the composited octaves at `p`.
 fn media_at(p: vec3<f32>) -> f32 {
     let tier = tier_at(p.z);
-    return media_filter(octaves.tiers[tier].media.x, composite_noise(tier, p));
+    return media_filter(octaves.tiers[tier].media, composite_noise(tier, p));
 }
 
 // The vertex shadow's weight with the first octave (§4): the media filter
@@ -103,8 +118,8 @@ fn media_at(p: vec3<f32>) -> f32 {
 // first_octave_weight in src/methods/slices/gpu/field.rs is its CPU twin.
 fn first_octave_weight(p: vec3<f32>) -> f32 {
     let tier = tier_at(p.z);
-    let w0 = octaves.tiers[tier].bottom_m.y;
-    let id = octaves.tiers[tier].media.x;
+    let w0 = octaves.tiers[tier].first_weight;
+    let id = octaves.tiers[tier].media;
     let n = w0 * octave_noise(tier, 0u, p) + (1.0 - w0) * 0.5;
     return media_filter(id, n) / media_filter(id, 0.5);
 }
@@ -121,8 +136,8 @@ fn wyvill(s2: f32) -> f32 {
 // Σ strength · C(s²) over the primitives listed in p's cell of the index
 // (FieldIndex::field), 0 below a primitive's flat base.
 fn implicit_field(p: vec3<f32>) -> f32 {
-    let n = u32(params.index_min.w);
-    let q = (p - params.index_min.xyz) / params.index_cell.xyz;
+    let n = u32(params.cells_per_axis);
+    let q = (p - params.index_min) / params.index_cell;
     if any(q < vec3<f32>(0.0)) || any(q >= vec3<f32>(f32(n))) {
         return 0.0;
     }
@@ -131,12 +146,12 @@ fn implicit_field(p: vec3<f32>) -> f32 {
     var sum = 0.0;
     for (var k = cell_lists[cell]; k < cell_lists[cell + 1u]; k++) {
         let e = primitives[cell_lists[k]];
-        if p.z < e.rows[1].w {
+        if p.z < e.base_z_m {
             continue;
         }
-        let d = p - e.centre.xyz;
-        let u = vec3<f32>(dot(e.rows[0].xyz, d), dot(e.rows[1].xyz, d), dot(e.rows[2].xyz, d));
-        sum += e.rows[0].w * wyvill(dot(u, u));
+        let d = p - e.centre_m;
+        let u = vec3<f32>(dot(e.row0, d), dot(e.row1, d), dot(e.row2, d));
+        sum += e.strength * wyvill(dot(u, u));
     }
     return sum;
 }

@@ -4,7 +4,7 @@
 // (flat at their condensation planes) × the media filter of the noise
 // octaves (implicit.wgsl), scaled so that the map's
 // exp(−ground_sun_depth · extinction) is the slices' optical depth along
-// the sun ray (params.index_cell.w, see SlicesParams::new in
+// the sun ray (params.shadow_extinction_per_m, see SlicesParams::new in
 // src/methods/slices/gpu/mod.rs).
 
 #import "../common.wgsl"
@@ -16,7 +16,7 @@ fn slices_density(p: vec3<f32>) -> f32 {
     if f <= 0.0 {
         return 0.0;
     }
-    return f * media_at(p) * params.index_cell.w / frame.extinction_per_m;
+    return f * media_at(p) * params.shadow_extinction_per_m / frame.extinction_per_m;
 }
 
 // Slicing planes' shadow march: SHADOW_STEPS samples of slices_density

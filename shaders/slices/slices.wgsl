@@ -73,14 +73,14 @@ fn fs_main(in: SliceOut) -> @location(0) vec4<f32> {
             discard;
         }
     }
-    let tau = params.opacity.x * in.density * media_at(in.world);
-    if tau <= params.opacity.y {
+    let tau = params.plane_opacity * in.density * media_at(in.world);
+    if tau <= params.alpha_cutoff {
         discard;
     }
     let alpha = 1.0 - exp(-tau);
-    let lit = exp(-in.shadow * params.opacity.w);
-    let c = mix(params.shadow_colour.rgb, params.cloud_colour.rgb, lit)
-        * frame.sun_color * params.opacity.z;
+    let lit = exp(-in.shadow * params.shadow_scale);
+    let c = mix(params.shadow_colour, params.cloud_colour, lit)
+        * frame.sun_color * params.sun_to_colour;
     let seen = seen_through(Air(in.air_light, in.air_transmittance), c * alpha, alpha);
     return vec4<f32>(output_color(seen), alpha);
 }

@@ -12,9 +12,14 @@
 
 // FieldJob of src/methods/slices/gpu/gpu_field.rs.
 struct FieldJob {
-    counts: vec4<u32>, // x: vertices; y: rays; z: ray start stride; w: ray start offset
-    walk: vec4<i32>,   // x: vertex step along a ray; y: vertices per ray; z: first octave (1) or not (0)
-    scale: vec4<f32>,  // x: shadow step (ShadowRays::shadow_step)
+    vertices: u32,
+    rays: u32,
+    ray_stride: u32,     // vertex index stride between ray starts
+    ray_offset: u32,     // vertex index of the first ray's start
+    vertex_step: i32,    // vertex index step along a ray
+    ray_vertices: i32,   // vertices per ray
+    first_octave: i32,   // 1: the shadow weighs the first noise octave
+    shadow_step: f32,    // ShadowRays::shadow_step
 }
 
 @group(1) @binding(0) var<uniform> job: FieldJob;
@@ -28,7 +33,7 @@ fn vertex_position(i: u32) -> vec3<f32> {
 @compute @workgroup_size(64)
 fn cs_field(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x + id.y * 65535u * 64u;
-    if i >= job.counts.x {
+    if i >= job.vertices {
         return;
     }
     vertices[5u * i + 3u] = implicit_field(vertex_position(i));
@@ -37,20 +42,20 @@ fn cs_field(@builtin(global_invocation_id) id: vec3<u32>) {
 @compute @workgroup_size(64)
 fn cs_shadow(@builtin(global_invocation_id) id: vec3<u32>) {
     let r = id.x + id.y * 65535u * 64u;
-    if r >= job.counts.y {
+    if r >= job.rays {
         return;
     }
-    var v = i32(r * job.counts.z + job.counts.w);
+    var v = i32(r * job.ray_stride + job.ray_offset);
     var shadow = 0.0;
-    for (var t = 0; t < job.walk.y; t++) {
+    for (var t = 0; t < job.ray_vertices; t++) {
         let i = u32(v);
         let density = vertices[5u * i + 3u];
         var weight = 1.0;
-        if job.walk.z != 0 && density > 0.0 {
+        if job.first_octave != 0 && density > 0.0 {
             weight = first_octave_weight(vertex_position(i));
         }
-        shadow += job.scale.x * density * weight;
+        shadow += job.shadow_step * density * weight;
         vertices[5u * i + 4u] = shadow;
-        v += job.walk.x;
+        v += job.vertex_step;
     }
 }

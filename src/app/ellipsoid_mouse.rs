@@ -1,5 +1,5 @@
 //! Editing the authored ellipsoids with the mouse in the window (`slices`
-//! method; the math is `authored::pick`): a left click on an ellipsoid
+//! method; the math is `methods::slices::model::pick`): a left click on an ellipsoid
 //! selects it in the panel and dragging moves it in the plane through the
 //! grabbed point facing the camera (a click beside every ellipsoid orbits
 //! the camera, as anywhere else); Shift + scroll resizes the selected one.

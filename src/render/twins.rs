@@ -130,8 +130,11 @@ fn temporal_uniform_matches() {
     let rust = || {
         rust_layout!(TemporalUniform {
             prev_clip_from_world,
-            params,
+            offset,
+            frame_index,
+            history_valid,
             size,
+            quarter,
         })
     };
     check(&module(&raymarch::CLOUDS, &BAKED), "Temporal", rust());
@@ -151,33 +154,65 @@ fn slices_structs_match() {
         rust_layout!(TierUniform {
             texture_from_world,
             bottom_m,
+            first_weight,
             media,
+            _pad,
         }),
     );
     check(
         &m,
         "SlicesOctaves",
-        rust_layout!(OctaveUniform { tiers, counts }),
+        rust_layout!(OctaveUniform {
+            tiers,
+            tier_count,
+            octave_count,
+            _pad,
+        }),
     );
     check(
         &m,
         "SlicesParams",
         rust_layout!(SlicesParams {
-            opacity,
+            plane_opacity,
+            alpha_cutoff,
+            sun_to_colour,
+            shadow_scale,
             cloud_colour,
+            _pad0,
             shadow_colour,
+            _pad1,
             index_min,
+            cells_per_axis,
             index_cell,
+            shadow_extinction_per_m,
         }),
     );
-    check(&m, "Primitive", rust_layout!(GpuPrimitive { rows, centre }));
+    check(
+        &m,
+        "Primitive",
+        rust_layout!(GpuPrimitive {
+            row0,
+            strength,
+            row1,
+            base_z_m,
+            row2,
+            _pad0,
+            centre_m,
+            _pad1,
+        }),
+    );
     check(
         &module(&slices::SLICE_FIELD, &slices::SLOTS),
         "FieldJob",
         rust_layout!(FieldJob {
-            counts,
-            walk,
-            scale,
+            vertices,
+            rays,
+            ray_stride,
+            ray_offset,
+            vertex_step,
+            ray_vertices,
+            first_octave,
+            shadow_step,
         }),
     );
 }

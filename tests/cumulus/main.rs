@@ -1,8 +1,8 @@
 //! The integration tests of cumulus, as one test binary (as wgpu's own
-//! suite is): one link of the crate for all of them instead of one per
-//! file, and one place for their shared helpers (`common`). Each area is a
-//! module, each former test file a module of its area; filter with the
-//! module path, e.g. `cargo test --release --test cumulus -- physics::`.
+//! suite is): one link of the crate for all of them, and one place for
+//! their shared helpers (`common`). Each area is a module, each topic a
+//! module of its area; filter with the module path, e.g.
+//! `cargo test --release --test cumulus -- physics::`.
 //!
 //! The tests share one process: none may change process-wide state (the
 //! current directory, environment variables, the global rayon pool) or

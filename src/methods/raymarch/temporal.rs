@@ -31,11 +31,15 @@ pub struct TemporalUniform {
     /// The previous frame's world → clip (the current one's when there is
     /// no history).
     pub prev_clip_from_world: [[f32; 4]; 4],
-    /// x, y: the marched pixel's offset in its block; z: frame index;
-    /// w: 1 when the history holds the previous frame.
-    pub params: [u32; 4],
-    /// Frame width and height; quarter-size width and height. units: px
-    pub size: [u32; 4],
+    /// The marched pixel's offset in its 2×2 block.
+    pub offset: [u32; 2],
+    pub frame_index: u32,
+    /// 1 when the history holds the previous frame.
+    pub history_valid: u32,
+    /// Frame width and height. units: px
+    pub size: [u32; 2],
+    /// Quarter-size width and height. units: px
+    pub quarter: [u32; 2],
 }
 
 const _: () = assert!(std::mem::size_of::<TemporalUniform>() == 96);
@@ -159,8 +163,11 @@ impl TemporalGpu {
         let (qw, qh) = quarter_size(self.size.0, self.size.1);
         let u = TemporalUniform {
             prev_clip_from_world: prev.to_cols_array_2d(),
-            params: [ox, oy, self.frame_index, self.history_valid as u32],
-            size: [self.size.0, self.size.1, qw, qh],
+            offset: [ox, oy],
+            frame_index: self.frame_index,
+            history_valid: self.history_valid as u32,
+            size: [self.size.0, self.size.1],
+            quarter: [qw, qh],
         };
         queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&u));
     }

@@ -20,7 +20,7 @@ use rayon::prelude::*;
 
 use super::PAR_MIN;
 
-use super::{ClampCounts, MAX_DETRAIN_FRACTION, MIN_DRY_MASS_KG, ParcelWorld, wind_at};
+use super::{ClampCounts, MAX_MIX_FRACTION, MIN_DRY_MASS_KG, ParcelWorld, wind_at};
 use crate::physics::parcel::Parcel;
 
 /// Rates of the mixing processes of one parcel: d/dt of dry mass (kg s⁻¹),
@@ -130,11 +130,19 @@ impl ParcelWorld {
                     p.dry_mass_kg,
                 );
                 // eq 11: ε' = ε r; swept environment air through the exposed area.
-                let ent = c.entrainment_surface_factor
+                let mut ent = c.entrainment_surface_factor
                     * (c.entrainment_rate_per_m * r)
                     * area
                     * p.env_at_centre.1
                     * speed;
+                // At most half the parcel's mass in one sub-step (counted):
+                // the explicit step then mixes parcel and environment
+                // convexly, never overshooting the environment's θ or q.
+                let mut capped_ent = 0;
+                if ent / m * cap_dt > MAX_MIX_FRACTION {
+                    ent = MAX_MIX_FRACTION * m / cap_dt;
+                    capped_ent = 1;
+                }
                 // eq 11's ρ_atm is moist air; its dry part is what the mixing ratios count.
                 let env_qv = env.qv(z);
                 let dry_in = ent / (1.0 + env_qv);
@@ -169,16 +177,17 @@ impl ParcelWorld {
                         * rho_p
                         * speed;
                     let mut frac = det / m;
-                    if frac * cap_dt > MAX_DETRAIN_FRACTION {
-                        frac = MAX_DETRAIN_FRACTION / cap_dt;
+                    if frac * cap_dt > MAX_MIX_FRACTION {
+                        frac = MAX_MIX_FRACTION / cap_dt;
                         capped = 1;
                     }
                     g[0] -= frac * md;
                 }
-                capped
+                (capped_ent, capped)
             })
-            .sum::<u64>();
-        clamps.detrainment += counted;
+            .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+        clamps.entrainment += counted.0;
+        clamps.detrainment += counted.1;
     }
 
     /// Exchange between touching parcels (§5.3, eq 16 is a mass exchange):

@@ -65,8 +65,9 @@ const PAR_MIN: usize = 64;
 
 /// Smallest dry mass a parcel may have (counted clamp). units: kg
 const MIN_DRY_MASS_KG: f64 = 1.0;
-/// Largest share of a parcel's dry air detrained in one sub-step (counted clamp).
-const MAX_DETRAIN_FRACTION: f64 = 0.5;
+/// Largest share of a parcel's mass entrained, or of its dry air detrained,
+/// in one sub-step (counted clamps).
+const MAX_MIX_FRACTION: f64 = 0.5;
 
 mod density;
 mod exposed;

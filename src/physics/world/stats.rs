@@ -16,6 +16,9 @@ pub struct ClampCounts {
     pub mass: u64,
     /// Saturation vapour pressure capped near es → P (thermo's guard).
     pub saturation_cap: u64,
+    /// Entrainment limited to half the parcel's mass in one sub-step (the
+    /// explicit mixing step stays a convex mix of parcel and environment).
+    pub entrainment: u64,
     /// Detrainment limited to half the dry air in one sub-step.
     pub detrainment: u64,
     /// Pair exchanges bounded so that each parcel keeps at least half its
@@ -45,6 +48,7 @@ impl ClampCounts {
         self.radius += o.radius;
         self.mass += o.mass;
         self.saturation_cap += o.saturation_cap;
+        self.entrainment += o.entrainment;
         self.detrainment += o.detrainment;
         self.exchange += o.exchange;
         self.speed += o.speed;
@@ -64,12 +68,13 @@ impl ClampCounts {
     }
 
     /// Every kind with its count, in a fixed order (names as the fields).
-    pub fn kinds(&self) -> [(&'static str, u64); 13] {
+    pub fn kinds(&self) -> [(&'static str, u64); 14] {
         [
             ("negative_humidity", self.negative_humidity),
             ("radius", self.radius),
             ("mass", self.mass),
             ("saturation_cap", self.saturation_cap),
+            ("entrainment", self.entrainment),
             ("detrainment", self.detrainment),
             ("exchange", self.exchange),
             ("speed", self.speed),

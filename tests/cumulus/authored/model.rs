@@ -454,9 +454,9 @@ fn octave_uniform_packs_every_tier_for_the_shaders() {
         torque_deg_s: [0.0; 3],
     };
     let u = octave_uniform(&tiers, &base, 2.0, 4, Vec3::ZERO, 30.0);
-    assert_eq!(u.counts, [2, 4, 0, 0]);
-    assert_eq!(u.tiers[1].media[0], MediaFilter::Wispy.gpu_id());
-    assert_eq!(u.tiers[1].bottom_m[0], 5000.0);
+    assert_eq!((u.tier_count, u.octave_count), (2, 4));
+    assert_eq!(u.tiers[1].media, MediaFilter::Wispy.gpu_id());
+    assert_eq!(u.tiers[1].bottom_m, 5000.0);
     let expect = tiers[1].transforms(&base, 2.0, 4, Vec3::ZERO, 30.0);
     for (o, e) in expect.iter().enumerate() {
         assert_eq!(u.tiers[1].texture_from_world[o], e.to_cols_array_2d());
@@ -476,7 +476,7 @@ fn octave_uniform_packs_every_tier_for_the_shaders() {
         "persistence weights are normalised"
     );
     assert!((w[1] / w[0] - 0.5).abs() < 1e-6 && (w[3] / w[2] - 0.5).abs() < 1e-6);
-    assert!((u.tiers[0].bottom_m[1] - w[0]).abs() < 1e-7);
+    assert!((u.tiers[0].first_weight - w[0]).abs() < 1e-7);
 }
 
 fn profile_path() -> std::path::PathBuf {
@@ -582,7 +582,7 @@ fn authored_frame_gathers_geometry_and_octaves_for_the_renderer() {
         f.geometry.vertices.iter().any(|v| v.shadow > 0.01),
         "and shade them"
     );
-    assert_eq!(f.octaves.counts, [3, 4, 0, 0]);
+    assert_eq!((f.octaves.tier_count, f.octaves.octave_count), (3, 4));
     // The noise pivots on the centre of the clouds' bounds at time 0: at
     // t = 0 every tier's first octave maps it to the texture origin.
     let (lo, hi) = ellipsoid::bounds_m(&at(0.0).states).unwrap();

@@ -27,8 +27,8 @@
 //!   (found by hand while widening the stability matrix, test below):
 //!   nothing found (91 s).
 //!
-//! (`[physics] stiffness = 0` being accepted was found by the bad-input
-//! fixtures, not by the fuzzer: validate() now asks for K > 0.)
+//! (`validate()` asks for `[physics] stiffness` K > 0; the bad-input
+//! fixtures, not this fuzzer, check that case.)
 
 use std::path::Path;
 

@@ -1,4 +1,4 @@
-"""Reference CAPE and CIN for tests/atmosphere_cape.rs, computed with MetPy.
+"""Reference CAPE and CIN for tests/cumulus/atmosphere/cape.rs, computed with MetPy.
 
 For the surface-based, mixed-layer (lowest 100 hPa) and most-unstable
 (lowest 300 hPa) parcels of the two shipped soundings, prints the parcel's

@@ -1,4 +1,4 @@
-"""Reference values for tests/atmosphere_metpy.rs, computed with MetPy.
+"""Reference values for tests/cumulus/atmosphere/metpy.rs, computed with MetPy.
 
 Reads the two shipped soundings with a plain fixed-width reader (independent
 of the Rust one), lifts the surface parcel with MetPy's `lcl` and

@@ -17,11 +17,17 @@ use crate::methods::slices::model::{EllipsoidState, VertexField};
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct GpuPrimitive {
-    /// xyz: rows of [`EllipsoidState::unit_from_world`]; w of the first:
-    /// strength; w of the second: flat base altitude (m, −1e30 for none).
-    pub rows: [[f32; 4]; 3],
-    /// xyz: centre (m).
-    pub centre: [f32; 4],
+    /// The rows of [`EllipsoidState::unit_from_world`].
+    pub row0: [f32; 3],
+    pub strength: f32,
+    pub row1: [f32; 3],
+    /// Flat base altitude (−1e30 for none). units: m
+    pub base_z_m: f32,
+    pub row2: [f32; 3],
+    pub _pad0: f32,
+    /// units: m
+    pub centre_m: [f32; 3],
+    pub _pad1: f32,
 }
 
 const _: () = assert!(std::mem::size_of::<GpuPrimitive>() == 64);
@@ -29,14 +35,15 @@ const _: () = assert!(std::mem::size_of::<GpuPrimitive>() == 64);
 impl GpuPrimitive {
     pub fn new(e: &EllipsoidState) -> Self {
         let m = e.unit_from_world().transpose();
-        let row = |v: glam::Vec3, w: f32| v.extend(w).to_array();
         Self {
-            rows: [
-                row(m.x_axis, e.strength),
-                row(m.y_axis, e.base_z_m.max(-1.0e30)),
-                row(m.z_axis, 0.0),
-            ],
-            centre: e.centre_m.extend(0.0).to_array(),
+            row0: m.x_axis.to_array(),
+            strength: e.strength,
+            row1: m.y_axis.to_array(),
+            base_z_m: e.base_z_m.max(-1.0e30),
+            row2: m.z_axis.to_array(),
+            _pad0: 0.0,
+            centre_m: e.centre_m.to_array(),
+            _pad1: 0.0,
         }
     }
 }

@@ -40,9 +40,9 @@ impl AuthoredField {
     /// Octaves of tier `tier` composited at `p` (weights first × ½^o).
     pub fn composite_noise(&self, tier: usize, p: Vec3) -> f32 {
         let t = &self.octaves.tiers[tier];
-        let mut w = t.bottom_m[1];
+        let mut w = t.first_weight;
         let mut sum = 0.0;
-        for o in 0..self.octaves.counts[1] as usize {
+        for o in 0..self.octaves.octave_count as usize {
             sum += w * octave_noise(&self.octaves, &self.noise, tier, o, p);
             w *= 0.5;
         }
@@ -63,16 +63,16 @@ impl AuthoredField {
 /// The tier holding altitude `z_m`: the highest whose bottom is at or
 /// below it (the first covers everything below).
 pub fn tier_at(octaves: &OctaveUniform, z_m: f32) -> usize {
-    let count = octaves.counts[0] as usize;
+    let count = octaves.tier_count as usize;
     (1..count)
-        .rfind(|&i| z_m >= octaves.tiers[i].bottom_m[0])
+        .rfind(|&i| z_m >= octaves.tiers[i].bottom_m)
         .unwrap_or(0)
 }
 
 fn media_of(octaves: &OctaveUniform, tier: usize) -> MediaFilter {
     MediaFilter::ALL
         .into_iter()
-        .find(|f| f.gpu_id() == octaves.tiers[tier].media[0])
+        .find(|f| f.gpu_id() == octaves.tiers[tier].media)
         .unwrap_or_default()
 }
 
@@ -99,7 +99,7 @@ fn octave_noise(
 /// shaders/slices/implicit.wgsl is the GPU twin.
 pub fn first_octave_weight(octaves: &OctaveUniform, noise: &NoiseVolume, p: Vec3) -> f32 {
     let tier = tier_at(octaves, p.z);
-    let w0 = octaves.tiers[tier].bottom_m[1];
+    let w0 = octaves.tiers[tier].first_weight;
     let media = media_of(octaves, tier);
     let n = w0 * octave_noise(octaves, noise, tier, 0, p) + (1.0 - w0) * 0.5;
     media.apply(n) / media.apply(0.5)

@@ -21,26 +21,39 @@ const WORKGROUP: u32 = 64;
 /// Most workgroups along x (WebGPU's minimum limit); more go along y.
 const MAX_GROUPS_X: u32 = 65535;
 
-/// WGSL `struct FieldJob` in shaders/slices/vertex_field.wgsl (48 bytes).
+/// WGSL `struct FieldJob` in shaders/slices/vertex_field.wgsl (32 bytes).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct FieldJob {
-    /// Vertices, rays, ray start stride, ray start offset.
-    pub counts: [u32; 4],
-    /// Vertex step along a ray, vertices per ray, first octave (1/0), 0.
-    pub walk: [i32; 4],
-    /// x: shadow step; y, z, w: 0.
-    pub scale: [f32; 4],
+    pub vertices: u32,
+    pub rays: u32,
+    /// Vertex index stride between ray starts.
+    pub ray_stride: u32,
+    /// Vertex index of the first ray's start.
+    pub ray_offset: u32,
+    /// Vertex index step along a ray.
+    pub vertex_step: i32,
+    /// Vertices per ray.
+    pub ray_vertices: i32,
+    /// 1: the shadow weighs the first noise octave.
+    pub first_octave: i32,
+    /// units: m
+    pub shadow_step: f32,
 }
 
-const _: () = assert!(std::mem::size_of::<FieldJob>() == 48);
+const _: () = assert!(std::mem::size_of::<FieldJob>() == 32);
 
 impl FieldJob {
     pub fn new(vertices: u32, rays: &ShadowRays, shadow_octave: bool) -> Self {
         Self {
-            counts: [vertices, rays.rays, rays.start_stride, rays.start_offset],
-            walk: [rays.step, rays.count as i32, shadow_octave as i32, 0],
-            scale: [rays.shadow_step, 0.0, 0.0, 0.0],
+            vertices,
+            rays: rays.rays,
+            ray_stride: rays.start_stride,
+            ray_offset: rays.start_offset,
+            vertex_step: rays.step,
+            ray_vertices: rays.count as i32,
+            first_octave: shadow_octave as i32,
+            shadow_step: rays.shadow_step,
         }
     }
 }

@@ -49,22 +49,31 @@ pub const SUN_TO_COLOUR: f32 = 0.8;
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct SlicesParams {
-    /// x: plane opacity (Opacity ÷ planes) × the view's [`CloudscapeScale`];
-    /// y: alpha cutoff (Sharpness × that plane opacity); z:
-    /// [`SUN_TO_COLOUR`]; w: the light's [`CloudscapeScale`] (× shadow).
-    pub opacity: [f32; 4],
-    /// rgb: lit cloud colour (linear); w: 0.
-    pub cloud_colour: [f32; 4],
-    /// rgb: fully shadowed cloud colour (linear); w: 0.
-    pub shadow_colour: [f32; 4],
-    /// xyz: the primitives' grid index minimum (units: m); w: cells per
-    /// axis (see [`FieldIndex::flatten`]).
-    pub index_min: [f32; 4],
-    /// xyz: the index's cell size (units: m); w: the slices' extinction
-    /// per unit of field × media for the cloud-shadow map, Opacity ÷ the
-    /// mean primitive's depth along the light (units: 1/m): the optical
-    /// depth the planes give one mean primitive, spread along the sun ray.
-    pub index_cell: [f32; 4],
+    /// Plane opacity (Opacity ÷ planes) × the view's [`CloudscapeScale`].
+    pub plane_opacity: f32,
+    /// Alpha cutoff (Sharpness × that plane opacity).
+    pub alpha_cutoff: f32,
+    /// [`SUN_TO_COLOUR`].
+    pub sun_to_colour: f32,
+    /// The light's [`CloudscapeScale`] (× the vertex shadow).
+    pub shadow_scale: f32,
+    /// Lit cloud colour (linear).
+    pub cloud_colour: [f32; 3],
+    pub _pad0: f32,
+    /// Fully shadowed cloud colour (linear).
+    pub shadow_colour: [f32; 3],
+    pub _pad1: f32,
+    /// The primitives' grid index minimum (see [`FieldIndex::flatten`]).
+    /// units: m
+    pub index_min: [f32; 3],
+    pub cells_per_axis: f32,
+    /// The index's cell size. units: m
+    pub index_cell: [f32; 3],
+    /// The slices' extinction per unit of field × media for the
+    /// cloud-shadow map, Opacity ÷ the mean primitive's depth along the
+    /// light: the optical depth the planes give one mean primitive, spread
+    /// along the sun ray. units: 1/m
+    pub shadow_extinction_per_m: f32,
 }
 
 const _: () = assert!(std::mem::size_of::<SlicesParams>() == 80);
@@ -131,29 +140,18 @@ impl SlicesParams {
         index: &FlatIndex,
     ) -> Self {
         Self {
-            opacity: [
-                cfg.plane_opacity() * scale.view,
-                cfg.alpha_cutoff() * scale.view,
-                SUN_TO_COLOUR,
-                scale.light,
-            ],
-            cloud_colour: [
-                cfg.cloud_colour[0],
-                cfg.cloud_colour[1],
-                cfg.cloud_colour[2],
-                0.0,
-            ],
-            shadow_colour: [
-                cfg.shadow_colour[0],
-                cfg.shadow_colour[1],
-                cfg.shadow_colour[2],
-                0.0,
-            ],
-            index_min: index.min_m.extend(index.cells_per_axis as f32).to_array(),
-            index_cell: index
-                .cell_m
-                .extend(cfg.opacity / scale.mean_depth_light_m)
-                .to_array(),
+            plane_opacity: cfg.plane_opacity() * scale.view,
+            alpha_cutoff: cfg.alpha_cutoff() * scale.view,
+            sun_to_colour: SUN_TO_COLOUR,
+            shadow_scale: scale.light,
+            cloud_colour: cfg.cloud_colour,
+            _pad0: 0.0,
+            shadow_colour: cfg.shadow_colour,
+            _pad1: 0.0,
+            index_min: index.min_m.to_array(),
+            cells_per_axis: index.cells_per_axis as f32,
+            index_cell: index.cell_m.to_array(),
+            shadow_extinction_per_m: cfg.opacity / scale.mean_depth_light_m,
         }
     }
 }

@@ -102,31 +102,37 @@ pub fn octave_weights(octaves: usize) -> Vec<f32> {
 }
 
 /// One tier as the shaders take it: WGSL `struct SlicesTier` in
-/// shaders/slices/implicit.wgsl (544 bytes; a test compares the layouts).
+/// shaders/slices/implicit.wgsl (528 bytes; a test compares the layouts).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct TierUniform {
     /// texture_from_world per octave (column-major); unused ones are zero.
     pub texture_from_world: [[[f32; 4]; 4]; MAX_OCTAVES],
-    /// x: bottom of the tier (units: m); y: first octave's weight; z, w: 0.
-    pub bottom_m: [f32; 4],
-    /// x: media filter id ([`crate::config::slices::MediaFilter::gpu_id`]); y, z, w: 0.
-    pub media: [u32; 4],
+    /// Bottom of the tier. units: m
+    pub bottom_m: f32,
+    /// The first octave's weight.
+    pub first_weight: f32,
+    /// Media filter id ([`crate::config::slices::MediaFilter::gpu_id`]).
+    pub media: u32,
+    pub _pad: u32,
 }
 
 /// Every tier's octave transforms for one frame: WGSL
-/// `struct SlicesOctaves` in shaders/slices/implicit.wgsl (2192 bytes; a
+/// `struct SlicesOctaves` in shaders/slices/implicit.wgsl (2128 bytes; a
 /// test compares the layouts).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct OctaveUniform {
     pub tiers: [TierUniform; MAX_TIERS],
-    /// x: tiers in use; y: octaves in use; z, w: 0.
-    pub counts: [u32; 4],
+    /// Tiers in use.
+    pub tier_count: u32,
+    /// Octaves in use.
+    pub octave_count: u32,
+    pub _pad: [u32; 2],
 }
 
-const _: () = assert!(std::mem::size_of::<TierUniform>() == 544);
-const _: () = assert!(std::mem::size_of::<OctaveUniform>() == 4 * 544 + 16);
+const _: () = assert!(std::mem::size_of::<TierUniform>() == 528);
+const _: () = assert!(std::mem::size_of::<OctaveUniform>() == 4 * 528 + 16);
 
 /// Packs the tiers' transforms at `time_s` for the shaders.
 pub fn octave_uniform(
@@ -148,9 +154,11 @@ pub fn octave_uniform(
         {
             *m = t.to_cols_array_2d();
         }
-        slot.bottom_m = [tier.bottom_m, first_weight, 0.0, 0.0];
-        slot.media = [tier.media.gpu_id(), 0, 0, 0];
+        slot.bottom_m = tier.bottom_m;
+        slot.first_weight = first_weight;
+        slot.media = tier.media.gpu_id();
     }
-    u.counts = [tiers.len().min(MAX_TIERS) as u32, octaves as u32, 0, 0];
+    u.tier_count = tiers.len().min(MAX_TIERS) as u32;
+    u.octave_count = octaves as u32;
     u
 }
