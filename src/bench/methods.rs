@@ -9,7 +9,7 @@
 //!
 //! One line of [`cases`] adds a case.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crate::config::{Camera, RenderMethod};
 use crate::error::{Error, Result};
@@ -87,13 +87,54 @@ pub(super) struct Loaded {
     pub sun: Sun,
 }
 
+/// Where the shipped scenes are: the first of `$CUMULUS_PROFILES`,
+/// `./profiles`, `profiles/` beside the binary or two folders up from it
+/// (a cargo build's `target/release/`), and the source tree the binary was
+/// built from that holds a `profiles/` folder with `fair_weather.toml`, so
+/// the release binary runs the bench from a copy of `profiles/` on a
+/// machine without the sources.
+pub fn profiles_dir() -> Result<PathBuf> {
+    let mut candidates: Vec<PathBuf> = Vec::new();
+    if let Some(p) = std::env::var_os("CUMULUS_PROFILES") {
+        candidates.push(PathBuf::from(p));
+    }
+    candidates.push(PathBuf::from("profiles"));
+    if let Some(exe_dir) = std::env::current_exe()
+        .ok()
+        .and_then(|e| e.parent().map(Path::to_path_buf))
+    {
+        candidates.push(exe_dir.join("profiles"));
+        candidates.push(exe_dir.join("../../profiles"));
+    }
+    candidates.push(Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles"));
+    find_profiles(&candidates)
+}
+
+/// The first of `candidates` holding the shipped scenes, or an error
+/// listing where it looked.
+pub fn find_profiles(candidates: &[PathBuf]) -> Result<PathBuf> {
+    candidates
+        .iter()
+        .find(|d| d.join("fair_weather.toml").is_file())
+        .cloned()
+        .ok_or_else(|| {
+            let looked: Vec<String> = candidates.iter().map(|d| d.display().to_string()).collect();
+            Error::invalid(
+                "profiles folder",
+                "none found",
+                format!(
+                    "a copy of the repository's profiles/ (with fair_weather.toml) in one of: {}; or set CUMULUS_PROFILES",
+                    looked.join(", ")
+                ),
+            )
+        })
+}
+
 /// The profile `name` of `profiles/` with the bench's `--set` overrides
 /// applied and validated as [`crate::scene::load_scene_with`] does; an
 /// error also names the scene (an override must suit every bench scene).
 pub fn load_profile(name: &str, overrides: &[String]) -> Result<SceneProfile> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("profiles")
-        .join(name);
+    let path = profiles_dir()?.join(name);
     crate::scene::load_scene_with(Some(&path), overrides)
         .map(|(p, _)| p)
         .map_err(|e| match e {
@@ -148,7 +189,7 @@ pub(super) fn load(name: &str, overrides: &[String]) -> Result<Loaded> {
 /// `profiles/NAME` with the `--set` `overrides`, simulated (seed 1, 2 s
 /// frames) to `time_s`, or to its `[simulation] start_s`.
 pub(super) fn load_at(name: &str, time_s: Option<f64>, overrides: &[String]) -> Result<Loaded> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles");
+    let dir = profiles_dir()?;
     let profile = load_profile(name, overrides)?;
     let env = profile.atmosphere.build(&dir)?;
     let mut world = ParcelWorld::new(env, profile.world_config(&dir)?, 1)?;
@@ -353,4 +394,24 @@ pub fn write(dir: &Path, rows: &[MethodRow], width: u32, height: u32) -> Result<
         &dir.join("methods.md"),
         methods_md(rows, width, height).as_bytes(),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_profiles_folder_is_found_or_the_error_says_where_it_looked() {
+        let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let nowhere = repo.join("no-such-folder");
+        let found = find_profiles(&[nowhere.clone(), repo.join("profiles")]).unwrap();
+        assert_eq!(found, repo.join("profiles"));
+        let e = find_profiles(&[nowhere.clone(), repo.join("src")])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("no-such-folder") && e.contains("CUMULUS_PROFILES"),
+            "{e}"
+        );
+    }
 }
