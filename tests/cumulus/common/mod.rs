@@ -10,6 +10,7 @@ pub mod flip;
 pub mod gpu;
 pub mod hdr;
 pub mod physics;
+pub mod points;
 pub mod render;
 
 pub use gpu::context;

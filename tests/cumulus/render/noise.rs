@@ -14,19 +14,6 @@ use cumulus::gpu::uniform::FrameUniform;
 use cumulus::noise::{self, NoiseVolume};
 use wgpu::util::DeviceExt;
 
-/// The compute entry evaluating `noise3` at each point of `pts`.
-const ENTRY: &str = "
-@group(1) @binding(0) var<storage, read> pts: array<vec4<f32>>;
-@group(1) @binding(1) var<storage, read_write> out: array<f32>;
-
-@compute @workgroup_size(64)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    if id.x < arrayLength(&pts) {
-        out[id.x] = noise3(pts[id.x].xyz);
-    }
-}
-";
-
 /// GPU noise3 at `pts` with the frame's `eye`, time, octaves and cone.
 fn gpu_noise(
     ctx: &cumulus::render::GpuContext,
@@ -36,19 +23,7 @@ fn gpu_noise(
     noise: [f32; 4],
 ) -> Vec<f32> {
     let device = &ctx.device;
-    let src = format!("{}{}{}", shaders::prelude(), shaders::FILES[0].1, ENTRY);
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("noise3 test"),
-        source: wgpu::ShaderSource::Wgsl(src.into()),
-    });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("noise3 test"),
-        layout: None,
-        module: &module,
-        entry_point: Some("main"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
+    let src = format!("{}{}", shaders::prelude(), shaders::FILES[0].1);
     let mut frame = FrameUniform::zeroed();
     frame.camera_pos = eye_time;
     frame.noise = noise;
@@ -57,76 +32,20 @@ fn gpu_noise(
         contents: bytemuck::bytes_of(&frame),
         usage: wgpu::BufferUsages::UNIFORM,
     });
-    let pts_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("points"),
-        contents: bytemuck::cast_slice(pts),
-        usage: wgpu::BufferUsages::STORAGE,
-    });
-    let size = 4 * pts.len() as u64;
-    let out = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("noise out"),
-        size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let read = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("noise read"),
-        size,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
     let view = cumulus::gpu::noise::texture(vol, device, &ctx.queue);
     let sampler = cumulus::gpu::noise::repeat_sampler(device);
-    let g0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("noise test common"),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: frame_buf.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 3,
-                resource: wgpu::BindingResource::TextureView(&view),
-            },
-            wgpu::BindGroupEntry {
-                binding: 4,
-                resource: wgpu::BindingResource::Sampler(&sampler),
-            },
-        ],
-    });
-    let g1 = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("noise test io"),
-        layout: &pipeline.get_bind_group_layout(1),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: pts_buf.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: out.as_entire_binding(),
-            },
-        ],
-    });
-    let mut enc = device.create_command_encoder(&Default::default());
-    {
-        let mut cp = enc.begin_compute_pass(&Default::default());
-        cp.set_pipeline(&pipeline);
-        cp.set_bind_group(0, &g0, &[]);
-        cp.set_bind_group(1, &g1, &[]);
-        cp.dispatch_workgroups((pts.len() as u32).div_ceil(64), 1, 1);
-    }
-    enc.copy_buffer_to_buffer(&out, 0, &read, 0, size);
-    ctx.queue.submit([enc.finish()]);
-    let (tx, rx) = std::sync::mpsc::channel();
-    read.slice(..).map_async(wgpu::MapMode::Read, move |r| {
-        let _ = tx.send(r);
-    });
-    ctx.wait_idle();
-    rx.recv().unwrap().unwrap();
-    let bytes = read.get_mapped_range(0..size).unwrap().to_vec();
-    bytemuck::cast_slice(&bytes).to_vec()
+    common::points::eval_at_points(ctx, &src, "noise3(p)", pts, |pipeline| {
+        vec![common::points::group_of(
+            device,
+            pipeline,
+            0,
+            &[
+                (0, frame_buf.as_entire_binding()),
+                (3, wgpu::BindingResource::TextureView(&view)),
+                (4, wgpu::BindingResource::Sampler(&sampler)),
+            ],
+        )]
+    })
 }
 
 /// Largest |GPU − CPU| at `pts` for `octaves` and view-cone texels per metre

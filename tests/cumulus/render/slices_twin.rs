@@ -8,7 +8,7 @@
 use std::path::Path;
 
 use crate::common;
-use cumulus::gpu::pass::Slots;
+use crate::common::points::{eval_at_points, group_of};
 use cumulus::gpu::shaders::assemble_with;
 use cumulus::methods::slices::gpu::buffers::GpuPrimitive;
 use cumulus::methods::slices::gpu::field::AuthoredField;
@@ -17,20 +17,6 @@ use cumulus::methods::slices::gpu::slices_frame;
 use cumulus::scene::SceneProfile;
 use glam::Vec3;
 use wgpu::util::DeviceExt;
-
-/// The compute entry evaluating the density at each point of `pts`.
-const ENTRY: &str = "
-@group(1) @binding(0) var<storage, read> pts: array<vec4<f32>>;
-@group(1) @binding(1) var<storage, read_write> out: array<f32>;
-
-@compute @workgroup_size(64)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    if id.x < arrayLength(&pts) {
-        let p = pts[id.x].xyz;
-        out[id.x] = implicit_field(p) * media_at(p);
-    }
-}
-";
 
 /// A storage or uniform buffer holding `bytes`.
 fn buffer(device: &wgpu::Device, bytes: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
@@ -84,23 +70,9 @@ fn gpu_slices_density_matches_its_cpu_twin() {
         })
         .collect();
 
-    let slots: &Slots = &SLOTS;
-    let src = assemble_with("slices/implicit.wgsl", FILES, slots)
+    let src = assemble_with("slices/implicit.wgsl", FILES, &SLOTS)
         .unwrap()
-        .source
-        + ENTRY;
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("slices twin"),
-        source: wgpu::ShaderSource::Wgsl(src.into()),
-    });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("slices twin"),
-        layout: None,
-        module: &module,
-        entry_point: Some("main"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
+        .source;
     use wgpu::BufferUsages as U;
     let noise = cumulus::noise::NoiseVolume::new(cfg.noise_texels);
     let noise_view = cumulus::gpu::noise::texture(&noise, device, &ctx.queue);
@@ -110,78 +82,31 @@ fn gpu_slices_density_matches_its_cpu_twin() {
     let params = buffer(device, bytemuck::bytes_of(&frame.params), U::UNIFORM);
     let prims = buffer(device, bytemuck::cast_slice(&prims), U::STORAGE);
     let lists = buffer(device, bytemuck::cast_slice(&frame.index.lists), U::STORAGE);
-    let pts_buf = buffer(device, bytemuck::cast_slice(&pts), U::STORAGE);
-    let size = 4 * pts.len() as u64;
-    let out = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("slices twin out"),
-        size,
-        usage: U::STORAGE | U::COPY_SRC,
-        mapped_at_creation: false,
+    let expr = "implicit_field(p) * media_at(p)";
+    let gpu = eval_at_points(&ctx, &src, expr, &pts, |pipeline| {
+        vec![
+            group_of(
+                device,
+                pipeline,
+                0,
+                &[
+                    (3, wgpu::BindingResource::TextureView(&noise_view)),
+                    (4, wgpu::BindingResource::Sampler(&sampler)),
+                ],
+            ),
+            group_of(
+                device,
+                pipeline,
+                3,
+                &[
+                    (0, octaves.as_entire_binding()),
+                    (1, params.as_entire_binding()),
+                    (2, prims.as_entire_binding()),
+                    (3, lists.as_entire_binding()),
+                ],
+            ),
+        ]
     });
-    let read = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("slices twin read"),
-        size,
-        usage: U::MAP_READ | U::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let bind = |group: u32, entries: &[(u32, wgpu::BindingResource)]| {
-        let entries: Vec<wgpu::BindGroupEntry> = entries
-            .iter()
-            .map(|(binding, r)| wgpu::BindGroupEntry {
-                binding: *binding,
-                resource: r.clone(),
-            })
-            .collect();
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("slices twin"),
-            layout: &pipeline.get_bind_group_layout(group),
-            entries: &entries,
-        })
-    };
-    let g0 = bind(
-        0,
-        &[
-            (3, wgpu::BindingResource::TextureView(&noise_view)),
-            (4, wgpu::BindingResource::Sampler(&sampler)),
-        ],
-    );
-    let g1 = bind(
-        1,
-        &[
-            (0, pts_buf.as_entire_binding()),
-            (1, out.as_entire_binding()),
-        ],
-    );
-    let g3 = bind(
-        3,
-        &[
-            (0, octaves.as_entire_binding()),
-            (1, params.as_entire_binding()),
-            (2, prims.as_entire_binding()),
-            (3, lists.as_entire_binding()),
-        ],
-    );
-    let mut enc = device.create_command_encoder(&Default::default());
-    {
-        let mut cp = enc.begin_compute_pass(&Default::default());
-        cp.set_pipeline(&pipeline);
-        cp.set_bind_group(0, &g0, &[]);
-        cp.set_bind_group(1, &g1, &[]);
-        cp.set_bind_group(3, &g3, &[]);
-        cp.dispatch_workgroups((pts.len() as u32).div_ceil(64), 1, 1);
-    }
-    enc.copy_buffer_to_buffer(&out, 0, &read, 0, size);
-    ctx.queue.submit([enc.finish()]);
-    let bytes = {
-        let (tx, rx) = std::sync::mpsc::channel();
-        read.slice(..).map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        ctx.wait_idle();
-        rx.recv().unwrap().unwrap();
-        read.get_mapped_range(0..size).unwrap().to_vec()
-    };
-    let gpu: &[f32] = bytemuck::cast_slice(&bytes);
     let (mut worst, mut inside, mut peak) = (0.0f32, 0, 0.0f32);
     for (p, g) in pts.iter().zip(gpu) {
         let want = cpu.density(Vec3::new(p[0], p[1], p[2]));
