@@ -112,8 +112,6 @@ pub struct Shared<'a> {
     /// Frame size. units: px
     pub size: (u32, u32),
     pub around: Around,
-    /// The target's format (the tone map's).
-    pub format: wgpu::TextureFormat,
 }
 
 /// The float cloud image the compute march writes and the planes blend

@@ -46,7 +46,6 @@ impl Renderer {
             cloud_image: self.cloud_image.as_ref(),
             size: (self.width, self.height),
             around: f.around,
-            format: self.format,
         };
         // The map of an earlier frame still holds: the method's clouds did
         // not move since it was drawn (the `baked` field was not re-baked:
