@@ -27,12 +27,17 @@ pub static SPRITES_GROUP: LayoutSpec = LayoutSpec {
     entries: &[float2d_entry(0, true), sampler_entry(1), storage_entry(2)],
 };
 
+/// The groups of both sprite passes: the shared uniforms, the depths, the
+/// atlas and instances.
+const SPRITE_GROUPS: &[Option<&LayoutSpec>] =
+    &[Some(&COMMON), Some(&SPRITE_DEPTH), Some(&SPRITES_GROUP)];
+
 /// Sprites over the scene target (or a ring face), premultiplied "over".
 pub static SPRITES: PassSpec = PassSpec {
     name: "sprites",
     root: "sprites/sprites.wgsl",
     files: FILES,
-    groups: &[Some(&COMMON), Some(&SPRITE_DEPTH), Some(&SPRITES_GROUP)],
+    groups: SPRITE_GROUPS,
     slotted: false,
     kind: PassKind::Render {
         vertex: None,
@@ -48,7 +53,7 @@ pub static SPRITES_SHADOW: PassSpec = PassSpec {
     name: "sprites (shadow)",
     root: "sprites/sprites.wgsl",
     files: FILES,
-    groups: &[Some(&COMMON), Some(&SPRITE_DEPTH), Some(&SPRITES_GROUP)],
+    groups: SPRITE_GROUPS,
     slotted: false,
     kind: PassKind::Render {
         vertex: None,
