@@ -33,6 +33,9 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     /// Timestamp queries are enabled (per-pass GPU timings).
     pub timestamps: bool,
+    /// GPU errors raised outside every error scope since the last
+    /// [`GpuContext::take_errors`] (the window shows them in its panel).
+    errors: std::sync::Arc<std::sync::Mutex<Vec<String>>>,
 }
 
 fn instance() -> wgpu::Instance {
@@ -84,9 +87,26 @@ impl GpuContext {
             compatible_surface: Some(surface),
             ..Default::default()
         };
-        let adapter = pollster::block_on(instance.request_adapter(&opts))
-            .map_err(|e| Error::NoAdapter(format!("none can present to this window: {e}")))?;
+        // The same ranking as headless among the adapters that can present
+        // here (WGPU_BACKEND has already narrowed the instance), then
+        // wgpu's own choice.
+        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+        let ranked = adapters
+            .into_iter()
+            .filter(|a| a.is_surface_supported(surface))
+            .min_by_key(|a| preference(&a.get_info()));
+        let adapter = match ranked {
+            Some(a) => a,
+            None => pollster::block_on(instance.request_adapter(&opts))
+                .map_err(|e| Error::NoAdapter(format!("none can present to this window: {e}")))?,
+        };
         Self::from_adapter(instance, adapter)
+    }
+
+    /// The GPU errors raised outside every error scope since the last call
+    /// (at most 8), oldest first.
+    pub fn take_errors(&self) -> Vec<String> {
+        std::mem::take(&mut *self.errors.lock().unwrap_or_else(|p| p.into_inner()))
     }
 
     /// Wraps the device of another wgpu program that embeds the cloud
@@ -106,13 +126,17 @@ impl GpuContext {
             device,
             queue,
             timestamps,
+            errors: Default::default(),
         }
     }
 
-    /// A fresh instance like the one `new_headless` uses (for the window to
-    /// create its surface from).
-    pub fn new_instance() -> wgpu::Instance {
-        instance()
+    /// A fresh instance like the one `new_headless` uses, connected to the
+    /// window system of `display` (the window's; OpenGL needs it to
+    /// present, the other backends ignore it).
+    pub fn new_instance(display: Box<dyn wgpu::wgt::WgpuHasDisplayHandle>) -> wgpu::Instance {
+        wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle_from_env(
+            display,
+        ))
     }
 
     fn from_adapter(instance: wgpu::Instance, adapter: wgpu::Adapter) -> Result<Self> {
@@ -123,9 +147,11 @@ impl GpuContext {
         } else {
             wgpu::Features::empty()
         };
-        // Ask for what the adapter has: the grid uniform is 48 KiB, within
-        // the 64 KiB default; Renderer::new checks our sizes against these.
-        let required_limits = wgpu::Limits::default().using_resolution(adapter.limits());
+        // Ask for everything the adapter has: each pass's needs are checked
+        // against these before it is built (crate::gpu::requires), so an
+        // adapter below wgpu's defaults still opens and gets an error that
+        // names the pass and the limit.
+        let required_limits = adapter.limits();
         let desc = wgpu::DeviceDescriptor {
             label: Some("cumulus"),
             required_features,
@@ -142,8 +168,16 @@ impl GpuContext {
         // renderer did not wrap) is printed, never wgpu's panic: the
         // operations that can fail on an adapter (pipeline creation) run
         // under scopes and become errors ([`catching`]).
-        device.on_uncaptured_error(std::sync::Arc::new(|e: wgpu::Error| {
+        let errors: std::sync::Arc<std::sync::Mutex<Vec<String>>> = Default::default();
+        let sink = errors.clone();
+        device.on_uncaptured_error(std::sync::Arc::new(move |e: wgpu::Error| {
             eprintln!("warning: GPU error: {e}");
+            // Kept for the window's panel; a flood of the same error keeps
+            // the first few.
+            let mut v = sink.lock().unwrap_or_else(|p| p.into_inner());
+            if v.len() < 8 {
+                v.push(e.to_string());
+            }
         }));
         Ok(Self {
             instance,
@@ -151,6 +185,7 @@ impl GpuContext {
             device,
             queue,
             timestamps,
+            errors,
         })
     }
 

@@ -232,7 +232,12 @@ pub struct MethodEntry {
     pub marches_shadow: bool,
     /// The names of all its passes (their timings), by phase, in order.
     pub pass_names: &'static [(Phase, &'static str)],
-    /// Why it cannot draw `render.method` on this adapter (None: it can),
-    /// checked before a renderer is made.
+    /// What its pipelines built outside the cache (its own compute jobs)
+    /// need from the device under `render.method`; checked with its
+    /// `passes` before a renderer is made.
+    pub other_passes: fn(RenderMethod) -> Vec<crate::gpu::requires::Requirement>,
+    /// Why it cannot draw `render.method` on this adapter although the
+    /// adapter meets every requirement (a driver or backend known to draw
+    /// it wrong; None: it can).
     pub unsupported: fn(&wgpu::AdapterInfo, RenderMethod) -> Option<&'static str>,
 }

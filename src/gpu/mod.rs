@@ -2,8 +2,9 @@
 //! ([`GpuContext`]), the target formats and shared bind-group layouts
 //! ([`layouts`]), the pipeline cache and its background builder
 //! ([`pipelines`]), the WGSL modules ([`shaders`]), the frame's input and
-//! uniform ([`frame`], [`uniform`]), the noise texture ([`noise`]) and the
-//! pass timing ([`timing`]).
+//! uniform ([`frame`], [`uniform`]), the noise texture ([`noise`]), the
+//! pass timing ([`timing`]) and what each pass needs from the adapter
+//! ([`requires`]).
 
 mod context;
 pub mod frame;
@@ -14,6 +15,7 @@ pub mod pass;
 pub mod passes;
 pub mod pipelines;
 pub(crate) mod prebuild;
+pub mod requires;
 pub mod resources;
 pub mod shaders;
 pub mod timing;

@@ -138,6 +138,31 @@ impl PassSpec {
         }
         groups
     }
+
+    /// What this pass needs from the device under `slots`: read from its
+    /// kind, layouts and colour target (a target the key chooses is the
+    /// scene's float format, or the output's, which every adapter renders
+    /// to) and its module.
+    pub fn requirement(&self, slots: &Slots) -> crate::gpu::requires::Requirement {
+        let slots = if self.slotted { slots } else { &Slots::NONE };
+        let groups: Vec<Option<&[wgpu::BindGroupLayoutEntry]>> = self
+            .layout_list(slots)
+            .iter()
+            .map(|g| g.map(|l| l.entries))
+            .collect();
+        let (compute, target) = match self.kind {
+            PassKind::Compute { .. } => (true, None),
+            PassKind::Render { target, blend, .. } => (
+                false,
+                target
+                    .or((!std::ptr::eq(self, &crate::gpu::passes::TONEMAP))
+                        .then_some(crate::gpu::layouts::SCENE_FORMAT))
+                    .map(|t| (t, blend.is_some())),
+            ),
+        };
+        let source = self.assembly(slots).map(|a| a.source).unwrap_or_default();
+        crate::gpu::requires::Requirement::of(self.name, compute, target, &groups, &source)
+    }
 }
 
 impl PassSpec {

@@ -165,41 +165,65 @@ fn volume_texture(
     })
 }
 
+/// Group 0 of the bake: the frame uniform.
+const FRAME_ENTRIES: &[wgpu::BindGroupLayoutEntry] = &[wgpu::BindGroupLayoutEntry {
+    binding: 0,
+    visibility: wgpu::ShaderStages::COMPUTE,
+    ty: wgpu::BindingType::Buffer {
+        ty: wgpu::BufferBindingType::Uniform,
+        has_dynamic_offset: false,
+        min_binding_size: None,
+    },
+    count: None,
+}];
+
+/// Group 1 of the bake: one chunk of parcels, the accumulators, and the
+/// field and light volumes it writes.
+const JOB_ENTRIES: &[wgpu::BindGroupLayoutEntry] = &[
+    wgpu::BindGroupLayoutEntry {
+        binding: 0,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: true,
+            min_binding_size: wgpu::BufferSize::new(CHUNK_BYTES),
+        },
+        count: None,
+    },
+    compute_storage_entry(1),
+    compute_storage_entry(2),
+    storage_texture_entry_of(3, FIELD_FORMAT, wgpu::TextureViewDimension::D3),
+    storage_texture_entry_of(4, LIGHT_FORMAT, wgpu::TextureViewDimension::D3),
+];
+
+/// The bake's module.
+fn source() -> std::result::Result<String, crate::gpu::shaders::ImportError> {
+    crate::gpu::shaders::assemble_with("raymarch/bake.wgsl", &[], &super::passes::BAKED)
+        .map(|a| a.source)
+}
+
+/// What the bake needs from the device (checked before it is built).
+pub fn requirement() -> crate::gpu::requires::Requirement {
+    crate::gpu::requires::Requirement::of(
+        "bake",
+        true,
+        None,
+        &[Some(FRAME_ENTRIES), Some(JOB_ENTRIES)],
+        &source().unwrap_or_default(),
+    )
+}
+
 impl BakedField {
     /// The bake's pipelines (counted in `built`) over the frame uniform.
     pub fn new(ctx: &GpuContext, frame_buf: &wgpu::Buffer, built: &mut u32) -> Result<Self> {
         let device = &ctx.device;
         let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("bake: frame"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            }],
+            entries: FRAME_ENTRIES,
         });
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("bake: chunk and field"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::COMPUTE,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: true,
-                        min_binding_size: wgpu::BufferSize::new(CHUNK_BYTES),
-                    },
-                    count: None,
-                },
-                compute_storage_entry(1),
-                compute_storage_entry(2),
-                storage_texture_entry_of(3, FIELD_FORMAT, wgpu::TextureViewDimension::D3),
-                storage_texture_entry_of(4, LIGHT_FORMAT, wgpu::TextureViewDimension::D3),
-            ],
+            entries: JOB_ENTRIES,
         });
         let bind_frame = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("bake: frame"),
@@ -209,9 +233,7 @@ impl BakedField {
                 resource: frame_buf.as_entire_binding(),
             }],
         });
-        let source = crate::gpu::shaders::assemble_with("raymarch/bake.wgsl", &[], &super::passes::BAKED)
-            .map_err(|e| Error::Gpu(format!("assembling the bake: {e}")))?
-            .source;
+        let source = source().map_err(|e| Error::Gpu(format!("assembling the bake: {e}")))?;
         let (splat, light, resolve) = crate::gpu::catching(device, "creating the bake pipelines", || {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("bake"),

@@ -44,6 +44,13 @@ pub static ENTRY: MethodEntry = MethodEntry {
         (Phase::Clouds, "clouds"),
         (Phase::Resolve, "temporal"),
     ],
+    other_passes: |m| {
+        if m == RenderMethod::Baked {
+            vec![super::baked::requirement()]
+        } else {
+            Vec::new()
+        }
+    },
     unsupported: |info, m| {
         // Measured on Mesa's llvmpipe OpenGL 4.5: the bake's field, written
         // by compute passes into 3D storage textures, reaches the march

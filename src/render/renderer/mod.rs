@@ -57,7 +57,7 @@ mod ring;
 mod shared;
 
 pub(crate) use crate::gpu::resources::texture_2d;
-pub use passes::{all_pass_names, modules, shader_files, slots};
+pub use passes::{all_pass_names, modules, requirements, shader_files, slots};
 use resources::{SceneTarget, make_bind_common};
 
 pub use crate::gpu::pipelines::{DEPTH_FORMAT, SCENE_FORMAT, SHADOW_FORMAT};
@@ -179,12 +179,6 @@ impl Renderer {
         let device = &ctx.device;
         let limits = device.limits();
         let frame_size = std::mem::size_of::<FrameUniform>();
-        if frame_size as u64 > limits.max_uniform_buffer_binding_size {
-            return Err(Error::Gpu(format!(
-                "the frame uniform needs {frame_size} bytes but this device binds at most {} bytes of uniforms",
-                limits.max_uniform_buffer_binding_size
-            )));
-        }
         if cfg.noise_texels > limits.max_texture_dimension_3d
             || cfg.shadow_texels > limits.max_texture_dimension_2d
         {
@@ -466,31 +460,45 @@ impl Renderer {
     }
 }
 
-/// Why `method` cannot draw on this adapter, if it cannot.
-pub fn unsupported(ctx: &GpuContext, method: RenderMethod) -> Option<&'static str> {
-    let entry = METHODS[crate::methods::index_of(method)];
-    (entry.unsupported)(&ctx.adapter.get_info(), method)
+/// Why `method` cannot draw on this adapter, if it cannot: the first of
+/// its passes' [`requirements`] the device does not meet, or a backend
+/// known to draw it wrong.
+pub fn unsupported(ctx: &GpuContext, method: RenderMethod) -> Option<String> {
+    let caps = crate::gpu::requires::Capabilities::of(ctx);
+    requirements(method)
+        .iter()
+        .find_map(|r| r.check(&caps).err())
+        .map(|m| m.to_string())
+        .or_else(|| {
+            let entry = METHODS[crate::methods::index_of(method)];
+            (entry.unsupported)(&ctx.adapter.get_info(), method).map(str::to_string)
+        })
 }
 
 /// `method` can draw on this adapter, or the error naming the adapter,
 /// what it lacks and the fix.
 pub fn check_method(ctx: &GpuContext, method: RenderMethod) -> Result<()> {
-    match unsupported(ctx, method) {
-        None => Ok(()),
-        Some(why) => {
-            let others: Vec<&str> = RenderMethod::ALL
-                .into_iter()
-                .filter(|m| unsupported(ctx, *m).is_none())
-                .map(|m| m.name())
-                .collect();
-            Err(Error::Unsupported(format!(
-                "the {method} method cannot draw on {} ({}): {why}. Use --method {} (or set [render] method), or give wgpu a Vulkan adapter (Debian/Ubuntu: apt-get install mesa-vulkan-drivers libvulkan1; unset WGPU_BACKEND)",
-                ctx.adapter_name(),
-                ctx.backend(),
-                others.join(" or --method ")
-            )))
-        }
-    }
+    let Some(why) = unsupported(ctx, method) else {
+        return Ok(());
+    };
+    let others: Vec<&str> = RenderMethod::ALL
+        .into_iter()
+        .filter(|m| unsupported(ctx, *m).is_none())
+        .map(|m| m.name())
+        .collect();
+    let instead = if others.is_empty() {
+        "No method can draw on this adapter: give wgpu".to_string()
+    } else {
+        format!(
+            "Use --method {} (or set [render] method), or give wgpu",
+            others.join(" or --method ")
+        )
+    };
+    Err(Error::Unsupported(format!(
+        "the {method} method cannot draw on {} ({}): {why}. {instead} a Vulkan adapter (Debian/Ubuntu: apt-get install mesa-vulkan-drivers libvulkan1; unset WGPU_BACKEND)",
+        ctx.adapter_name(),
+        ctx.backend(),
+    )))
 }
 
 /// The method to draw with on this adapter: `cfg.method` when it can, or

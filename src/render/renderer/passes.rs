@@ -9,7 +9,9 @@ use crate::gpu::method::Phase;
 use crate::gpu::pass::{PassSpec, Slots, flag};
 use crate::gpu::passes::{COMPOSITE, SHADOW, SKY, TERRAIN, TONEMAP};
 use crate::gpu::pipelines::{PipelineKey, SHADOW_FORMAT};
+use crate::gpu::requires::Requirement;
 use crate::methods::sprites::gpu::passes::{SPRITES, SPRITES_SHADOW};
+use std::sync::LazyLock;
 
 /// The files `method` binds to the shared shaders' slots.
 pub fn slots(method: RenderMethod) -> &'static Slots {
@@ -20,36 +22,62 @@ pub fn slots(method: RenderMethod) -> &'static Slots {
 /// each once (the shader tests assemble and validate them all).
 pub fn modules() -> Vec<(&'static PassSpec, &'static Slots)> {
     let mut out: Vec<(&'static PassSpec, &'static Slots)> = Vec::new();
-    let mut add = |p: &'static PassSpec, s: &'static Slots| {
-        let s = p.slots_for(s);
-        if !out
-            .iter()
-            .any(|(q, t)| q.name == p.name && t.name == s.name)
-        {
-            out.push((p, s));
-        }
-    };
     for m in RenderMethod::ALL {
-        let entry = METHODS[crate::methods::index_of(m)];
-        let s = (entry.slots)(m);
-        for p in [
-            &SKY,
-            &TERRAIN,
-            &COMPOSITE,
-            &TONEMAP,
-            &SPRITES,
-            &SPRITES_SHADOW,
-        ] {
-            add(p, s);
-        }
-        if entry.marches_shadow {
-            add(&SHADOW, s);
-        }
-        for p in entry.passes {
-            add(p, s);
+        for (p, s) in method_modules(m) {
+            if !out
+                .iter()
+                .any(|(q, t)| q.name == p.name && t.name == s.name)
+            {
+                out.push((p, s));
+            }
         }
     }
     out
+}
+
+/// The passes a renderer may build for `method`, each with the slots it
+/// is built with: the shared passes and the method's own.
+fn method_modules(m: RenderMethod) -> Vec<(&'static PassSpec, &'static Slots)> {
+    let entry = METHODS[crate::methods::index_of(m)];
+    let s = (entry.slots)(m);
+    let mut passes: Vec<&'static PassSpec> = vec![
+        &SKY,
+        &TERRAIN,
+        &COMPOSITE,
+        &TONEMAP,
+        &SPRITES,
+        &SPRITES_SHADOW,
+    ];
+    if entry.marches_shadow {
+        passes.push(&SHADOW);
+    }
+    passes.extend(entry.passes);
+    passes.into_iter().map(|p| (p, p.slots_for(s))).collect()
+}
+
+/// Everything a renderer drawing `method` needs from the device: every
+/// pass it may build (read from the passes' declarations and modules once
+/// per process), then the method's pipelines built outside the cache.
+pub fn requirements(method: RenderMethod) -> &'static [Requirement] {
+    static ALL: LazyLock<Vec<Vec<Requirement>>> = LazyLock::new(|| {
+        RenderMethod::ALL
+            .into_iter()
+            .map(|m| {
+                let entry = METHODS[crate::methods::index_of(m)];
+                let mut r: Vec<Requirement> = method_modules(m)
+                    .into_iter()
+                    .map(|(p, s)| p.requirement(s))
+                    .collect();
+                r.extend((entry.other_passes)(m));
+                r
+            })
+            .collect()
+    });
+    let i = RenderMethod::ALL
+        .iter()
+        .position(|m| *m == method)
+        .expect("every method is in RenderMethod::ALL");
+    &ALL[i]
 }
 
 /// Every shader file of `shaders/`: the shared ones and each method's.
@@ -295,5 +323,79 @@ mod tests {
         names.sort();
         names.dedup();
         assert_eq!(names.len(), files.len(), "a file listed twice");
+    }
+
+    fn caps(limits: wgpu::Limits, compute: bool) -> crate::gpu::requires::Capabilities {
+        crate::gpu::requires::Capabilities {
+            limits,
+            compute,
+            formats: Box::new(|_| wgpu::TextureFormatFeatures {
+                allowed_usages: wgpu::TextureUsages::all(),
+                flags: wgpu::TextureFormatFeatureFlags::all(),
+            }),
+        }
+    }
+
+    fn first_missing(m: RenderMethod, c: &crate::gpu::requires::Capabilities) -> Option<String> {
+        requirements(m)
+            .iter()
+            .find_map(|r| r.check(c).err())
+            .map(|e| e.to_string())
+    }
+
+    /// wgpu's default limits (what every Vulkan, Metal and DirectX 12
+    /// adapter offers) run every pass of every method.
+    #[test]
+    fn every_method_runs_on_wgpu_s_default_limits() {
+        for m in RenderMethod::ALL {
+            assert_eq!(
+                first_missing(m, &caps(wgpu::Limits::default(), true)),
+                None,
+                "{m}"
+            );
+            assert!(requirements(m).len() >= 6, "{m}: {:?}", requirements(m));
+        }
+    }
+
+    /// Limits below ours are caught before anything is built, naming the
+    /// pass and the limit: one storage texture per stage is too few for the
+    /// bake (field and light) and the compute march (image and depth).
+    #[test]
+    fn a_device_below_our_limits_is_named_up_front() {
+        let low = wgpu::Limits {
+            max_storage_textures_per_shader_stage: 1,
+            ..wgpu::Limits::default()
+        };
+        let e = first_missing(RenderMethod::Baked, &caps(low.clone(), true)).unwrap();
+        assert!(
+            e.contains("max_storage_textures_per_shader_stage ≥ 2"),
+            "{e}"
+        );
+        assert!(e.contains("= 1"), "{e}");
+        assert_eq!(first_missing(RenderMethod::Sprites, &caps(low, true)), None);
+        // The exact method's grid index is a 48 KiB uniform (that its
+        // terrain reads too, for the shadows in the clouds' region); 16 KiB
+        // is OpenGL ES's minimum.
+        let low = wgpu::Limits {
+            max_uniform_buffer_binding_size: 16 << 10,
+            ..wgpu::Limits::default()
+        };
+        let e = first_missing(RenderMethod::Exact, &caps(low, true)).unwrap();
+        assert!(e.contains("max_uniform_buffer_binding_size ≥ 49152"), "{e}");
+    }
+
+    /// Without compute shaders the sprites still draw; the ray-march and
+    /// the slices' vertex field name their compute pass.
+    #[test]
+    fn without_compute_only_the_sprites_draw() {
+        let c = caps(wgpu::Limits::default(), false);
+        assert_eq!(first_missing(RenderMethod::Sprites, &c), None);
+        let e = first_missing(RenderMethod::Baked, &c).unwrap();
+        assert!(
+            e.contains("clouds (compute) pass needs compute shaders"),
+            "{e}"
+        );
+        let e = first_missing(RenderMethod::Slices, &c).unwrap();
+        assert!(e.contains("slice_field pass needs compute shaders"), "{e}");
     }
 }

@@ -32,6 +32,7 @@ pub static ENTRY: MethodEntry = MethodEntry {
     files: passes::FILES,
     marches_shadow: true,
     pass_names: &[(Phase::Prepare, "slice_field"), (Phase::Resolve, "slices")],
+    other_passes: |_| Vec::new(),
     unsupported: |_, _| None,
 };
 

@@ -28,6 +28,7 @@ pub static ENTRY: MethodEntry = MethodEntry {
     files: super::passes::FILES,
     marches_shadow: false,
     pass_names: &[],
+    other_passes: |_| Vec::new(),
     unsupported: |_, _| None,
 };
 
