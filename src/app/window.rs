@@ -169,7 +169,7 @@ impl App {
     /// Opens a device for `window` and everything drawn with it (also after
     /// the device was lost).
     fn make_gfx(&mut self, window: Arc<Window>) -> Result<Gfx> {
-        let instance = GpuContext::new_instance();
+        let instance = GpuContext::new_instance(Box::new(window.clone()));
         let surface = instance
             .create_surface(window.clone())
             .map_err(|e| Error::Gpu(format!("cannot create a surface for the window: {e}")))?;
@@ -209,6 +209,18 @@ impl App {
             surface.configure(device, &config);
         }
         let (_, w3d, h3d) = view3d_rect(split, &window, config.width, config.height);
+        // The scene's method when this adapter can draw it; else, unless the
+        // user asked for it, the first that can, said in the panel.
+        let (method, note) = crate::render::renderer::method_for(
+            &ctx,
+            &self.model.resolved_render_config(),
+            self.opts.method.is_some(),
+        );
+        if let Some(note) = note {
+            eprintln!("{note}");
+            self.model.status = note;
+            self.model.render_cfg.method = method;
+        }
         let mut renderer =
             Renderer::new(&ctx, &self.model.resolved_render_config(), format, w3d, h3d)?;
         // Never wait for the GPU to read the timings back: the panel shows
@@ -337,8 +349,15 @@ impl App {
         });
         if actions.render_changed {
             // Only what the changed settings need is rebuilt (Renderer::set_config).
-            g.renderer
-                .set_config(&g.ctx, &self.model.resolved_render_config())?;
+            // Settings this adapter cannot draw (a method it lacks a
+            // feature for) are refused in the panel; the frame goes on with
+            // the renderer's current settings.
+            if let Err(e) = g
+                .renderer
+                .set_config(&g.ctx, &self.model.resolved_render_config())
+            {
+                self.model.status = format!("settings not applied: {e}");
+            }
         }
         // The authored ellipsoids as the panel left them (slices method).
         g.renderer.set_authored(
@@ -351,6 +370,11 @@ impl App {
             sun: self.model.sun(),
             time_s: self.model.world.time_s() as f32,
         };
+        // GPU errors outside every error scope since the last frame: shown
+        // in the panel (and printed), the window keeps drawing.
+        if let Some(e) = g.ctx.take_errors().pop() {
+            self.model.status = format!("GPU error: {e}");
+        }
         if let Err(e) = g.renderer.prepare(&g.ctx, &input) {
             // More cloud than the renderer's buffers hold: say so in the
             // panel and draw the frame without clouds rather than quit.

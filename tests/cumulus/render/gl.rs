@@ -75,3 +75,31 @@ fn opengl_renders_clouds_with_a_method_it_can_run_and_refuses_the_other() {
         render_gl(&dir.path().join(format!("{m}.png")), &["--method", m]).expect_success();
     }
 }
+
+/// The bench on GL either writes its report or stops with exit 2 naming
+/// the method and what GL lacks (its scaling table and the landscape
+/// measure the baked ray-march, which GL cannot run) and the fix; never a
+/// panic, and nothing half-written.
+#[test]
+fn the_bench_on_opengl_reports_or_names_what_it_lacks() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("report");
+    let run = cli::run_command(
+        cli::command()
+            .env("WGPU_BACKEND", "gl")
+            .args(["bench", "--tiny", "--out"])
+            .arg(&out),
+    );
+    if !gl_adapter(&run) {
+        return;
+    }
+    if run.succeeded() {
+        run.expect_success();
+        assert!(out.join("report.md").is_file());
+    } else {
+        let stderr =
+            run.expect_failure_containing(&["cannot draw on", "Gl", "mesa-vulkan-drivers"]);
+        assert_eq!(run.output.status.code(), Some(2), "{stderr}");
+        assert!(!out.join("report.md").exists());
+    }
+}

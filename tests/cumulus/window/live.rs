@@ -360,3 +360,60 @@ fn window_and_headless_draw_the_same_image() {
         "window and headless differ: mean FLIP {flip:.4}"
     );
 }
+
+/// `watch --screenshot` on wgpu's OpenGL backend (`WGPU_BACKEND=gl`,
+/// Mesa's llvmpipe OpenGL under Xvfb in CI) with `extra` arguments.
+fn capture_gl(display: &str, extra: &[&str], dir: &Path, name: &str) -> cli::Run {
+    cli::run_command(
+        cli::command()
+            .args(["watch", "--screenshot"])
+            .arg(dir.join(name))
+            .args(args("3", "600", extra))
+            .env("DISPLAY", display)
+            .env("WGPU_BACKEND", "gl")
+            .env_remove("WAYLAND_DISPLAY"),
+    )
+}
+
+/// The window on OpenGL: the instance is given the window's display (which
+/// OpenGL needs to present), the default method GL cannot run is replaced
+/// by one it can, said on stderr (and in the panel), and the picture has
+/// clouds. Without an OpenGL adapter: the GPU tests' policy (CI installs
+/// Mesa's EGL and GL).
+#[test]
+fn the_window_draws_clouds_on_opengl() {
+    let Some((display, _xvfb)) = display("window on OpenGL") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let run = capture_gl(&display, &[], dir.path(), "gl.png");
+    if !run.succeeded() && run.stderr().contains("no GPU adapter") {
+        gpu::require::<(), _>(
+            "window test on OpenGL",
+            Err(run.stderr()),
+            "no OpenGL adapter",
+            "install Mesa's OpenGL (Debian/Ubuntu: `apt-get install libegl1 libegl-mesa0 libgl1-mesa-dri`)",
+        );
+        return;
+    }
+    let stderr = run.expect_success();
+    assert!(stderr.contains("; Gl;"), "{stderr}");
+    assert!(
+        stderr.contains("note: drawing with the exact method"),
+        "{stderr}"
+    );
+    capture_gl(
+        &display,
+        &["--set", "render.clouds=false"],
+        dir.path(),
+        "clear.png",
+    )
+    .expect_success();
+    let open = |n: &str| image::open(dir.path().join(n)).unwrap().to_rgba8();
+    let (img, clear) = (open("gl.png"), open("clear.png"));
+    let area = (img.width() - VIEW_X0) * img.height();
+    let cloud = cloud_pixels(&img, &clear);
+    // As on Vulkan (screenshot_shows_panel_and_clouds): at least 0.1 % of
+    // the view is cloud after ten minutes.
+    assert!(cloud * 1000 > area, "{cloud} cloud pixels of {area}");
+}
