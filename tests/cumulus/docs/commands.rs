@@ -100,8 +100,8 @@ pub fn readme_commands(readme: &str) -> Vec<ReadmeCommand> {
             continue; // cargo test, cargo build, cargo run without a command, pip, python3
         };
         let args = shell_words(rest);
-        let window = args.first().is_none_or(|a| a == "watch")
-            && !args.iter().any(|a| a == "--screenshot");
+        let window =
+            args.first().is_none_or(|a| a == "watch") && !args.iter().any(|a| a == "--screenshot");
         if window {
             continue;
         }
@@ -203,9 +203,19 @@ fn readme_commands_run_and_exit_0() {
     let commands = readme_commands(&readme);
     // The tour shows every headless command; a parser that found nothing
     // would pass vacuously.
-    for sub in ["render", "parcel", "simulate", "export", "bench", "stability", "atlas"] {
+    for sub in [
+        "render",
+        "parcel",
+        "simulate",
+        "export",
+        "bench",
+        "stability",
+        "atlas",
+    ] {
         assert!(
-            commands.iter().any(|c| c.args.first().is_some_and(|a| a == sub)),
+            commands
+                .iter()
+                .any(|c| c.args.first().is_some_and(|a| a == sub)),
             "no `{sub}` command line in a ```sh block of README.md (found: {:?})",
             commands.iter().map(|c| &c.text).collect::<Vec<_>>()
         );

@@ -65,8 +65,15 @@ fn relative_links_in_readme_and_docs_point_to_files() {
         checked += link_targets(&text).len();
         broken.extend(broken_links(&page, &text));
     }
-    assert!(checked >= 10, "found only {checked} links: is the parser reading the pages?");
-    assert!(broken.is_empty(), "links to missing files:\n{}", broken.join("\n"));
+    assert!(
+        checked >= 10,
+        "found only {checked} links: is the parser reading the pages?"
+    );
+    assert!(
+        broken.is_empty(),
+        "links to missing files:\n{}",
+        broken.join("\n")
+    );
 }
 
 /// The checker itself: a missing file is reported, an existing one, a web
