@@ -1,6 +1,6 @@
 // Cloud-shadow pass (paper §7): for each texel of a 2D map covering, on the
 // ground plane z = 0, the rectangle whose sun rays can meet the cloud grid's
-// box (frame.shadow_min and shadow_max, from src/render/renderer/mod.rs),
+// box (frame.shadow_min and shadow_max, set in src/render/renderer/draw.rs),
 // march toward the sun through the cloud layer's box and store the sun's
 // transmittance exp(−∫σ ds): `ground_sun_depth` of the method's
 // `<ground_shadow>` slot (the method's Slots), the ray-marching methods'

@@ -146,7 +146,7 @@ fn sky_visibility(p: vec3<f32>) -> f32 {
 // Brightness of the multiply scattered sun over an isotropic single
 // scatter of the unattenuated sun (fitted, see above). The albedo is 1 on
 // both sides: cloud droplets absorb about 1e-6 of what they scatter in
-// visible light (README, "Single-scattering albedo"), and the fit against
+// visible light (docs/rendering.md, "Single-scattering albedo"), and the fit against
 // the conserving path tracer keeps the sum from making energy.
 const MS_GAIN: f32 = 3.5;
 // Share of the multiple scattering missing at the sunlit surface (od = 0),

@@ -15,6 +15,7 @@ mod atmosphere;
 mod authored;
 mod bad_input;
 mod bench;
+mod docs;
 mod export;
 mod layering;
 mod physics;
