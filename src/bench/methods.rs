@@ -265,7 +265,7 @@ pub fn methods(
     Ok(rows)
 }
 
-fn run_case(
+pub(super) fn run_case(
     ctx: &GpuContext,
     l: &Loaded,
     method: RenderMethod,

@@ -19,6 +19,7 @@
 
 pub mod accuracy;
 mod charts;
+pub mod gpu_check;
 pub mod landscape;
 pub mod measure;
 pub mod methods;
@@ -251,6 +252,69 @@ pub struct RunInfo {
     pub reps: Repeats,
 }
 
+impl RunInfo {
+    /// A run on `ctx` at `size`.
+    pub fn of(ctx: &GpuContext, size: (u32, u32), mode: Mode, reps: Repeats) -> Self {
+        RunInfo {
+            adapter: ctx.adapter_name(),
+            driver: ctx.driver(),
+            backend: ctx.backend(),
+            cpu_adapter: ctx.is_cpu(),
+            gpu_timestamps: ctx.timestamps,
+            width: size.0,
+            height: size.1,
+            profile: if cfg!(debug_assertions) {
+                "debug"
+            } else {
+                "release"
+            },
+            commit: commit(),
+            mode,
+            reps,
+        }
+    }
+}
+
+/// Today's date (UTC), YYYY-MM-DD.
+pub fn today() -> String {
+    let days = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs() / 86_400) as i64;
+    // civil_from_days counts from 2000-01-01, 10 957 days after 1970-01-01.
+    let (y, m, d) = crate::sun::civil_from_days(days - 10_957);
+    format!("{y:04}-{m:02}-{d:02}")
+}
+
+/// `cumulus bench --gpu-check`: opens the GPU, measures the goals'
+/// cases at `size` (default [`gpu_check::SIZE`]) and writes
+/// `gpu-check.md` and `.csv` into `out`. Returns the page and the rows.
+pub fn run_gpu_check(
+    adapter: Option<&str>,
+    size: Option<(u32, u32)>,
+    out: &std::path::Path,
+    overrides: &[String],
+    progress: bool,
+) -> Result<(String, Vec<gpu_check::CheckRow>)> {
+    methods::check_overrides(overrides)?;
+    let ctx = GpuContext::new_headless(adapter)?;
+    crate::render::renderer::check_method(&ctx, crate::config::RenderMethod::default())?;
+    let size = size.unwrap_or(gpu_check::SIZE);
+    let bar = if progress {
+        indicatif::ProgressBar::new_spinner()
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let rows = gpu_check::gpu_check(&ctx, size, overrides, |m| {
+        bar.set_message(m.to_string());
+        bar.tick();
+    })?;
+    bar.finish_and_clear();
+    let info = RunInfo::of(&ctx, size, Mode::Full, gpu_check::REPEATS);
+    let md = gpu_check::check_md(&info, &today(), &rows);
+    gpu_check::write(out, &md, &rows)?;
+    Ok((md, rows))
+}
+
 /// Everything a run measured.
 #[derive(Debug, Clone)]
 pub struct BenchResults {
@@ -270,8 +334,15 @@ pub struct BenchResults {
     pub landscape: Vec<landscape::LandscapeRow>,
 }
 
-/// The commit being measured, if git can say.
+/// The commit being measured: `$CUMULUS_COMMIT` (for a release binary
+/// run away from its source tree), else what git says here, else
+/// "unknown".
 fn commit() -> String {
+    if let Ok(c) = std::env::var("CUMULUS_COMMIT")
+        && !c.trim().is_empty()
+    {
+        return c.trim().to_string();
+    }
     std::process::Command::new("git")
         .args(["rev-parse", "--short", "HEAD"])
         .output()
@@ -300,23 +371,7 @@ pub fn run_with(ctx: &GpuContext, opts: &Options) -> Result<BenchResults> {
     }
     let (width, height) = opts.size.unwrap_or(opts.mode.default_size());
     let size = (width, height);
-    let info = RunInfo {
-        adapter: ctx.adapter_name(),
-        driver: ctx.driver(),
-        backend: ctx.backend(),
-        cpu_adapter: ctx.is_cpu(),
-        gpu_timestamps: ctx.timestamps,
-        width,
-        height,
-        profile: if cfg!(debug_assertions) {
-            "debug"
-        } else {
-            "release"
-        },
-        commit: commit(),
-        mode: opts.mode,
-        reps: plan.reps,
-    };
+    let info = RunInfo::of(ctx, size, opts.mode, plan.reps);
 
     let bar = if opts.progress {
         let b = indicatif::ProgressBar::new(plan.ticks());

@@ -18,6 +18,12 @@ pub struct Args {
     /// Seconds-long run for tests (two parcel counts, one point per sweep).
     #[arg(long, hide = true, conflicts_with = "quick")]
     pub tiny: bool,
+    /// Only the headline speed goals, at 1920×1080 unless --width/--height
+    /// say otherwise: writes gpu-check.md (adapter, driver, resolution,
+    /// commit, pass/fail per goal) and gpu-check.csv into --out. Needs only
+    /// the binary and profiles/; a few minutes on a discrete GPU.
+    #[arg(long, conflicts_with_all = ["quick", "tiny", "method"])]
+    pub gpu_check: bool,
     /// Output directory.
     #[arg(long, default_value = "report")]
     pub out: PathBuf,
@@ -55,6 +61,24 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             (16..=8192).contains(&w) && (16..=8192).contains(&h),
             "--width and --height must be 16 to 8192 pixels (got {w}×{h})"
         );
+    }
+    if args.gpu_check {
+        let start = std::time::Instant::now();
+        let (md, rows) = cumulus::bench::run_gpu_check(
+            args.adapter.as_deref(),
+            size,
+            &args.out,
+            &args.overrides.set,
+            true,
+        )?;
+        print!("{md}");
+        eprintln!(
+            "wrote {} ({} cases) in {:.0} s",
+            args.out.join("gpu-check.md").display(),
+            rows.len(),
+            start.elapsed().as_secs_f64()
+        );
+        return Ok(());
     }
     let opts = Options {
         mode,

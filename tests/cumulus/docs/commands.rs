@@ -2,11 +2,11 @@
 //! that starts with `cargo run --release --` or `cumulus ` is run with the
 //! built binary, except those that open a window (`watch` without
 //! `--screenshot`), with only these rewrites so the run stays short:
-//! `--width`/`--height` become 64×48 (and `render`/`watch` get them when
-//! absent), `--duration` is cut to 120 s and `--time` to 600 s, output
+//! `--width`/`--height` become 64×48 (and `render`, `watch` and
+//! `bench --gpu-check` get them when absent), `--duration` is cut to 120 s and `--time` to 600 s, output
 //! files (`--out`, `--plot`, `--csv`, `--save-parcels`, `--screenshot`) go
-//! into a temporary folder, and `bench` runs `--tiny` instead of `--quick`
-//! or its full run. Each must exit 0.
+//! into a temporary folder, and `bench` (but `--gpu-check`) runs `--tiny`
+//! instead of `--quick` or its full run. Each must exit 0.
 
 use std::path::Path;
 
@@ -161,7 +161,8 @@ pub fn rewrite(args: &[String], tmp: &Path) -> Vec<String> {
         out.push(flag);
         out.push(value);
     }
-    if matches!(sub, "render" | "watch") {
+    let gpu_check = sub == "bench" && out.iter().any(|a| a == "--gpu-check");
+    if matches!(sub, "render" | "watch") || gpu_check {
         if !width {
             out.extend(["--width".to_string(), "64".to_string()]);
         }
@@ -169,7 +170,7 @@ pub fn rewrite(args: &[String], tmp: &Path) -> Vec<String> {
             out.extend(["--height".to_string(), "48".to_string()]);
         }
     }
-    if sub == "bench" && !out.iter().any(|a| a == "--tiny") {
+    if sub == "bench" && !gpu_check && !out.iter().any(|a| a == "--tiny") {
         out.push("--tiny".to_string());
     }
     out
@@ -273,6 +274,10 @@ cumulus render --out toml_block.png
     assert_eq!(
         rewrite(&found[3].args, tmp),
         words("watch --screenshot /tmp/t/shot.png --frames 60 --width 64 --height 48")
+    );
+    assert_eq!(
+        rewrite(&words("bench --gpu-check --out gc"), tmp),
+        words("bench --gpu-check --out /tmp/t/gc --width 64 --height 48")
     );
 }
 
