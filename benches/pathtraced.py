@@ -133,13 +133,21 @@ def run(cmd):
 
 
 def render_methods(cumulus):
-    """Values of `cumulus render --method`, or [None] when it has none."""
-    help_text = run([cumulus, "render", "--help"])
-    help_text += subprocess.run([cumulus, "render", "--help"], capture_output=True, text=True).stdout
-    m = re.search(r"--method[^\[]*\[possible values: ([^\]]+)\]", help_text)
-    if not m:
+    """Values of `cumulus render --method`, or [None] when it has none: the
+    help's `[possible values: ...]` list where clap prints one, else the
+    names the error for an unknown method lists (`one of "baked", ...`)."""
+    p = subprocess.run([cumulus, "render", "--help"], capture_output=True, text=True)
+    help_text = p.stdout + p.stderr
+    if "--method" not in help_text:
         return [None]
-    return [v.strip() for v in m.group(1).split(",")]
+    m = re.search(r"--method[^\[\n]*\[possible values: ([^\]]+)\]", help_text)
+    if m:
+        return [v.strip() for v in m.group(1).split(",")]
+    p = subprocess.run([cumulus, "render", "--method", "?", "none.toml"], capture_output=True, text=True)
+    m = re.search(r"one of ((?:\"[a-z_]+\"(?:, )?)+)", p.stderr)
+    if not m:
+        fail(f"cannot tell the values of `{cumulus} render --method`:\n{p.stderr}")
+    return re.findall(r'"([a-z_]+)"', m.group(1))
 
 
 def frame_ms(stderr):
