@@ -74,8 +74,9 @@ def tower(rng):
 
 def deck(rng):
     """Cells on a jittered 1.2 km grid over 10 x 10 km centred at
-    (-1500, -3000) m, so that the camera stands just south of the deck and
-    sees its underside recede to the horizon; about a
+    (-1500, 5000) m, so that the camera, 8.5 km south of the domain centre,
+    sees the deck from a distance: its front edge, its underside receding
+    to the horizon and its top beyond; about a
     quarter of them left out (the gaps); each cell 5-10 parcels with
     centres 1.3-1.65 km (a layer 1.1 to about 1.9-2.0 km: the drawn spheres
     reach 2.5 radii out), the base flat at 1.1 km."""
@@ -85,7 +86,7 @@ def deck(rng):
         for gy in np.arange(-4800.0, 4801.0, 1200.0):
             if rng.uniform() < 0.25:
                 continue
-            cx, cy = -1500.0 + gx + rng.uniform(-250, 250), -3000.0 + gy + rng.uniform(-250, 250)
+            cx, cy = -1500.0 + gx + rng.uniform(-250, 250), 5000.0 + gy + rng.uniform(-250, 250)
             for _ in range(rng.integers(5, 11)):
                 z = rng.uniform(1300.0, 1650.0)
                 x, y = cx + rng.normal(0.0, 280.0), cy + rng.normal(0.0, 280.0)
