@@ -1,11 +1,14 @@
 // Sprite clouds (Wang 2003, the `sprites` method and scene layers): one
 // instanced quad per sprite, corners and per-corner shading computed on the
 // CPU (src/methods/sprites/gpu/, after the paper's §5–§6.1: camera-facing or
-// locked corners, colour levels × time-of-day ambient + biased directional
-// sun, × formation alpha) and sorted back to front. The fragment multiplies
-// the atlas texel in (eq. 3), hides what lies behind the terrain depth,
-// is seen through the air like the ray-marched clouds and writes premultiplied
-// colour, blended with (ONE, ONE_MINUS_SRC_ALPHA) as the cloud pass does.
+// locked corners; per corner the artist's colour level, the shares of the
+// sky's light (time-of-day ambient) and of the sun's (biased directional
+// mapping), × formation alpha) and sorted back to front. The vertex turns
+// the shares into light with the frame's own sun and sky (artist.wgsl) and
+// takes the air between the eye and the corner (air.wgsl); the fragment
+// multiplies the atlas texel in (eq. 3), hides what lies behind the terrain
+// depth and writes premultiplied colour seen through that air, blended with
+// (ONE, ONE_MINUS_SRC_ALPHA) as the cloud pass does.
 // Depth against ray-marched clouds in the same frame: the march runs first
 // and leaves its cloud depth per pixel (raymarch/clouds.wgsl, the opacity-weighted
 // mean distance along the ray); the sprite pass keeps the fragments
@@ -20,6 +23,7 @@
 
 #import "../common.wgsl"
 #import "../air.wgsl"
+#import "../artist.wgsl"
 
 // Compare with the terrain depth (false: no terrain pass this frame).
 override HAS_TERRAIN: bool = true;
@@ -37,7 +41,9 @@ override SHADOW_SPLAT: bool = false;
 // SpriteInstance of src/methods/sprites/gpu/mod.rs.
 struct SpriteInstance {
     corners: array<vec4<f32>, 4>, // xyz (m), counter-clockwise from bottom-left
-    colors: array<vec4<f32>, 4>,  // linear RGBA per corner (alpha: formation × facing)
+    colors: array<vec4<f32>, 4>,  // painted sRGB colour level and alpha (× formation × facing) per corner
+    sun: vec4<f32>,               // share of the sun's light per corner
+    sky: vec4<f32>,               // share of the sky's light per corner
     uv: vec4<f32>,                // atlas rectangle u0, v0, u1, v1 (v down)
 }
 
@@ -49,15 +55,15 @@ struct SpriteInstance {
 @group(2) @binding(1) var atlas_sampler: sampler;
 @group(2) @binding(2) var<storage, read> sprites: array<SpriteInstance>;
 
-// The artist's colours are display colours: 1.0 reaches 0.89 after the
-// tone curve at the base exposure (filmic(0.25 · 6.6), common.wgsl).
-const ARTIST_EXPOSURE: f32 = 6.6;
-
 struct SpriteOut {
     @builtin(position) pos: vec4<f32>,
+    // Linear radiance of the corner's colour (before the texture) and its alpha.
     @location(0) color: vec4<f32>,
     @location(1) uv: vec2<f32>,
     @location(2) world: vec3<f32>,
+    // The air between the eye and the corner.
+    @location(3) air_light: vec3<f32>,
+    @location(4) air_transmittance: vec3<f32>,
 }
 
 @vertex
@@ -75,9 +81,24 @@ fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> Sp
     o.color = s.colors[c];
     o.uv = vec2<f32>(select(s.uv.x, s.uv.z, right), select(s.uv.w, s.uv.y, top));
     o.world = p;
+    o.air_light = vec3<f32>(0.0);
+    o.air_transmittance = vec3<f32>(1.0);
     if SHADOW_SPLAT {
         o.pos = shadow_splat_position(s, right, top);
+        return o;
     }
+    if IMPOSTOR_QUAD {
+        return o;
+    }
+    o.color = vec4<f32>(artist_light(s.colors[c].rgb, s.sky[c], s.sun[c]), s.colors[c].a);
+    // The aerial perspective once per corner, not per fragment: across one
+    // sprite the air changes little, and the overdraw of a deck runs to
+    // several fragments per pixel.
+    let to_eye = p - frame.camera_pos.eye_m;
+    let dist = length(to_eye);
+    let air = air_toward(to_eye / max(dist, 1e-3), dist);
+    o.air_light = air.light;
+    o.air_transmittance = air.transmittance;
     return o;
 }
 
@@ -144,10 +165,7 @@ fn fs_main(in: SpriteOut) -> @location(0) vec4<f32> {
     if alpha < 1e-3 {
         discard;
     }
-    let rgb = in.color.rgb * tex.rgb * ARTIST_EXPOSURE;
-    // The air between the eye and the sprite (air.wgsl), as on the
-    // ray-marched clouds and the terrain.
-    let dist = length(to_eye);
-    let seen = through_air(rgb * alpha, alpha, to_eye / max(dist, 1e-3), dist);
+    let rgb = in.color.rgb * tex.rgb;
+    let seen = seen_through(Air(in.air_light, in.air_transmittance), rgb * alpha, alpha);
     return vec4<f32>(output_color(seen), alpha);
 }

@@ -226,9 +226,27 @@ fn sprite_instance_matches() {
         rust_layout!(SpriteInstance {
             corners,
             colors,
+            sun,
+            sky,
             uv
         }),
     );
+}
+
+#[test]
+fn artist_light_gains_match() {
+    use crate::methods::sprites::model::shading::{
+        ARTIST_ADAPT_FLOOR, ARTIST_SKY_GAIN, ARTIST_SUN_GAIN, ARTIST_WHITE,
+    };
+    let m = module(&sprites::SPRITES, &sprites::SLOTS);
+    for (name, v) in [
+        ("ARTIST_SUN_GAIN", ARTIST_SUN_GAIN),
+        ("ARTIST_SKY_GAIN", ARTIST_SKY_GAIN),
+        ("ARTIST_WHITE", ARTIST_WHITE),
+        ("ARTIST_ADAPT_FLOOR", ARTIST_ADAPT_FLOOR),
+    ] {
+        assert_eq!(wgsl_const(&m, name), v as f64, "{name}");
+    }
 }
 
 /// The value of WGSL constant `name` in `module`.

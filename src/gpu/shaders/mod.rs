@@ -53,6 +53,7 @@ pub use shader_files;
 pub const FILES: &[(&str, &str)] = shader_files![
     "common.wgsl",
     "air.wgsl",
+    "artist.wgsl",
     "sky.wgsl",
     "terrain.wgsl",
     "shadow.wgsl",

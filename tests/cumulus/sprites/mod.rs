@@ -1,8 +1,9 @@
 //! Wang 2003's sprite clouds: the CPU model, the per-vertex mechanisms, the
-//! impostor ring, and the `sprites` method on the GPU.
+//! impostor ring, the `sprites` method on the GPU, and its look.
 
 mod clouds;
 mod compositing;
 mod gpu;
+mod look;
 mod ring;
 mod wang;

@@ -8,11 +8,7 @@
 use crate::gpu::GpuContext;
 use crate::methods::sprites::model::Atlas;
 
-/// Tile side of the sheet the renderer uses: the paper's 512² sheet of 128²
-/// tiles. units: texels
-pub const TILE_TEXELS: u32 = 128;
-/// Seed of the atlas noise (`cumulus atlas` writes the same sheet).
-pub const ATLAS_SEED: u32 = 1;
+pub use crate::methods::sprites::model::atlas::{ATLAS_SEED, TILE_TEXELS};
 /// Smallest tile side in the mip chain (a tile keeps its shape). units: texels
 const MIN_MIP_TILE: u32 = 8;
 

@@ -24,7 +24,7 @@ use crate::methods::sprites::model::impostor::{
 };
 use crate::methods::sprites::model::shading::{Lighting, group_centers};
 use crate::methods::sprites::model::vertices::corners;
-use crate::methods::sprites::model::{SpriteCloud, parcel_cloud};
+use crate::methods::sprites::model::{SpriteCloud, parcel_clouds};
 use crate::physics::CloudParcel;
 
 /// Sun moves smaller than this re-use the cached shading (0.5°, the
@@ -68,6 +68,7 @@ pub fn shade(
     let groups = group_centers(&cloud.sprites);
     let radius = cloud.radius_m.max(1e-3);
     for (i, s) in cloud.sprites.iter().enumerate() {
+        let g = groups[s.group as usize];
         let views = if cloud.kind.is_flat() {
             [(Vec3::Z, 1.0), (Vec3::Z, 0.0)]
         } else if let Some(f) = facing.as_deref_mut() {
@@ -78,20 +79,18 @@ pub fn shade(
         };
         let radial = (s.center_m - cloud.center_m).length() / radius;
         let formed = formation_alpha(progress, radial);
-        let g = groups[s.group as usize];
         for (normal, fade) in views {
             let alpha = formed * fade;
             if alpha <= 0.0 {
                 continue;
             }
             let c = corners(s.center_m, normal, s.width_m, s.height_m, s.rotation_rad);
-            let color = |p: Vec3| -> [f32; 4] {
-                let v: Vec4 = lighting.vertex_color(&cloud.levels, p, g, alpha);
-                v.to_array()
-            };
+            let shade = c.map(|p| lighting.vertex_shade(&cloud.levels, p, cloud.shading_from(g, p), alpha));
             out.push(SpriteInstance {
                 corners: c.map(|p| p.extend(1.0).to_array()),
-                colors: c.map(color),
+                colors: shade.map(|v| v.painted.to_array()),
+                sun: shade.map(|v| v.sun),
+                sky: shade.map(|v| v.sky),
                 uv: Atlas::uv_rect(s.texture),
             });
         }
@@ -290,17 +289,22 @@ impl SpriteScene {
             return;
         }
         self.parcels_in = parcels.to_vec();
-        self.parcels = parcels
+        let drawn: Vec<&CloudParcel> = parcels
             .iter()
             .filter(|p| p.fill > 0.0 && p.radius_m.is_finite() && p.center_m.is_finite())
-            .map(|p| {
-                let cloud = parcel_cloud(&CloudParcel { fill: 1.0, ..*p }, p.id);
-                ParcelCloud {
-                    id: p.id,
-                    fill: p.fill,
-                    span: z_span(&cloud),
-                    cloud,
-                }
+            .collect();
+        let full: Vec<CloudParcel> = drawn
+            .iter()
+            .map(|p| CloudParcel { fill: 1.0, ..**p })
+            .collect();
+        self.parcels = drawn
+            .iter()
+            .zip(parcel_clouds(&full))
+            .map(|(p, cloud)| ParcelCloud {
+                id: p.id,
+                fill: p.fill,
+                span: z_span(&cloud),
+                cloud,
             })
             .collect();
     }

@@ -26,14 +26,19 @@ pub use build::{SpriteScene, SpriteStats};
 pub use ring::RingGpu;
 
 /// One sprite as the shader reads it: `SpriteInstance` in
-/// shaders/sprites/sprites.wgsl (144 bytes; a test compares the layouts).
+/// shaders/sprites/sprites.wgsl (176 bytes; a test compares the layouts).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct SpriteInstance {
     /// Corners (xyz, w = 1) counter-clockwise from bottom-left. units: m
     pub corners: [[f32; 4]; 4],
-    /// Linear RGBA per corner: (ambient + directional) × formation × facing.
+    /// Per corner: the painted colour level (sRGB-encoded RGB) and alpha ×
+    /// formation × facing.
     pub colors: [[f32; 4]; 4],
+    /// Per corner: the share of the sun's light.
+    pub sun: [f32; 4],
+    /// Per corner: the share of the sky's light.
+    pub sky: [f32; 4],
     /// Atlas rectangle (u0, v0, u1, v1), v down.
     pub uv: [f32; 4],
 }

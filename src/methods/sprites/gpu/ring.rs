@@ -54,6 +54,8 @@ pub fn face_quad(ring_cam: Vec3, radius_m: f32, k: usize, weight: f32) -> Sprite
     SpriteInstance {
         corners: corners.map(|p| p.extend(1.0).to_array()),
         colors: [[1.0, 1.0, 1.0, weight]; 4],
+        sun: [0.0; 4],
+        sky: [0.0; 4],
         uv: [0.0, 0.0, 1.0, 1.0],
     }
 }

@@ -23,6 +23,11 @@ use crate::noise::{fade, hash};
 pub const GRID: u32 = 4;
 /// Smallest tile: the paper's 512² sheet of 128² tiles.
 pub const MIN_TILE: u32 = 128;
+/// Tile side of the sheet the renderer uses: the paper's 512² sheet of 128²
+/// tiles. units: texels
+pub const TILE_TEXELS: u32 = 128;
+/// Seed of the atlas noise (`cumulus atlas` writes the same sheet).
+pub const ATLAS_SEED: u32 = 1;
 /// Foggy stratus tiles.
 pub const FOGGY_TILES: [u8; 3] = [0, 1, 2];
 /// The flat-bottomed tile, upper right.
@@ -333,9 +338,16 @@ fn texel(i: u8, layout: &Layout, u: f32, v: f32, s: u32) -> [f32; 4] {
             let r = (x * x + y * y).sqrt();
             let edge = 1.0 + (fbm(u * 2.5 + 7.0 * i as f32, v * 2.5, s ^ 0xabc, 4) - 0.5);
             let n = fbm(u * 4.0, v * 4.0, s, 5);
-            let a = smoothstep(edge, 0.4 * edge, r) * (0.3 + 0.6 * smoothstep(0.25, 0.75, n));
-            // §3.2: a subtle bluish-grey tinge.
-            ([0.84 + 0.06 * n, 0.86 + 0.06 * n, 0.92 + 0.05 * n], a)
+            // Rolls and lumps a few times smaller than the patch: a deck
+            // seen from below keeps a texture where one sprite fills the view.
+            let m = 0.7 * fbm(u * 11.0 + 3.1, v * 11.0, s ^ 0x77, 3)
+                + 0.3 * fbm(u * 37.0, v * 37.0 + 5.3, s ^ 0x99, 2);
+            let a = smoothstep(edge, 0.4 * edge, r)
+                * (0.3 + 0.6 * smoothstep(0.25, 0.75, n))
+                * (0.7 + 0.3 * m);
+            // §3.2: a subtle bluish-grey tinge; darker in the lumps' creases.
+            let k = 0.62 + 0.38 * m;
+            ([(0.84 + 0.06 * n) * k, (0.86 + 0.06 * n) * k, (0.92 + 0.05 * n) * k], a)
         }
         Layout::Streaks { axis, strands } => ([0.95; 3], wispy(*axis, strands, u, v, s)),
     };
@@ -415,7 +427,6 @@ impl Atlas {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::methods::sprites::gpu::atlas::{ATLAS_SEED, TILE_TEXELS};
 
     /// The renderer's sheet, tile by tile: alpha and luminance in [0, 1].
     fn tiles() -> (usize, Vec<Vec<f32>>, Vec<Vec<f32>>) {

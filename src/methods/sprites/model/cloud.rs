@@ -1,9 +1,7 @@
 //! Sprite clouds (paper §3.1): an artist's boxes, each filled with randomly
 //! placed sprites at load (seeded, so the same scene gives the same sprites),
 //! then pruned of sprites too close to another to be worth their overdraw.
-//! A condensed physics parcel becomes a cloud of one box sized by its radius
-//! and filled in proportion to its fill, so a physics scene can be drawn as
-//! sprites too.
+//! Physics parcels become sprite clouds in [`super::parcels`].
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -12,7 +10,6 @@ use super::presets::CloudType;
 use super::shading::ColorLevel;
 use super::{finite_in, range_in};
 use crate::error::{Error, Result};
-use crate::physics::CloudParcel;
 use crate::physics::rng::SplitMix64;
 
 /// Pruning distance as a fraction of the sprite height for typical clouds.
@@ -56,7 +53,7 @@ pub struct SpriteBox {
     pub group: u32,
 }
 
-fn full_turn() -> [f32; 2] {
+pub(super) fn full_turn() -> [f32; 2] {
     [0.0, 360.0]
 }
 
@@ -123,6 +120,27 @@ pub struct SpriteCloud {
     pub pruned: usize,
     /// Sprites dropped beyond [`MAX_SPRITES_PER_CLOUD`] (shown).
     pub capped: usize,
+    /// One centre for the directional shading of every sprite (None: each
+    /// shading group's own centre, the paper's): a physics parcel's
+    /// sprites are shaded as part of the cloud the parcel belongs to.
+    pub shade_center_m: Option<Vec3>,
+}
+
+impl SpriteCloud {
+    /// The point the directional term (eq. 2) of `vertex_m` looks from:
+    /// its shading group's centre `group_m` (the paper's), or, for a cloud
+    /// with a cloud-wide centre, a point from which the vertex lies in the
+    /// mean of the two directions: the cloud's sunlit and shaded sides with
+    /// each billow's own on top of them.
+    pub fn shading_from(&self, group_m: Vec3, vertex_m: Vec3) -> Vec3 {
+        match self.shade_center_m {
+            None => group_m,
+            Some(c) => {
+                let d = (vertex_m - c).normalize_or_zero() + (vertex_m - group_m).normalize_or_zero();
+                vertex_m - d.normalize_or_zero()
+            }
+        }
+    }
 }
 
 impl SpriteBox {
@@ -301,6 +319,7 @@ fn finish(
         sprites,
         pruned,
         capped,
+        shade_center_m: None,
     }
 }
 
@@ -320,61 +339,4 @@ pub fn prune(all: Vec<Sprite>, fraction: f32) -> (Vec<Sprite>, usize) {
     }
     let dropped = n - kept.len();
     (kept, dropped)
-}
-
-/// Sprites of a parcel at fill 1: a parcel sphere is drawn with up to this
-/// many sprites, fewer as its fill drops (never fewer than the paper's 5).
-pub const PARCEL_SPRITES: u32 = 40;
-
-/// A condensed parcel as a sprite cloud: one box spanning its sphere down to
-/// its condensation plane (the flat base), `fill` × [`PARCEL_SPRITES`]
-/// sprites of a third of its diameter, cumulus tiles, a flat-bottomed tile on
-/// the base row. `seed` makes it deterministic (use the parcel's id).
-pub fn parcel_cloud(p: &CloudParcel, seed: u64) -> SpriteCloud {
-    let r = p.radius_m.max(1.0);
-    let base = (p.cond_plane_z_m - p.center_m.z).clamp(-r, r);
-    let size = [2.0 * r / 3.0, 2.0 * r / 3.0];
-    let count = ((p.fill.clamp(0.0, 1.0) * PARCEL_SPRITES as f32).round() as u32).max(5);
-    let body = SpriteBox {
-        min_m: [-0.7 * r, -0.7 * r, base + 0.2 * r],
-        max_m: [0.7 * r, 0.7 * r, 0.7 * r],
-        count: Some(count),
-        density_per_km3: None,
-        width_m: size,
-        height_m: size,
-        rotation_deg: full_turn(),
-        textures: super::atlas::PUFFY_TILES.to_vec(),
-        group: 0,
-    };
-    // §3.2: flat bottoms with a narrow rotation range (±5°).
-    let bottom = SpriteBox {
-        min_m: [-0.6 * r, -0.6 * r, base + size[1] * 0.3],
-        max_m: [0.6 * r, 0.6 * r, base + size[1] * 0.35],
-        count: Some((count / 4).max(1)),
-        rotation_deg: [-5.0, 5.0],
-        textures: vec![super::atlas::FLAT_BOTTOM_TILE],
-        group: 1,
-        ..body.clone()
-    };
-    let spec = SpriteCloudSpec {
-        name: String::new(),
-        kind: CloudType::CumulusHumilis,
-        center_m: p.center_m.to_array(),
-        seed,
-        prune_fraction: PRUNE_TYPICAL,
-        levels: None,
-        boxes: vec![body, bottom],
-    };
-    spec.build()
-}
-
-/// Every condensed parcel (fill > 0) as a sprite cloud, seeded by its
-/// stable id ([`CloudParcel::id`]): the same parcel gives the same sprites
-/// whichever parcels condense or evaporate around it.
-pub fn parcel_clouds(parcels: &[CloudParcel]) -> Vec<SpriteCloud> {
-    parcels
-        .iter()
-        .filter(|p| p.fill > 0.0 && p.radius_m.is_finite() && p.center_m.is_finite())
-        .map(|p| parcel_cloud(p, p.id))
-        .collect()
 }

@@ -3,8 +3,9 @@
 //! `sprites` render method. Like the atmosphere and the physics, this layer
 //! imports no GPU or window code; the sprite renderer draws what it builds.
 //!
-//! - [`cloud`]: `[[sprite_clouds]]` boxes, seeded filling and pruning (§3.1),
-//!   physics parcels as sprite clouds;
+//! - [`cloud`]: `[[sprite_clouds]]` boxes, seeded filling and pruning (§3.1);
+//! - [`parcels`]: physics parcels as sprite clouds, touching parcels shaded
+//!   as one cloud;
 //! - [`atlas`]: the 16-tile texture sheet from our own noise (§3.2);
 //! - [`shading`]: colour levels, time-of-day tables, biased sun mapping (§5);
 //! - [`formation`]: formation and dissipation alpha (§4, Listing 1);
@@ -20,12 +21,14 @@ pub mod facing;
 pub mod formation;
 pub mod impostor;
 pub mod order;
+pub mod parcels;
 pub mod presets;
 pub mod shading;
 pub mod vertices;
 
 pub use atlas::{Atlas, TileKind};
-pub use cloud::{Sprite, SpriteBox, SpriteCloud, SpriteCloudSpec, parcel_cloud, parcel_clouds};
+pub use cloud::{Sprite, SpriteBox, SpriteCloud, SpriteCloudSpec};
+pub use parcels::{parcel_cloud, parcel_clouds};
 pub use presets::{CloudType, LayerSpec};
 pub use shading::{ColorLevel, TimeTable};
 

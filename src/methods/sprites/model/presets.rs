@@ -46,11 +46,65 @@ struct Look {
     textures: &'static [u8],
     /// A flat-bottomed row at the base (cumulus).
     flat_base: bool,
-    /// Colour at the bottom and top levels (RGB) and the alpha.
+    /// Painted colour (sRGB-encoded, shaders/artist.wgsl) at the bottom
+    /// and top levels (RGB) and the alpha.
     bottom: [f32; 3],
     top: [f32; 3],
     alpha: f32,
+    /// The boxes the cloud is built from (the paper builds a cloud from
+    /// several boxes); None: one box filling the cloud, `count` sprites.
+    parts: Option<&'static [Part]>,
+    /// A layer of this type is a deck: its clouds overlap their
+    /// neighbours and are barely jittered, so it has no gaps.
+    deck: bool,
 }
+
+/// One box of a type's cloud, each its own shading group: its half-width
+/// as a fraction of the cloud's width, its bottom and top as fractions of
+/// the thickness above the base, its sprite count, and the size and
+/// horizontal stretch of its sprites (× the type's).
+#[derive(Debug, Clone, Copy)]
+struct Part {
+    half_w: f32,
+    z: [f32; 2],
+    count: u32,
+    scale: f32,
+    stretch: f32,
+}
+
+const fn part(half_w: f32, z0: f32, z1: f32, count: u32, scale: f32, stretch: f32) -> Part {
+    Part {
+        half_w,
+        z: [z0, z1],
+        count,
+        scale,
+        stretch,
+    }
+}
+
+/// Cumulus humilis: a flat base and a low dome.
+const HUMILIS: [Part; 2] = [
+    part(0.5, 0.0, 0.6, 20, 1.0, 1.0),
+    part(0.32, 0.45, 1.0, 12, 0.85, 1.0),
+];
+/// Cumulus congestus: a flat base, a body narrowing upward, a domed top.
+const CONGESTUS: [Part; 3] = [
+    part(0.5, 0.0, 0.4, 45, 1.0, 1.0),
+    part(0.38, 0.3, 0.75, 40, 0.9, 1.0),
+    part(0.24, 0.65, 1.0, 25, 0.8, 1.0),
+];
+/// Cumulonimbus: a dark flat base a little wider than the tower, the
+/// tower, and the anvil spreading to more than twice the tower's width at
+/// the tropopause, with an overshooting top over the updraught.
+const CUMULONIMBUS: [Part; 5] = [
+    part(0.3, 0.0, 0.3, 70, 1.0, 1.0),
+    part(0.22, 0.25, 0.8, 90, 1.0, 1.0),
+    part(0.9, 0.8, 0.93, 100, 1.1, 1.8),
+    part(0.6, 0.88, 0.97, 70, 1.0, 1.8),
+    part(0.14, 0.9, 1.0, 20, 0.8, 1.0),
+];
+/// A deck: one box reaching past the cloud's cell into its neighbours'.
+const DECK: [Part; 1] = [part(0.62, 0.0, 1.0, 0, 1.0, 1.0)];
 
 const FOG_WISP: [u8; 5] = [0, 1, 2, 4, 5];
 const PUFF_WISP: [u8; 8] = [10, 11, 12, 13, 14, 15, 6, 7];
@@ -91,39 +145,48 @@ impl CloudType {
             bottom,
             top,
             alpha,
+            parts: None,
+            deck: false,
         };
         match self {
             // §5.1: stratus light grey and partly transparent, nimbostratus darker.
             Stratus => Look {
                 stretch: 1.5,
+                parts: Some(&DECK),
+                deck: true,
                 ..l(
                     500.0,
                     300.0,
                     4000.0,
                     [500.0, 800.0],
                     60,
-                    &FOG_WISP,
-                    [0.72; 3],
-                    [0.85; 3],
+                    &FOGGY_TILES,
+                    [0.62; 3],
+                    [0.8; 3],
                     0.7,
                 )
             },
+            // A thick deck: dark grey underneath, a little lighter above.
             Nimbostratus => Look {
                 stretch: 1.5,
+                parts: Some(&DECK),
+                deck: true,
                 ..l(
                     700.0,
                     1500.0,
                     4000.0,
-                    [700.0, 1000.0],
+                    [1100.0, 1600.0],
                     90,
                     &FOGGY_TILES,
-                    [0.38; 3],
-                    [0.55; 3],
+                    [0.36, 0.37, 0.4],
+                    [0.66, 0.67, 0.7],
                     0.95,
                 )
             },
             Altostratus => Look {
                 stretch: 1.5,
+                parts: Some(&DECK),
+                deck: true,
                 ..l(
                     3000.0,
                     500.0,
@@ -161,6 +224,7 @@ impl CloudType {
             // Humilis puffs are nearly uniformly white.
             CumulusHumilis => Look {
                 flat_base: true,
+                parts: Some(&HUMILIS),
                 ..l(
                     1000.0,
                     500.0,
@@ -175,6 +239,7 @@ impl CloudType {
             },
             CumulusCongestus => Look {
                 flat_base: true,
+                parts: Some(&CONGESTUS),
                 ..l(
                     1000.0,
                     2500.0,
@@ -187,9 +252,11 @@ impl CloudType {
                     1.0,
                 )
             },
-            // "A black look from top to bottom."
+            // §5.1: "a black look from top to bottom" seen from below it;
+            // its sunlit anvil is lighter.
             Cumulonimbus => Look {
                 flat_base: true,
+                parts: Some(&CUMULONIMBUS),
                 ..l(
                     900.0,
                     9000.0,
@@ -197,13 +264,15 @@ impl CloudType {
                     [900.0, 1500.0],
                     100,
                     &PUFFY_TILES,
-                    [0.22; 3],
-                    [0.42; 3],
+                    [0.3; 3],
+                    [0.85; 3],
                     1.0,
                 )
             },
             Cirrostratus => Look {
                 stretch: 2.0,
+                parts: Some(&DECK),
+                deck: true,
                 ..l(
                     7500.0,
                     200.0,
@@ -243,6 +312,8 @@ impl CloudType {
             },
             Fog => Look {
                 stretch: 1.5,
+                parts: Some(&DECK),
+                deck: true,
                 ..l(
                     0.0,
                     150.0,
@@ -286,50 +357,49 @@ impl CloudType {
     /// One cloud of the type with its base at `base_m` above (x, y), from `seed`.
     pub fn spec(self, name: &str, x_m: f32, y_m: f32, base_m: f32, seed: u64) -> SpriteCloudSpec {
         let k = self.look();
-        let (hw, ht) = (0.5 * k.width_m, 0.5 * k.thick_m);
+        let ht = 0.5 * k.thick_m;
         let s = k.sprite_m;
-        let w = [s[0] * k.stretch, s[1] * k.stretch];
-        let body = SpriteBox {
-            min_m: [
-                -hw + 0.5 * s[1],
-                -hw + 0.5 * s[1],
-                -ht + 0.5 * s[0].min(k.thick_m),
-            ],
-            max_m: [
-                hw - 0.5 * s[1],
-                hw - 0.5 * s[1],
-                (ht - 0.5 * s[0]).max(-ht + 0.5 * s[0].min(k.thick_m)),
-            ],
-            count: Some(k.count.min(100)),
-            density_per_km3: None,
-            width_m: w,
-            height_m: s,
-            rotation_deg: [0.0, 360.0],
-            textures: k.textures.to_vec(),
-            group: 0,
-        };
-        let mut boxes = vec![body.clone()];
+        let whole = [part(0.5, 0.0, 1.0, k.count, 1.0, 1.0)];
+        let parts = k.parts.unwrap_or(&whole);
+        let mut boxes: Vec<SpriteBox> = parts
+            .iter()
+            .enumerate()
+            .map(|(g, p)| {
+                let size = [s[0] * p.scale, s[1] * p.scale];
+                let stretch = k.stretch * p.stretch;
+                // A box reaching past the cloud (a deck) keeps its sprites'
+                // centres at its edge; otherwise they stay inside the cloud.
+                let half = p.half_w * k.width_m;
+                let inset = if p.half_w > 0.5 { 0.0 } else { 0.5 * size[1] };
+                let xy = (half - inset).max(0.0);
+                let lo = -ht + (p.z[0] * k.thick_m + 0.5 * size[0]).min(k.thick_m * p.z[1]);
+                let hi = (-ht + p.z[1] * k.thick_m - 0.5 * size[0]).max(lo);
+                SpriteBox {
+                    min_m: [-xy, -xy, lo],
+                    max_m: [xy, xy, hi],
+                    count: Some(if p.count == 0 { k.count } else { p.count }.min(100)),
+                    density_per_km3: None,
+                    width_m: [size[0] * stretch, size[1] * stretch],
+                    height_m: size,
+                    rotation_deg: [0.0, 360.0],
+                    textures: k.textures.to_vec(),
+                    group: g as u32,
+                }
+            })
+            .collect();
         if k.flat_base {
-            // §3.2: flat bottoms from the flat-bottomed tile, rotation ±5°.
+            // §3.2: flat bottoms from the flat-bottomed tile, rotation ±5°,
+            // under the lowest box.
             let z = -ht + 0.3 * s[0];
+            let xy = 0.8 * parts[0].half_w * k.width_m;
             boxes.push(SpriteBox {
-                min_m: [-0.8 * hw, -0.8 * hw, z],
-                max_m: [0.8 * hw, 0.8 * hw, z],
-                count: Some((k.count / 4).max(1)),
+                min_m: [-xy, -xy, z],
+                max_m: [xy, xy, z],
+                count: Some((boxes[0].count.unwrap_or(1) / 4).max(1)),
                 rotation_deg: [-5.0, 5.0],
                 textures: vec![FLAT_BOTTOM_TILE],
-                group: 1,
-                ..body.clone()
-            });
-        }
-        if self == CloudType::Cumulonimbus {
-            // The anvil: a wide, thin top in its own shading group.
-            boxes.push(SpriteBox {
-                min_m: [-1.6 * hw, -1.6 * hw, 0.8 * ht],
-                max_m: [1.6 * hw, 1.6 * hw, ht],
-                count: Some(60),
-                group: 2,
-                ..body.clone()
+                group: parts.len() as u32,
+                ..boxes[0].clone()
             });
         }
         SpriteCloudSpec {
@@ -421,19 +491,22 @@ impl LayerSpec {
     }
 
     /// The layer's cloud specs: one cell per cloud width, a cloud where a
-    /// seeded draw falls under the coverage, jittered by a quarter cell.
+    /// seeded draw falls under the coverage, jittered by a quarter cell (a
+    /// deck's by 8 %).
     pub fn specs(&self) -> Vec<SpriteCloudSpec> {
         let n = self.cells_per_side();
         let cell = self.extent_m / n as f32;
         let base = self.altitude_m.unwrap_or(self.kind.base_m());
         let mut rng = SplitMix64::new(self.seed ^ 0x1a7e_55ed);
+        // A deck is barely jittered: its clouds overlap into one sheet.
+        let jitter = if self.kind.look().deck { 0.08 } else { 0.25 };
         let mut out = Vec::new();
         for j in 0..n {
             for i in 0..n {
                 let (draw, jx, jy, seed) = (
                     rng.next_f64() as f32,
-                    rng.range(-0.25, 0.25) as f32,
-                    rng.range(-0.25, 0.25) as f32,
+                    rng.range(-jitter, jitter) as f32,
+                    rng.range(-jitter, jitter) as f32,
                     rng.next_u64(),
                 );
                 if draw >= self.coverage {

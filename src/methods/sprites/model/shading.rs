@@ -1,10 +1,19 @@
-//! Artist shading (paper §5), evaluated per sprite vertex on the CPU:
-//! ambient = five vertical colour levels (height → RGBA) interpolated at the
-//! vertex, times a time-of-day percentage (eq. 1); directional = the sun's
-//! colour at this time of day times a biased mapping of the dot product of
-//! (vertex − shading group centre) and the sun direction (eq. 2); vertex
-//! colour = (ambient + directional) × formation alpha (eq. 3; the GPU
-//! multiplies the texture in).
+//! Artist shading (paper §5), evaluated per sprite vertex on the CPU, and
+//! the colour contract that turns it into light ([`artist_light`], the
+//! twin of shaders/artist.wgsl, which the GPU runs per vertex).
+//!
+//! Per vertex: the painted colour = the five vertical colour levels
+//! (height → RGBA) interpolated at the vertex (eq. 1's first factor), as
+//! the artist sees it (sRGB-encoded: 0.2 a dark base, 1.0 a sunlit top);
+//! the share of the sky's light = a time-of-day percentage (eq. 1); the
+//! share of the sun's = a time-of-day percentage times a biased mapping of
+//! the dot product of (vertex − shading group centre) and the sun direction
+//! (eq. 2); alpha = the level's alpha × formation alpha (eq. 3; the GPU
+//! multiplies the texture in). The light itself is the frame's: the sun
+//! and the sky's irradiance from the atmosphere model, reddened and dimmed
+//! at a low sun as for the ray-marched clouds, so the paper's hand-painted
+//! dawn and dusk colours are the model's and the default tables are
+//! neutral (1 all day); an artist's table still scales them.
 
 use glam::{Vec3, Vec4};
 use serde::{Deserialize, Serialize};
@@ -115,50 +124,84 @@ where
     }
 }
 
-/// Ambient percentage over the day: dark at night, full by day, with more
-/// samples around dawn (06:00) and dusk (18:00) as the paper advises.
+/// Share of the sky's light over the day (eq. 1's percentage): 1, the
+/// frame's own sky (dark at night, reddened at dusk by the atmosphere
+/// model), which the paper's artist had to paint in by hand.
 pub fn default_ambient_table() -> TimeTable<f32> {
     TimeTable {
-        samples: vec![
-            (0.0, 0.08),
-            (4.5, 0.08),
-            (5.0, 0.15),
-            (5.5, 0.3),
-            (6.0, 0.5),
-            (6.5, 0.7),
-            (7.0, 0.85),
-            (8.0, 1.0),
-            (16.0, 1.0),
-            (17.0, 0.85),
-            (17.5, 0.7),
-            (18.0, 0.5),
-            (18.5, 0.3),
-            (19.0, 0.15),
-            (19.5, 0.08),
-        ],
+        samples: vec![(0.0, 1.0)],
     }
 }
 
-/// Maximum directional (sun) colour over the day: none at night, reddish at
-/// dawn and dusk, white by day; more samples around dawn and dusk.
-pub fn default_sun_table() -> TimeTable<Vec3> {
+/// Share of the sun's light over the day (eq. 2's maximum): 1, the frame's
+/// own sun, as for [`default_ambient_table`].
+pub fn default_sun_table() -> TimeTable<f32> {
     TimeTable {
-        samples: vec![
-            (0.0, Vec3::ZERO),
-            (5.0, Vec3::ZERO),
-            (5.5, Vec3::new(0.35, 0.12, 0.05)),
-            (6.0, Vec3::new(0.7, 0.35, 0.15)),
-            (6.5, Vec3::new(0.8, 0.55, 0.35)),
-            (7.5, Vec3::new(0.7, 0.65, 0.55)),
-            (9.0, Vec3::new(0.6, 0.6, 0.58)),
-            (15.0, Vec3::new(0.6, 0.6, 0.58)),
-            (16.5, Vec3::new(0.7, 0.65, 0.55)),
-            (17.5, Vec3::new(0.8, 0.55, 0.35)),
-            (18.0, Vec3::new(0.7, 0.35, 0.15)),
-            (18.5, Vec3::new(0.35, 0.12, 0.05)),
-            (19.0, Vec3::ZERO),
-        ],
+        samples: vec![(0.0, 1.0)],
     }
+}
+
+/// A thick cloud's sunlit side reflects about like a white Lambertian
+/// surface of albedo 0.75 facing the sun: the sun's irradiance is
+/// 4π·sun_color, so its radiance is 0.75·4π·sun_color/π
+/// (shaders/artist.wgsl `ARTIST_SUN_GAIN`).
+pub const ARTIST_SUN_GAIN: f32 = 3.0;
+/// Its shaded side sees the sky like a white Lambertian surface
+/// (`ARTIST_SKY_GAIN`).
+pub const ARTIST_SKY_GAIN: f32 = 1.0;
+
+/// The sRGB decoding (IEC 61966-2-1), encoded [0, 1] to linear.
+pub fn srgb_decode(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c.max(0.0) + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Luminance of the full light a painted colour is meant at
+/// (`ARTIST_WHITE`).
+pub const ARTIST_WHITE: f32 = 6.5;
+/// The light is adapted to [`ARTIST_WHITE`] from this fraction of it up
+/// (`ARTIST_ADAPT_FLOOR`).
+pub const ARTIST_ADAPT_FLOOR: f32 = 0.3;
+
+/// Linear radiance of a painted colour (sRGB-encoded) receiving the share
+/// `sky` of the sky's light (`sky_ambient`: its irradiance on an up-facing
+/// surface / π) and `sun` of the sun's (`sun_color`: the renderer's sun
+/// colour, irradiance / 4π), adapted to [`ARTIST_WHITE`]. CPU twin of
+/// shaders/artist.wgsl `artist_light`.
+pub fn artist_light(painted: Vec3, sky: f32, sun: f32, sky_ambient: Vec3, sun_color: Vec3) -> Vec3 {
+    let (sky_light, sun_light) = (ARTIST_SKY_GAIN * sky_ambient, ARTIST_SUN_GAIN * sun_color);
+    let full = (sky_light + sun_light).dot(Vec3::new(0.2126, 0.7152, 0.0722));
+    let adapt = ARTIST_WHITE / full.max(ARTIST_ADAPT_FLOOR * ARTIST_WHITE);
+    Vec3::new(
+        srgb_decode(painted.x),
+        srgb_decode(painted.y),
+        srgb_decode(painted.z),
+    ) * (sky * sky_light + sun * sun_light)
+        * adapt
+}
+
+/// One corner's shading, as the GPU turns it into light
+/// ([`artist_light`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VertexShade {
+    /// The painted colour (sRGB-encoded RGB) and alpha × formation alpha.
+    pub painted: Vec4,
+    /// Share of the sky's light.
+    pub sky: f32,
+    /// Share of the sun's light.
+    pub sun: f32,
+}
+
+impl VertexShade {
+    /// Nothing drawn.
+    pub const CLEAR: VertexShade = VertexShade {
+        painted: Vec4::ZERO,
+        sky: 0.0,
+        sun: 0.0,
+    };
 }
 
 /// The artist's percentages of the maximum directional colour (§5.2).
@@ -199,8 +242,10 @@ pub struct Lighting {
     pub sun_dir: Vec3,
     /// Local solar time. units: hours
     pub hour: f32,
+    /// Share of the sky's light over the day.
     pub ambient: TimeTable<f32>,
-    pub sun: TimeTable<Vec3>,
+    /// Share of the sun's light over the day.
+    pub sun: TimeTable<f32>,
     pub map: DirectionalMap,
 }
 
@@ -232,31 +277,35 @@ impl Lighting {
         })
     }
 
-    /// Ambient colour of a vertex (eq. 1).
-    pub fn ambient(&self, levels: &[ColorLevel], z_m: f32) -> Vec4 {
-        level_color(levels, z_m) * self.ambient.at(self.hour)
+    /// Share of the sky's light at this hour (eq. 1's percentage).
+    pub fn sky_share(&self) -> f32 {
+        self.ambient.at(self.hour)
     }
 
-    /// Directional colour of a vertex (eq. 2), from its shading group centre.
-    pub fn directional(&self, vertex_m: Vec3, group_center_m: Vec3) -> Vec3 {
+    /// Share of the sun's light of a vertex (eq. 2), from its shading
+    /// group centre.
+    pub fn sun_share(&self, vertex_m: Vec3, group_center_m: Vec3) -> f32 {
         let dot = (vertex_m - group_center_m)
             .normalize_or_zero()
             .dot(self.sun_dir);
         self.sun.at(self.hour) * self.map.map(dot)
     }
 
-    /// Vertex colour (eq. 3 without the texture): (ambient + directional) ×
-    /// formation alpha; the alpha channel is the ambient alpha × formation.
-    pub fn vertex_color(
+    /// A vertex's shading (eq. 3 without the texture): the painted level at
+    /// its height, its alpha × formation alpha, and its shares of the light.
+    pub fn vertex_shade(
         &self,
         levels: &[ColorLevel],
         vertex_m: Vec3,
         group_center_m: Vec3,
         alpha_morph: f32,
-    ) -> Vec4 {
-        let amb = self.ambient(levels, vertex_m.z);
-        let dir = self.directional(vertex_m, group_center_m);
-        (amb + dir.extend(0.0)) * alpha_morph
+    ) -> VertexShade {
+        let level = level_color(levels, vertex_m.z);
+        VertexShade {
+            painted: level.truncate().extend(level.w * alpha_morph),
+            sky: self.sky_share(),
+            sun: self.sun_share(vertex_m, group_center_m),
+        }
     }
 }
 

@@ -3,19 +3,20 @@
 //! camera", then shade each corner). This is the CPU work the vertex cache
 //! of §6.1 saves; the sprite renderer uploads its result.
 
-use glam::{Vec3, Vec4};
+use glam::Vec3;
 
 use super::SpriteCloud;
 use super::formation::formation_alpha;
-use super::shading::{Lighting, group_centers};
+use super::shading::{Lighting, VertexShade, group_centers};
 
 /// One shaded sprite corner.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SpriteVertex {
     /// units: m
     pub position_m: Vec3,
-    /// (ambient + directional) × formation alpha, linear RGBA.
-    pub color: Vec4,
+    /// The painted level, its alpha × formation alpha and its shares of
+    /// the light.
+    pub shade: VertexShade,
 }
 
 /// The four corners (counter-clockwise from bottom-left) of a `width` ×
@@ -68,7 +69,7 @@ pub fn shade_cloud(
         for p in corners(s.center_m, normal, s.width_m, s.height_m, s.rotation_rad) {
             out.push(SpriteVertex {
                 position_m: p,
-                color: lighting.vertex_color(&cloud.levels, p, g, alpha),
+                shade: lighting.vertex_shade(&cloud.levels, p, cloud.shading_from(g, p), alpha),
             });
         }
     }

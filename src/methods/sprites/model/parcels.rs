@@ -1,0 +1,221 @@
+//! Physics parcels as sprite clouds, so a physics scene can be drawn as
+//! sprites too. Each condensed parcel becomes a cloud of one box sized by
+//! its radius (down to its condensation plane: the flat base), filled in
+//! proportion to its fill. Parcels that touch form one cloud for the
+//! shading (paper §5): its colour levels run from the cloud's base to its
+//! top, and the directional term of every one of its sprites is taken from
+//! the whole cloud's centre, so a tower has a sunlit side, a shaded side and
+//! a dark base rather than a lit and a shaded side per parcel.
+
+use glam::Vec3;
+
+use super::atlas::{FLAT_BOTTOM_TILE, PUFFY_TILES};
+use super::cloud::{PRUNE_TYPICAL, SpriteBox, SpriteCloud, SpriteCloudSpec};
+use super::presets::CloudType;
+use super::shading::{ColorLevel, LEVELS};
+use crate::physics::CloudParcel;
+
+/// Sprites of a parcel at fill 1: a parcel sphere is drawn with up to this
+/// many sprites, fewer as its fill drops (never fewer than the paper's 5).
+pub const PARCEL_SPRITES: u32 = 40;
+
+/// The painted colour (sRGB-encoded, shaders/artist.wgsl) of a physics
+/// cloud from its base (first) to its top (last), over the cloud's height.
+pub const PARCEL_LEVELS: [f32; LEVELS] = [0.8, 0.88, 0.94, 0.98, 1.0];
+
+/// Parcels whose spheres are closer than this × the sum of their radii
+/// belong to the same cloud.
+pub const TOUCHING: f32 = 1.0;
+
+/// A condensed parcel as a sprite cloud: one box spanning its sphere down to
+/// its condensation plane (the flat base), `fill` × [`PARCEL_SPRITES`]
+/// sprites of a third of its diameter, cumulus tiles, a flat-bottomed tile on
+/// the base row. `seed` makes it deterministic (use the parcel's id). Its
+/// levels and shading centre are its own; [`parcel_clouds`] gives them the
+/// cloud the parcel belongs to.
+pub fn parcel_cloud(p: &CloudParcel, seed: u64) -> SpriteCloud {
+    let r = p.radius_m.max(1.0);
+    let base = (p.cond_plane_z_m - p.center_m.z).clamp(-r, r);
+    let size = [2.0 * r / 3.0, 2.0 * r / 3.0];
+    let count = ((p.fill.clamp(0.0, 1.0) * PARCEL_SPRITES as f32).round() as u32).max(5);
+    let body = SpriteBox {
+        min_m: [-0.7 * r, -0.7 * r, base + 0.2 * r],
+        max_m: [0.7 * r, 0.7 * r, 0.7 * r],
+        count: Some(count),
+        density_per_km3: None,
+        width_m: size,
+        height_m: size,
+        // The puffy tiles are lit from above: turned at most 30° either way.
+        rotation_deg: [-30.0, 30.0],
+        textures: PUFFY_TILES.to_vec(),
+        group: 0,
+    };
+    // §3.2: flat bottoms with a narrow rotation range (±5°).
+    let bottom = SpriteBox {
+        min_m: [-0.6 * r, -0.6 * r, base + size[1] * 0.3],
+        max_m: [0.6 * r, 0.6 * r, base + size[1] * 0.35],
+        count: Some((count / 4).max(1)),
+        rotation_deg: [-5.0, 5.0],
+        textures: vec![FLAT_BOTTOM_TILE],
+        group: 1,
+        ..body.clone()
+    };
+    let spec = SpriteCloudSpec {
+        name: String::new(),
+        kind: CloudType::CumulusHumilis,
+        center_m: p.center_m.to_array(),
+        seed,
+        prune_fraction: PRUNE_TYPICAL,
+        levels: None,
+        boxes: vec![body, bottom],
+    };
+    let mut cloud = spec.build();
+    cloud.levels = levels(p.cond_plane_z_m.min(p.center_m.z), p.center_m.z + r);
+    cloud
+}
+
+/// The five [`PARCEL_LEVELS`] from `bottom_m` to `top_m` (world heights).
+pub fn levels(bottom_m: f32, top_m: f32) -> Vec<ColorLevel> {
+    let span = (top_m - bottom_m).max(1.0);
+    PARCEL_LEVELS
+        .iter()
+        .enumerate()
+        .map(|(i, &c)| ColorLevel {
+            height_m: bottom_m + span * i as f32 / (LEVELS - 1) as f32,
+            rgba: [c, c, c, 1.0],
+        })
+        .collect()
+}
+
+/// The cloud each parcel belongs to: parcels whose spheres touch
+/// ([`TOUCHING`]) are joined, through any chain of touching parcels.
+/// Returns a cloud index per parcel, numbered in order of first parcel.
+pub fn clusters(parcels: &[CloudParcel]) -> Vec<usize> {
+    let n = parcels.len();
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let r_max = parcels.iter().map(|p| p.radius_m).fold(1.0f32, f32::max);
+    let cell = 2.0 * TOUCHING * r_max;
+    let key = |v: Vec3| (v / cell).floor().as_ivec3();
+    let mut grid: std::collections::HashMap<glam::IVec3, Vec<usize>> = Default::default();
+    for (i, p) in parcels.iter().enumerate() {
+        grid.entry(key(p.center_m)).or_default().push(i);
+    }
+    for (i, p) in parcels.iter().enumerate() {
+        let k = key(p.center_m);
+        for dz in -1..=1 {
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    let Some(cell) = grid.get(&(k + glam::IVec3::new(dx, dy, dz))) else {
+                        continue;
+                    };
+                    for &j in cell {
+                        let q = &parcels[j];
+                        let reach = TOUCHING * (p.radius_m + q.radius_m);
+                        if j > i && p.center_m.distance_squared(q.center_m) < reach * reach {
+                            let (a, b) = (root(&mut parent, i), root(&mut parent, j));
+                            parent[a.max(b)] = a.min(b);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let mut index = vec![usize::MAX; n];
+    let mut next = 0;
+    (0..n)
+        .map(|i| {
+            let r = root(&mut parent, i);
+            if index[r] == usize::MAX {
+                index[r] = next;
+                next += 1;
+            }
+            index[r]
+        })
+        .collect()
+}
+
+/// Every condensed parcel (fill > 0) as a sprite cloud, seeded by its
+/// stable id ([`CloudParcel::id`]): the same parcel gives the same sprites
+/// whichever parcels condense or evaporate around it. Touching parcels
+/// are shaded as one cloud: levels from the cloud's lowest condensation
+/// plane to its top, and one centre for the directional term (the mean of
+/// their centres, weighted by volume).
+pub fn parcel_clouds(parcels: &[CloudParcel]) -> Vec<SpriteCloud> {
+    let drawn: Vec<&CloudParcel> = parcels
+        .iter()
+        .filter(|p| p.fill > 0.0 && p.radius_m.is_finite() && p.center_m.is_finite())
+        .collect();
+    let owned: Vec<CloudParcel> = drawn.iter().map(|p| **p).collect();
+    let cluster = clusters(&owned);
+    let n = cluster.iter().copied().max().map_or(0, |m| m + 1);
+    // (bottom, top, Σ r³·centre, Σ r³) per cloud.
+    let mut span = vec![(f32::MAX, f32::MIN, Vec3::ZERO, 0.0f32); n];
+    for (p, &c) in owned.iter().zip(&cluster) {
+        let s = &mut span[c];
+        let w = p.radius_m.powi(3).max(1e-6);
+        s.0 = s.0.min(p.cond_plane_z_m.min(p.center_m.z));
+        s.1 = s.1.max(p.center_m.z + p.radius_m);
+        s.2 += p.center_m * w;
+        s.3 += w;
+    }
+    owned
+        .iter()
+        .zip(&cluster)
+        .map(|(p, &c)| {
+            let (bottom, top, sum, w) = span[c];
+            let mut cloud = parcel_cloud(p, p.id);
+            cloud.levels = levels(bottom, top);
+            cloud.shade_center_m = Some(sum / w);
+            cloud
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parcel(id: u64, x: f32, z: f32, r: f32) -> CloudParcel {
+        CloudParcel {
+            id,
+            center_m: Vec3::new(x, 0.0, z),
+            radius_m: r,
+            fill: 1.0,
+            cond_plane_z_m: 1000.0,
+        }
+    }
+
+    /// Touching spheres join, through chains; a sphere apart stays alone.
+    #[test]
+    fn touching_parcels_form_one_cloud() {
+        let ps = [
+            parcel(1, 0.0, 1200.0, 100.0),
+            parcel(2, 5000.0, 1200.0, 100.0),
+            parcel(3, 150.0, 1300.0, 100.0),
+            parcel(4, 300.0, 1400.0, 100.0),
+        ];
+        assert_eq!(clusters(&ps), vec![0, 1, 0, 0]);
+    }
+
+    /// A parcel's sprites are shaded with its cloud: levels from the
+    /// cloud's base to its top and one centre for the directional term.
+    #[test]
+    fn a_tower_s_parcels_share_its_levels_and_centre() {
+        let ps = [parcel(1, 0.0, 1200.0, 150.0), parcel(2, 0.0, 1450.0, 150.0)];
+        let clouds = parcel_clouds(&ps);
+        assert_eq!(clouds.len(), 2);
+        for c in &clouds {
+            assert_eq!(c.levels.first().unwrap().height_m, 1000.0);
+            assert_eq!(c.levels.last().unwrap().height_m, 1600.0);
+            let centre = c.shade_center_m.unwrap();
+            assert!((centre.z - 1325.0).abs() < 1e-3, "{centre}");
+        }
+    }
+}
