@@ -6,9 +6,13 @@
 //! exporter (`crate::export`) writes the field the GPU ray-marches. Keep in
 //! sync with those WGSL routines.
 //!
-//! The parcels and the culling grid come from [`pack`], exactly as uploaded
-//! to the GPU; the noise is [`noise::NoiseVolume`], the same tiling texture
-//! sampled as the GPU samples it. The only GPU detail not mirrored is the
+//! The parcels are [`pack::gpu_parcels`], exactly as uploaded to the GPU,
+//! with no limit on their number (the exact method's uniform array holds
+//! [`pack::MAX_PARCELS`]; the CPU has no such array); the culling grid is
+//! [`ParcelGrid`], which lists at every point every parcel the GPU's grid
+//! lists, so the union is the same bit for bit. The noise is
+//! [`noise::NoiseVolume`], the same tiling texture sampled as the GPU
+//! samples it. The only GPU detail not mirrored is the
 //! hardware's 8-bit fixed-point filter weights (about 1/256 of a texel step).
 //! No wgpu here: unit-testable without a GPU; tests/cumulus/export/gpu.rs checks it
 //! against the real cloud pass.
@@ -17,8 +21,8 @@ use glam::Vec3;
 
 use crate::config::RenderConfig;
 use crate::error::Result;
-use crate::gpu::uniform::GridInfo;
-use crate::methods::raymarch::pack::{GpuParcel, Packed, pack};
+use crate::methods::raymarch::pack::{self, GpuParcel, Packed};
+use crate::methods::raymarch::parcel_grid::ParcelGrid;
 use crate::noise;
 use crate::physics::CloudParcel;
 
@@ -37,9 +41,8 @@ fn smoothstep01(x: f32) -> f32 {
 #[derive(Debug, Clone)]
 pub struct CloudField {
     parcels: Vec<GpuParcel>,
-    /// Parcel indices per grid cell (x fastest), from the packed grid.
-    cells: Vec<Vec<u32>>,
-    info: GridInfo,
+    /// Which parcels can reach each cell.
+    grid: ParcelGrid,
     noise: noise::NoiseVolume,
     /// Noise amplitude k of eq. 18.
     k: f32,
@@ -53,28 +56,25 @@ pub struct CloudField {
 }
 
 impl CloudField {
-    /// The field `cfg` renders for `parcels` at simulated time `time_s`.
+    /// The field `cfg` renders for `parcels` at simulated time `time_s`;
+    /// any number of parcels.
     pub fn new(parcels: &[CloudParcel], cfg: &RenderConfig, time_s: f32) -> Result<Self> {
-        let packed = pack(parcels, cfg.shell_m, cfg.radius_scale)?;
-        Ok(Self::from_packed(&packed, cfg, time_s))
+        let live = pack::gpu_parcels(parcels, cfg.shell_m, cfg.radius_scale)?;
+        let grid = ParcelGrid::new(&live, cfg.shell_m);
+        Ok(Self::with_grid(live, grid, cfg, time_s))
     }
 
-    /// The field of an already packed frame.
+    /// The field of an already packed frame, culled by the GPU's own
+    /// (capped) grid.
     pub fn from_packed(packed: &Packed, cfg: &RenderConfig, time_s: f32) -> Self {
-        let info = packed.info;
-        let [nx, ny, nz] = info.dims;
-        let mut cells = Vec::with_capacity((nx * ny * nz) as usize);
-        for iz in 0..nz {
-            for iy in 0..ny {
-                for ix in 0..nx {
-                    cells.push(packed.cell_list(ix, iy, iz));
-                }
-            }
-        }
+        let live = packed.parcels.parcels[..packed.info.parcel_count as usize].to_vec();
+        Self::with_grid(live, ParcelGrid::from_packed(packed), cfg, time_s)
+    }
+
+    fn with_grid(parcels: Vec<GpuParcel>, grid: ParcelGrid, cfg: &RenderConfig, time_s: f32) -> Self {
         Self {
-            parcels: packed.parcels.parcels[..info.parcel_count as usize].to_vec(),
-            cells,
-            info,
+            parcels,
+            grid,
             noise: noise::NoiseVolume::new(cfg.noise_texels),
             k: cfg.noise_amplitude,
             shell_m: cfg.shell_m,
@@ -87,7 +87,7 @@ impl CloudField {
     /// Where density can be non-zero: the culling grid's box (lowest and
     /// highest corner; no parcel's density reaches past it). units: m
     pub fn bounds(&self) -> (Vec3, Vec3) {
-        (self.info.min, self.info.max())
+        (self.grid.info.min, self.grid.info.max())
     }
 
     /// Packed parcels (rendered radius, fill ≤ 1, plane).
@@ -104,24 +104,11 @@ impl CloudField {
         q.fill * (d + 1.0) - 1.0
     }
 
-    /// `cell_list` of field_exact.wgsl: the parcels listed in p's cell (none
-    /// outside the grid).
-    fn cell_list(&self, p: Vec3) -> &[u32] {
-        let rel = (p - self.info.min) / self.info.cell;
-        let [nx, ny, nz] = self.info.dims;
-        let dims = Vec3::new(nx as f32, ny as f32, nz as f32);
-        if rel.cmplt(Vec3::ZERO).any() || rel.cmpge(dims).any() {
-            return &[];
-        }
-        let (x, y, z) = (rel.x as u32, rel.y as u32, rel.z as u32);
-        &self.cells[(x + nx * (y + ny * z)) as usize]
-    }
-
     /// `field_value` of field_exact.wgsl: union over parcels of f·(d + 1) − 1,
     /// in [−1, 1].
     pub fn macro_value(&self, p: Vec3) -> f32 {
         let mut v = -1.0f32;
-        for &i in self.cell_list(p) {
+        for &i in self.grid.list(p) {
             v = v.max(self.parcel_value(&self.parcels[i as usize], p));
             if v >= 1.0 {
                 break;

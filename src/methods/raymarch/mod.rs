@@ -8,7 +8,8 @@
 //!
 //! - CPU side: the parcels come from [`crate::physics`]; [`pack`] packs
 //!   them and the culling grid for `exact`; [`field`] is the CPU twin of
-//!   the density (the export samples it);
+//!   the density (the export samples it), culled by [`parcel_grid`], the
+//!   same grid without the uniform arrays' limits;
 //! - GPU side: [`method`] implements the render-method trait; [`passes`]
 //!   declares its passes, layouts, slots and files; [`exact`] and
 //!   [`baked`] upload the field; [`temporal`] is the quarter-rate march's
@@ -20,6 +21,7 @@ pub mod exact;
 pub mod field;
 pub mod method;
 pub mod pack;
+pub mod parcel_grid;
 pub mod passes;
 pub(crate) mod region;
 pub mod temporal;

@@ -7,7 +7,9 @@
 //!
 //! Limits and fallback (never silent truncation):
 //! - more than [`MAX_PARCELS`] condensed parcels → [`Error::InvalidParameter`]
-//!   naming the limit (the uniform array is fixed-size; the paper runs ≤ 85);
+//!   naming the limit (the uniform array is fixed-size; the paper runs ≤ 85).
+//!   A GPU limit only: the CPU field (`field`, culled by `parcel_grid`,
+//!   which shares this grid's cell test) takes any number;
 //! - more cell-list entries than [`MAX_GRID_ENTRIES`] → the grid is coarsened
 //!   (each axis halved) until the lists fit; a 1×1×1 grid lists every parcel
 //!   once, which always fits because `MAX_PARCELS ≤ MAX_GRID_ENTRIES`.
@@ -111,7 +113,7 @@ fn zeroed_box<T: Zeroable>() -> Box<T> {
 
 /// Axis-aligned box a parcel's density can reach: the sphere padded by the
 /// shell, cut below at the condensation plane minus the shell.
-fn parcel_bounds(p: &GpuParcel, shell_m: f32) -> (Vec3, Vec3) {
+pub(crate) fn parcel_bounds(p: &GpuParcel, shell_m: f32) -> (Vec3, Vec3) {
     let c = Vec3::from(p.center_m);
     let r = p.radius_m + shell_m;
     let mut lo = c - Vec3::splat(r);
@@ -198,12 +200,7 @@ pub fn pack(parcels: &[CloudParcel], shell_m: f32, radius_scale: f32) -> Result<
     }
 
     let bounds: Vec<(Vec3, Vec3)> = live.iter().map(|p| parcel_bounds(p, shell_m)).collect();
-    let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-    for (a, b) in &bounds {
-        lo = lo.min(*a);
-        hi = hi.max(*b);
-    }
-    let extent = (hi - lo).max(Vec3::splat(1.0));
+    let (lo, extent) = enclosing(&bounds);
     let mut dims = [0u32; 3];
     for a in 0..3 {
         dims[a] = ((extent[a] / TARGET_CELL_M).ceil() as u32).clamp(1, MAX_GRID_DIMS[a]);
@@ -233,6 +230,55 @@ pub fn pack(parcels: &[CloudParcel], shell_m: f32, radius_scale: f32) -> Result<
     }
 }
 
+/// The lowest corner and the extent (at least 1 m a side) of the boxes
+/// `bounds` of [`parcel_bounds`] (not empty): the culling grid's box.
+/// units: m
+pub(crate) fn enclosing(bounds: &[(Vec3, Vec3)]) -> (Vec3, Vec3) {
+    let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+    for (a, b) in bounds {
+        lo = lo.min(*a);
+        hi = hi.max(*b);
+    }
+    (lo, (hi - lo).max(Vec3::splat(1.0)))
+}
+
+/// Calls `visit` with the index (x fastest) of every cell of the grid of
+/// `dims` cells of side `cell` from `lo` that parcel `p`, of box `bound`
+/// ([`parcel_bounds`]), can give density: its shell-padded sphere touches
+/// the cell and the cell reaches above the plane cut. The one cell test of
+/// both culling grids (the GPU's here, the CPU's in `parcel_grid`).
+pub(crate) fn for_each_touched_cell(
+    p: &GpuParcel,
+    bound: (Vec3, Vec3),
+    shell_m: f32,
+    (lo, cell, dims): (Vec3, Vec3, [u32; 3]),
+    mut visit: impl FnMut(usize),
+) {
+    let (a, b) = bound;
+    let c = Vec3::from(p.center_m);
+    let r = p.radius_m + shell_m;
+    let first = ((a - lo) / cell).floor();
+    let last = ((b - lo) / cell).floor();
+    let range = |ax: usize| {
+        let f = first[ax].max(0.0) as u32;
+        let l = (last[ax].max(0.0) as u32).min(dims[ax] - 1);
+        f..=l
+    };
+    for iz in range(2) {
+        for iy in range(1) {
+            for ix in range(0) {
+                let cmin = lo + cell * Vec3::new(ix as f32, iy as f32, iz as f32);
+                let cmax = cmin + cell;
+                // Sphere–box test, and the box must reach above the cut.
+                let q = c.clamp(cmin, cmax);
+                if q.distance_squared(c) <= r * r && cmax.z >= a.z {
+                    visit((ix + dims[0] * (iy + dims[1] * iz)) as usize);
+                }
+            }
+        }
+    }
+}
+
 /// Fills the cell lists; None when they exceed [`MAX_GRID_ENTRIES`].
 fn fill_grid(
     live: &[GpuParcel],
@@ -245,29 +291,10 @@ fn fill_grid(
 ) -> Option<u32> {
     let ncells = (dims[0] * dims[1] * dims[2]) as usize;
     let mut lists: Vec<Vec<u32>> = vec![Vec::new(); ncells];
-    for (i, (p, (a, b))) in live.iter().zip(bounds).enumerate() {
-        let c = Vec3::from(p.center_m);
-        let r = p.radius_m + shell_m;
-        let first = ((*a - lo) / cell).floor();
-        let last = ((*b - lo) / cell).floor();
-        let range = |ax: usize| {
-            let f = first[ax].max(0.0) as u32;
-            let l = (last[ax].max(0.0) as u32).min(dims[ax] - 1);
-            f..=l
-        };
-        for iz in range(2) {
-            for iy in range(1) {
-                for ix in range(0) {
-                    let cmin = lo + cell * Vec3::new(ix as f32, iy as f32, iz as f32);
-                    let cmax = cmin + cell;
-                    // Sphere–box test, and the box must reach above the cut.
-                    let q = c.clamp(cmin, cmax);
-                    if q.distance_squared(c) <= r * r && cmax.z >= a.z {
-                        lists[(ix + dims[0] * (iy + dims[1] * iz)) as usize].push(i as u32);
-                    }
-                }
-            }
-        }
+    for (i, (p, bound)) in live.iter().zip(bounds).enumerate() {
+        for_each_touched_cell(p, *bound, shell_m, (lo, cell, dims), |ci| {
+            lists[ci].push(i as u32)
+        });
     }
     let total: usize = lists.iter().map(Vec::len).sum();
     if total > MAX_GRID_ENTRIES {

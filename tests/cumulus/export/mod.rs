@@ -1,6 +1,9 @@
-//! `cumulus export`: the `.vol` writer, authored scenes, and the CPU density
+//! `cumulus export`: the `.vol` writer, authored scenes, the command's
+//! defaults and refusals, any number of parcels, and the CPU density
 //! against the GPU.
 
 mod authored;
+
 mod gpu;
+mod many;
 mod vol;
