@@ -7,8 +7,10 @@
 //! phase function, albedo and extinction scale the renderer assumes, so a
 //! path tracer can draw the same picture.
 //!
-//! Memory is stated before anything is allocated and capped: a grid over
-//! the cap is an error naming the voxel size that would fit.
+//! Memory is stated before anything is allocated and capped: the default
+//! voxel gives way to the finest that fits ([`GridSpec::fitting`], said on
+//! stderr); a voxel asked for that does not fit is an error naming the
+//! voxel size that would ([`GridSpec::covering`]).
 //! Deterministic: every value is a pure function of its cell centre, so the
 //! parallel sampling (rayon, by z slab) writes the same bytes on any
 //! thread count.
@@ -47,41 +49,79 @@ pub struct GridSpec {
 impl GridSpec {
     /// The smallest grid of `voxel_m` cells from `min` that covers `max`;
     /// errors name `--voxel` for a non-finite, too small value or a grid
-    /// over `max_memory_mib`.
+    /// over `max_memory_mib` (naming the smallest voxel that fits).
     pub fn covering(min: Vec3, max: Vec3, voxel_m: f32, max_memory_mib: u64) -> Result<Self> {
-        if !(voxel_m.is_finite() && voxel_m >= MIN_VOXEL_M) {
-            return Err(Error::invalid(
-                "--voxel",
-                voxel_m,
-                format!("a voxel side of at least {MIN_VOXEL_M} m"),
-            ));
+        check_voxel(voxel_m)?;
+        let (dims, mib) = Self::size(min, max, voxel_m);
+        if fits(dims, mib, max_memory_mib) {
+            return Ok(Self::of(min, voxel_m, dims));
         }
+        let fitting = Self::fitting(min, max, voxel_m, max_memory_mib)?.voxel_m;
+        // Rounded up to what the message prints: that size fits too
+        // (fewer cells as the voxel grows).
+        let named = (fitting * 10.0).ceil() / 10.0;
+        Err(Error::invalid(
+            "--voxel",
+            voxel_m,
+            format!(
+                "a grid of {:.0}×{:.0}×{:.0} cells needs {mib:.0} MiB, over the {max_memory_mib} MiB \
+                 limit (--max-memory-mib); a voxel of {named:.1} m or more fits",
+                dims.x, dims.y, dims.z,
+            ),
+        ))
+    }
+
+    /// The grid of the finest voxel, `wanted_m` or coarser (to about 1 %), that
+    /// covers `min`..`max` within `max_memory_mib`: how a default voxel
+    /// gives way to a large field. [`GridSpec::coarsening_note`] says so.
+    pub fn fitting(min: Vec3, max: Vec3, wanted_m: f32, max_memory_mib: u64) -> Result<Self> {
+        check_voxel(wanted_m)?;
+        if max_memory_mib == 0 {
+            return Err(Error::invalid("--max-memory-mib", 0, "at least 1 MiB"));
+        }
+        let mut voxel_m = wanted_m;
+        loop {
+            let (dims, mib) = Self::size(min, max, voxel_m);
+            if fits(dims, mib, max_memory_mib) {
+                return Ok(Self::of(min, voxel_m, dims));
+            }
+            // Cells ∝ 1/voxel³; the ceil of each axis may need a step more.
+            let ratio = (mib / max_memory_mib as f64)
+                .cbrt()
+                .max(dims.max_element() as f64 / i32::MAX as f64)
+                .max(1.01);
+            voxel_m *= ratio as f32;
+        }
+    }
+
+    /// What to tell the user when the memory cap made the voxel coarser
+    /// than `wanted_m` (the wording of the baked field's
+    /// `BakeInfo::coarsening_note`); None when it did not.
+    pub fn coarsening_note(&self, wanted_m: f32, max_memory_mib: u64) -> Option<String> {
+        (self.voxel_m > wanted_m).then(|| {
+            format!(
+                "the export uses {:.1} m voxels instead of {wanted_m:.1} m to stay within \
+                 --max-memory-mib {max_memory_mib} (clouds cover a large region; --voxel forces a size)",
+                self.voxel_m
+            )
+        })
+    }
+
+    /// Cells per axis (as floats: a tiny voxel must not overflow u32) and
+    /// the values' memory (MiB) of `voxel_m` cells over `min`..`max`.
+    fn size(min: Vec3, max: Vec3, voxel_m: f32) -> (Vec3, f64) {
         let extent = (max - min).max(Vec3::splat(voxel_m));
         let dims = (extent / voxel_m).ceil();
-        // Counted in f64 first: a tiny voxel must not overflow u32.
         let cells = dims.x as f64 * dims.y as f64 * dims.z as f64;
-        let mib = cells * 4.0 / (1024.0 * 1024.0);
-        if mib > max_memory_mib as f64 || dims.max_element() > i32::MAX as f32 {
-            // The voxel at which the grid fits: cells ∝ 1/voxel³.
-            let fits = voxel_m * (mib / max_memory_mib.max(1) as f64).cbrt() as f32;
-            return Err(Error::invalid(
-                "--voxel",
-                voxel_m,
-                format!(
-                    "a grid of {:.0}×{:.0}×{:.0} cells needs {mib:.0} MiB, over the {max_memory_mib} MiB \
-                     limit (--max-memory-mib); a voxel of {:.1} m or more fits",
-                    dims.x,
-                    dims.y,
-                    dims.z,
-                    fits * 1.01
-                ),
-            ));
-        }
-        Ok(Self {
+        (dims, cells * 4.0 / (1024.0 * 1024.0))
+    }
+
+    fn of(min: Vec3, voxel_m: f32, dims: Vec3) -> Self {
+        Self {
             min,
             voxel_m,
             dims: [dims.x as u32, dims.y as u32, dims.z as u32],
-        })
+        }
     }
 
     /// Highest corner. units: m
@@ -109,6 +149,24 @@ impl GridSpec {
     pub fn centre(&self, x: u32, y: u32, z: u32) -> Vec3 {
         self.min + self.voxel_m * (Vec3::new(x as f32, y as f32, z as f32) + Vec3::splat(0.5))
     }
+}
+
+/// A voxel side the grids accept: finite, at least [`MIN_VOXEL_M`].
+fn check_voxel(voxel_m: f32) -> Result<()> {
+    if voxel_m.is_finite() && voxel_m >= MIN_VOXEL_M {
+        return Ok(());
+    }
+    Err(Error::invalid(
+        "--voxel",
+        voxel_m,
+        format!("a voxel side of at least {MIN_VOXEL_M} m"),
+    ))
+}
+
+/// Whether a grid of `dims` cells taking `mib` MiB is within the cap (and
+/// each axis within the `.vol` header's i32).
+fn fits(dims: Vec3, mib: f64, max_memory_mib: u64) -> bool {
+    mib <= max_memory_mib as f64 && dims.max_element() <= i32::MAX as f32
 }
 
 /// Default voxel side for `cfg` and the packed parcels of `field`.
@@ -206,6 +264,38 @@ mod tests {
             let e = GridSpec::covering(Vec3::ZERO, Vec3::ONE, v, 64).unwrap_err();
             assert!(e.to_string().contains("--voxel"), "{e}");
         }
+    }
+
+    #[test]
+    fn a_default_voxel_gives_way_to_the_finest_that_fits() {
+        let (lo, hi) = (Vec3::ZERO, Vec3::new(40_000.0, 40_000.0, 1_500.0));
+        // 20 m over 40 km × 40 km × 1.5 km: 3·10⁸ cells, 1.1 GiB; cap 64 MiB.
+        assert!(GridSpec::covering(lo, hi, 20.0, 64).is_err());
+        let g = GridSpec::fitting(lo, hi, 20.0, 64).unwrap();
+        assert!(g.bytes() <= 64 << 20, "{g:?}");
+        // The finest to 1 %: 1 % finer does not fit.
+        assert!(GridSpec::covering(lo, hi, g.voxel_m / 1.01, 64).is_err());
+        let note = g.coarsening_note(20.0, 64).unwrap();
+        assert!(
+            note.contains("instead of 20.0 m") && note.contains("--voxel"),
+            "{note}"
+        );
+        // A voxel that fits is kept, and nothing is said.
+        let same = GridSpec::fitting(lo, hi, 500.0, 64).unwrap();
+        assert_eq!(same, GridSpec::covering(lo, hi, 500.0, 64).unwrap());
+        assert_eq!(same.coarsening_note(500.0, 64), None);
+        // The size a refused --voxel names does fit.
+        let e = GridSpec::covering(lo, hi, 20.0, 64)
+            .unwrap_err()
+            .to_string();
+        let named: f32 = e
+            .split("a voxel of ")
+            .nth(1)
+            .and_then(|t| t.split(' ').next())
+            .and_then(|v| v.parse().ok())
+            .unwrap_or_else(|| panic!("no size named: {e}"));
+        assert!(GridSpec::covering(lo, hi, named, 64).is_ok(), "{e}");
+        assert!(GridSpec::fitting(lo, hi, 20.0, 0).is_err());
     }
 
     #[test]
