@@ -29,19 +29,23 @@ A scene with [[ellipsoids]] (authored, Schpok 2003) exports what the slices meth
 the implicit field of the ellipsoids (animated to the frame's time) and the parcels as spheres, \
 times the tier's media filter of the noise octaves (values may exceed 1 where primitives overlap). \
 With --frames N > 1 the frames go to OUT-0000.vol, OUT-0001.vol, … (each with its .json), one \
-every --every seconds from --time: an animation's keyframes as a numbered series."
+every --every seconds from --time: an animation's keyframes as a numbered series. \
+Any number of parcels (the density is evaluated on the CPU). When the default voxel's grid would \
+pass --max-memory-mib, the finest voxel that fits is used and stderr says so; --voxel forces a size."
 )]
 pub struct Args {
     /// Scene profile (TOML); the embedded fair-weather scene when omitted.
     pub scene: Option<PathBuf>,
     #[command(flatten)]
     pub overrides: super::SetArgs,
-    /// Output grid (.vol); the sidecar goes beside it with the extension .json.
+    /// Output grid: FILE.vol (Mitsuba 3 gridvolume; the only format
+    /// written); the sidecar goes beside it as FILE.json.
     #[arg(long)]
     pub out: PathBuf,
-    /// Simulated time of the exported frame. units: s
-    #[arg(long, default_value_t = 1800.0, allow_negative_numbers = true)]
-    pub time: f64,
+    /// Simulated time of the (first) exported frame, counted from the start
+    /// of the simulation; default: the scene's [simulation] start_s. units: s
+    #[arg(long, allow_negative_numbers = true)]
+    pub time: Option<f64>,
     /// Number of frames (a numbered series when more than one).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=100000))]
     pub frames: u32,
@@ -49,10 +53,13 @@ pub struct Args {
     #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
     pub every: f64,
     /// Voxel side; default from the render step, the noise's finest octave,
-    /// the base's shell and the smallest parcel (see `cumulus::export`). units: m
+    /// the base's shell and the smallest parcel (see `cumulus::export`),
+    /// coarsened to fit --max-memory-mib. units: m
     #[arg(long, allow_negative_numbers = true)]
     pub voxel: Option<f32>,
-    /// Most memory the grid may take (the values; the file is as large). units: MiB
+    /// Most memory the grid may take (the values; the file is as large):
+    /// a larger default grid gets coarser voxels, a larger --voxel grid is an
+    /// error. units: MiB
     #[arg(long, default_value_t = DEFAULT_MAX_MEMORY_MIB)]
     pub max_memory_mib: u64,
     #[command(flatten)]
@@ -76,12 +83,28 @@ fn check_writable(path: &Path) -> anyhow::Result<()> {
         .with_context(|| format!("{}: cannot write there", path.display()))
 }
 
+/// A frame time `export` accepts. units: s
+fn check_time(time: f64) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        time.is_finite() && time >= 0.0,
+        "invalid --time {time}: a finite number of seconds ≥ 0"
+    );
+    Ok(())
+}
+
 /// Runs `cumulus export`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    // Before anything else: a .vdb (or any other) name must not get VOL bytes.
     anyhow::ensure!(
-        args.time.is_finite() && args.time >= 0.0,
-        "--time must be a finite number of seconds ≥ 0"
+        super::render::has_extension(&args.out, "vol"),
+        "invalid --out {}: the file name must end in .vol (Mitsuba 3 gridvolume, the only format \
+         export writes; OpenVDB .vdb is not written)",
+        args.out.display()
     );
+    if let Some(t) = args.time {
+        // Checked before loading the scene; the default is checked below.
+        check_time(t)?;
+    }
     args.clouds.validate()?;
     anyhow::ensure!(
         args.every.is_finite() && args.every > 0.0,
@@ -100,11 +123,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     let sidecar_out = sidecar_path(&args.out);
-    anyhow::ensure!(
-        sidecar_out != args.out,
-        "--out {} would be overwritten by its own .json sidecar; give the grid a .vol name",
-        args.out.display()
-    );
     check_writable(&args.out)?;
 
     let (scene, source) =
@@ -118,13 +136,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .validate()
         .with_context(|| format!("{scene_name}: checking [camera]"))?;
 
+    // As `render`: the scene opens at its start time unless told otherwise.
+    let start = args.time.unwrap_or(scene.simulation.start_s);
+    check_time(start)?;
     if !args.clouds.stand_in && args.clouds.parcels.is_none() {
-        eprintln!("simulating {:.0} s …", args.time);
+        eprintln!("simulating {start:.0} s …");
     }
     let mut clouds = Clouds::new(&args.clouds, &scene, &source.base_dir())?;
     let mut parcels = Vec::new();
     for i in 0..args.frames {
-        let time = args.time + args.every * i as f64;
+        let time = start + args.every * i as f64;
         let (out, sidecar_out) = if args.frames > 1 {
             let out = super::render::numbered(&args.out, i);
             let side = sidecar_path(&out);
@@ -165,8 +186,18 @@ fn export_frame(
             "no cloud at t = {time:.0} s in {scene_name}: nothing to export (try a later --time)"
         );
     };
-    let voxel = args.voxel.unwrap_or_else(|| field.default_voxel_m(cfg));
-    let spec = GridSpec::covering(lo, hi, voxel, args.max_memory_mib)?;
+    let spec = match args.voxel {
+        Some(v) => GridSpec::covering(lo, hi, v, args.max_memory_mib)?,
+        None => {
+            let wanted = field.default_voxel_m(cfg);
+            let spec = GridSpec::fitting(lo, hi, wanted, args.max_memory_mib)?;
+            if let Some(note) = spec.coarsening_note(wanted, args.max_memory_mib) {
+                eprintln!("note: {note}");
+            }
+            spec
+        }
+    };
+    let voxel = spec.voxel_m;
     eprintln!(
         "t = {time:.0} s: {} → grid {}×{}×{} of {voxel:.1} m voxels over ({:.0}, {:.0}, {:.0})–({:.0}, {:.0}, {:.0}) m: {:.1} MiB",
         field.describe(),

@@ -3,7 +3,7 @@
 //! against the GPU.
 
 mod authored;
-
+mod cli;
 mod gpu;
 mod many;
 mod vol;
