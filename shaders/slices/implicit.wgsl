@@ -33,7 +33,7 @@ struct SlicesOctaves {
 struct SlicesParams {
     plane_opacity: f32,
     alpha_cutoff: f32,
-    sun_to_colour: f32,           // sun irradiance to cloud colour scale
+    _pad2: f32,
     shadow_scale: f32,            // vertex shadow to optical depth
     cloud_colour: vec3<f32>,      // lit cloud (linear)
     _pad0: f32,

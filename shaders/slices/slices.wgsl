@@ -13,8 +13,9 @@
 //              tier's media filter (Table 2), alpha = 1 − exp(−plane
 //              opacity × field × media) (≈ the paper's product for the
 //              small per-plane values, and never above 1), the alpha cutoff
-//              (Sharpness × plane opacity) and the shadow colour, lit by
-//              exp(−shadow) (the shadow is an optical depth toward the sun).
+//              (Sharpness × plane opacity), and the artist's colours lit by
+//              the frame's sky and by its sun through exp(−shadow) (the
+//              shadow is an optical depth toward the sun; artist.wgsl).
 // Plane opacity and shadow come scaled for a cloudscape (one stack of
 // planes over many clouds): see CloudscapeScale in src/methods/slices/gpu/mod.rs.
 // Seen through the air per vertex (air.wgsl). Output is premultiplied,
@@ -22,11 +23,15 @@
 
 #import "../common.wgsl"
 #import "../air.wgsl"
+#import "../artist.wgsl"
 // The octave transforms, controls and media filters (group 2).
 #import "implicit.wgsl"
 
 // Read the terrain depth (false: no terrain pass, nothing hides the planes).
 override HAS_TERRAIN: bool = true;
+// Drop fragments on the implicit field before the noise fetch
+// (`[render.slices] early_discard`).
+override EARLY_DISCARD: bool = true;
 
 // The terrain depth, read as an unfilterable float texture (OpenGL's GLSL
 // cannot load from a depth texture binding).
@@ -73,14 +78,21 @@ fn fs_main(in: SliceOut) -> @location(0) vec4<f32> {
             discard;
         }
     }
+    // The media filters are at most 1: where the field alone leaves τ at
+    // or under the cut-off, no noise can lift it over, so the four noise
+    // fetches are skipped (the same image: render::slices_discard).
+    if EARLY_DISCARD && params.plane_opacity * in.density <= params.alpha_cutoff {
+        discard;
+    }
     let tau = params.plane_opacity * in.density * media_at(in.world);
     if tau <= params.alpha_cutoff {
         discard;
     }
     let alpha = 1.0 - exp(-tau);
+    // Lit: the painted colour under the sky's light and the share of the
+    // sun's the light-ray shadow (eq. 2) lets through.
     let lit = exp(-in.shadow * params.shadow_scale);
-    let c = mix(params.shadow_colour, params.cloud_colour, lit)
-        * frame.sun_color * params.sun_to_colour;
+    let c = artist_light(mix(params.shadow_colour, params.cloud_colour, lit), 1.0, lit);
     let seen = seen_through(Air(in.air_light, in.air_transmittance), c * alpha, alpha);
     return vec4<f32>(output_color(seen), alpha);
 }

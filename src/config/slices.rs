@@ -57,9 +57,11 @@ pub struct SlicesConfig {
     /// Alpha cutoff in units of the plane opacity, 0 to 1: the fraction of
     /// the (field × noise) below which a fragment is dropped.
     pub sharpness: f32,
-    /// Lit cloud colour, linear RGB in [0, 1].
+    /// Lit cloud colour as painted (sRGB-encoded, shaders/artist.wgsl:
+    /// 1 a sunlit white top), in [0, 1].
     pub cloud_colour: [f32; 3],
-    /// Colour of fully shadowed cloud, linear RGB in [0, 1].
+    /// Colour of fully shadowed cloud as painted, in [0, 1]: lit by the
+    /// sky alone.
     pub shadow_colour: [f32; 3],
     /// The paper's Background control: with `sky = false`, the scene's
     /// background (everything no terrain covers) is this flat colour
@@ -78,6 +80,10 @@ pub struct SlicesConfig {
     pub vertex_field: VertexField,
     /// Outline the ellipsoids in the window (`cumulus watch` only).
     pub outlines: bool,
+    /// Drop a fragment on its implicit field alone before fetching its
+    /// noise where the noise cannot lift it over the cut-off (the same
+    /// image either way; off only to check that).
+    pub early_discard: bool,
     /// Noise octaves composited per fragment (advanced), 1 to 8.
     pub octaves: u32,
     /// Vertices along each side of a slicing plane minus one (advanced):
@@ -107,6 +113,7 @@ impl Default for SlicesConfig {
             shadow_octave: true,
             vertex_field: VertexField::Cpu,
             outlines: false,
+            early_discard: true,
             octaves: 4,
             tessellation: 32,
             base: NoiseMotion::default(),
@@ -184,19 +191,25 @@ impl SlicesConfig {
             1.0,
             "0 to 1",
         )?;
-        for (key, c) in [
-            ("cloud_colour", self.cloud_colour),
-            ("shadow_colour", self.shadow_colour),
-            ("background_colour", self.background_colour),
+        for (key, c, allowed) in [
+            (
+                "cloud_colour",
+                self.cloud_colour,
+                "painted (sRGB) RGB, each 0 to 1",
+            ),
+            (
+                "shadow_colour",
+                self.shadow_colour,
+                "painted (sRGB) RGB, each 0 to 1",
+            ),
+            (
+                "background_colour",
+                self.background_colour,
+                "linear RGB, each 0 to 1",
+            ),
         ] {
             for (k, v) in c.iter().enumerate() {
-                finite_in(
-                    &format!("{T}.{key}[{k}]"),
-                    *v,
-                    0.0,
-                    1.0,
-                    "linear RGB, each 0 to 1",
-                )?;
+                finite_in(&format!("{T}.{key}[{k}]"), *v, 0.0, 1.0, allowed)?;
             }
         }
         if !(1..=MAX_OCTAVES as u32).contains(&self.octaves) {

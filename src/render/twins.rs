@@ -175,7 +175,7 @@ fn slices_structs_match() {
         rust_layout!(SlicesParams {
             plane_opacity,
             alpha_cutoff,
-            sun_to_colour,
+            _pad2,
             shadow_scale,
             cloud_colour,
             _pad0,

@@ -486,12 +486,17 @@ fn profile_path() -> std::path::PathBuf {
 #[test]
 fn authored_profile_loads_animates_and_round_trips() {
     let p = SceneProfile::load(&profile_path()).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(p.ellipsoids.len(), 7);
-    assert_eq!(
-        p.ellipsoids[..4],
-        cumulonimbus([0.0, 0.0, 1500.0], 9500.0)[..],
-        "the tower is the preset"
+    assert_eq!(p.ellipsoids.len(), 8);
+    // A mature cumulonimbus: a flat-based foot at the condensation level,
+    // three rising cells and an anvil already spreading at the tropopause.
+    assert_eq!(p.ellipsoids[0].base_m, Some(1500.0));
+    assert!(
+        p.ellipsoids[1..4]
+            .iter()
+            .all(|e| e.motion == Motion::Rising)
     );
+    let anvil = &p.ellipsoids[4];
+    assert!(anvil.motion == Motion::Anvil && anvil.strength > 1.0 && anvil.keyframes.is_empty());
     let s = &p.render.slices;
     assert_eq!(
         s.tiers.iter().map(|t| t.media).collect::<Vec<_>>(),
@@ -501,12 +506,13 @@ fn authored_profile_loads_animates_and_round_trips() {
             MediaFilter::Cirrus
         ]
     );
-    assert!(p.ellipsoids[6].keyframes.len() == 2 && p.particles.wind_m_s[0] > 0.0);
-    // It animates: the anvil appears, the keyframed cumulus moves.
+    assert!(p.ellipsoids[7].keyframes.len() == 2 && p.particles.wind_m_s[0] > 0.0);
+    // It animates: the tower rises, the anvil spreads, the keyframed
+    // cumulus moves.
     let at = |t| states_at(&p.ellipsoids, &p.particles, t);
-    assert_eq!(at(0.0)[3].strength, 0.0);
-    assert_eq!(at(900.0)[3].strength, 1.0);
-    assert!(at(900.0)[6].centre_m.y > at(0.0)[6].centre_m.y + 1000.0);
+    assert!(at(900.0)[3].centre_m.z > at(0.0)[3].centre_m.z + 2000.0);
+    assert!(at(900.0)[4].radii_m.x > 2.0 * at(0.0)[4].radii_m.x);
+    assert!(at(900.0)[7].centre_m.y > at(0.0)[7].centre_m.y + 1000.0);
     // Saved and reloaded, it is the same scene.
     let text = p.to_toml().unwrap();
     let back = SceneProfile::from_toml(&text, Path::new("saved.toml")).unwrap();
@@ -572,7 +578,7 @@ fn authored_frame_gathers_geometry_and_octaves_for_the_renderer() {
     let s = &p.render.slices;
     let at = |t| authored_frame(&p.ellipsoids, &p.particles, s, t, sun, view).unwrap();
     let f = at(600.0);
-    assert_eq!(f.states.len(), 7);
+    assert_eq!(f.states.len(), 8);
     assert_eq!(f.geometry.vertices.len(), 128 * 33 * 33);
     assert!(
         f.geometry.vertices.iter().any(|v| v.density > 0.5),

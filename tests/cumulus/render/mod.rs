@@ -13,6 +13,7 @@ mod pathtraced;
 mod renderer;
 mod shaders;
 mod slices;
+mod slices_look;
 mod slices_twin;
 mod temporal;
 mod tower_body;

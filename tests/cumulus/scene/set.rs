@@ -68,7 +68,7 @@ fn bad_overrides_name_the_key_the_value_and_what_is_allowed() {
     let e = err(&["render.slices.cloud_colour=[1.0, 7.0, 1.0]"]);
     assert_eq!(
         e,
-        "invalid --set render.slices.cloud_colour = [1.0, 7.0, 1.0]: render.slices.cloud_colour[1] = 7: linear RGB, each 0 to 1"
+        "invalid --set render.slices.cloud_colour = [1.0, 7.0, 1.0]: render.slices.cloud_colour[1] = 7: painted (sRGB) RGB, each 0 to 1"
     );
     let e = err(&["render.step_m=abc"]);
     assert!(
@@ -83,7 +83,7 @@ fn bad_overrides_name_the_key_the_value_and_what_is_allowed() {
     );
     let e = err(&["ellipsoids[9].strength=1"]);
     assert!(
-        e.contains("--set ellipsoids[9].strength") && e.contains("has 7 entries"),
+        e.contains("--set ellipsoids[9].strength") && e.contains("has 8 entries"),
         "{e}"
     );
     let e = err(&["render.sun_azimuth_deg.x=1"]);

@@ -80,7 +80,10 @@ impl Slices {
         SLICES.key(
             &SLOTS,
             cfg,
-            &[("HAS_TERRAIN", flag(around.terrain))],
+            &[
+                ("HAS_TERRAIN", flag(around.terrain)),
+                ("EARLY_DISCARD", flag(cfg.slices.early_discard)),
+            ],
             SCENE_FORMAT,
         )
     }

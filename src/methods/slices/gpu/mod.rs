@@ -37,12 +37,6 @@ use crate::methods::slices::model::{Ellipsoid, ParticleConfig, states_at};
 use crate::noise::NoiseVolume;
 use crate::physics::CloudParcel;
 
-/// Maps the sun's irradiance scale (≈ 2.2 for nominal daylight, see
-/// [`crate::sky::Sun`]) to the colour multiplier of the lit cloud, so a
-/// `cloud_colour` of 1 tone-maps to about 0.86 through `output_color`, near
-/// the ray-marched methods' sunlit tops.
-pub const SUN_TO_COLOUR: f32 = 0.8;
-
 /// The qualitative controls as the shaders take them: WGSL
 /// `struct SlicesParams` in shaders/slices/implicit.wgsl (80 bytes; a test
 /// compares the layouts).
@@ -53,14 +47,13 @@ pub struct SlicesParams {
     pub plane_opacity: f32,
     /// Alpha cutoff (Sharpness × that plane opacity).
     pub alpha_cutoff: f32,
-    /// [`SUN_TO_COLOUR`].
-    pub sun_to_colour: f32,
+    pub _pad2: f32,
     /// The light's [`CloudscapeScale`] (× the vertex shadow).
     pub shadow_scale: f32,
-    /// Lit cloud colour (linear).
+    /// Lit cloud colour as painted (sRGB-encoded).
     pub cloud_colour: [f32; 3],
     pub _pad0: f32,
-    /// Fully shadowed cloud colour (linear).
+    /// Fully shadowed cloud colour as painted.
     pub shadow_colour: [f32; 3],
     pub _pad1: f32,
     /// The primitives' grid index minimum (see [`FieldIndex::flatten`]).
@@ -142,7 +135,7 @@ impl SlicesParams {
         Self {
             plane_opacity: cfg.plane_opacity() * scale.view,
             alpha_cutoff: cfg.alpha_cutoff() * scale.view,
-            sun_to_colour: SUN_TO_COLOUR,
+            _pad2: 0.0,
             shadow_scale: scale.light,
             cloud_colour: cfg.cloud_colour,
             _pad0: 0.0,

@@ -147,7 +147,7 @@ pub fn state_at(e: &Ellipsoid, time_s: f32, wind_m_s: Vec3) -> EllipsoidState {
         radii_m: radii * radii_factor,
         rotation: EllipsoidState::rotation_from_deg(e.rotation_deg),
         strength: strength * strength_factor,
-        base_z_m: f32::NEG_INFINITY,
+        base_z_m: e.base_m.unwrap_or(f32::NEG_INFINITY),
     }
 }
 

@@ -34,6 +34,10 @@ pub struct Ellipsoid {
     /// Keyframes of centre, radii and strength over time (may be empty:
     /// the fields above then hold for all time).
     pub keyframes: Vec<Keyframe>,
+    /// A flat base: no field below this altitude (a cumulus's
+    /// condensation level), whatever the motion. units: m
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub base_m: Option<f32>,
 }
 
 impl Default for Ellipsoid {
@@ -45,6 +49,7 @@ impl Default for Ellipsoid {
             strength: 1.0,
             motion: Motion::Still,
             keyframes: Vec::new(),
+            base_m: None,
         }
     }
 }
@@ -250,6 +255,9 @@ pub fn validate(e: &Ellipsoid, name: &str) -> Result<()> {
             360.0,
             "-360 to 360 degrees",
         )?;
+    }
+    if let Some(b) = e.base_m {
+        finite_in(&format!("{name}.base_m"), b, -1.0e6, 1.0e6, "-1e6 to 1e6 m")?;
     }
     super::animation::validate_keyframes(&e.keyframes, name)
 }
