@@ -102,3 +102,29 @@ pub fn tone_map(c: f32, k: f32) -> f32 {
         1.055 * t.powf(1.0 / 2.4) - 0.055
     }
 }
+
+/// The pixels of `mask` (row-major, `w` wide) 4-connected to `start`.
+pub fn component(mask: &[bool], w: usize, start: usize) -> Vec<bool> {
+    let mut seen = vec![false; mask.len()];
+    let mut stack = vec![start];
+    while let Some(i) = stack.pop() {
+        if seen[i] || !mask[i] {
+            continue;
+        }
+        seen[i] = true;
+        let (x, y) = (i % w, i / w);
+        if x > 0 {
+            stack.push(i - 1);
+        }
+        if x + 1 < w {
+            stack.push(i + 1);
+        }
+        if y > 0 {
+            stack.push(i - w);
+        }
+        if i + w < mask.len() {
+            stack.push(i + w);
+        }
+    }
+    seen
+}

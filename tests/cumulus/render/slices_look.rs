@@ -77,32 +77,6 @@ fn cloud_alpha(ctx: &cumulus::render::GpuContext) -> Vec<f32> {
         .collect()
 }
 
-/// The pixels of the mask connected (4-neighbour) to `start`.
-fn component(mask: &[bool], w: usize, start: usize) -> Vec<bool> {
-    let mut seen = vec![false; mask.len()];
-    let mut stack = vec![start];
-    while let Some(i) = stack.pop() {
-        if seen[i] || !mask[i] {
-            continue;
-        }
-        seen[i] = true;
-        let (x, y) = (i % w, i / w);
-        if x > 0 {
-            stack.push(i - 1);
-        }
-        if x + 1 < w {
-            stack.push(i + 1);
-        }
-        if y > 0 {
-            stack.push(i - w);
-        }
-        if i + w < mask.len() {
-            stack.push(i + w);
-        }
-    }
-    seen
-}
-
 /// The shipped cumulonimbus reads as one at the scene's start time from
 /// its camera: on the mask where the clouds' alpha > 0.5, the cloud
 /// holding the fullest column (the tower) covers at least 10 % of the
@@ -122,7 +96,7 @@ fn the_shipped_cumulonimbus_has_its_anvil_at_the_start() {
         .filter(|&y| mask[y * w + tower_x])
         .nth(column(tower_x) / 2)
         .unwrap();
-    let cb = component(&mask, w, tower_y * w + tower_x);
+    let cb = common::hdr::component(&mask, w, tower_y * w + tower_x);
     let area = cb.iter().filter(|c| **c).count();
     let width = |y: usize| (0..w).filter(|&x| cb[y * w + x]).count();
     let rows: Vec<usize> = (0..h).filter(|&y| width(y) > 0).collect();

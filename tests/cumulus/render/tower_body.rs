@@ -164,36 +164,18 @@ fn side_view(
 /// Sizes of the 4-connected components of `mask` (row-major, `w` wide),
 /// largest first.
 fn components(mask: &[bool], w: u32) -> Vec<usize> {
-    let w = w as usize;
     let mut seen = vec![false; mask.len()];
     let mut sizes = Vec::new();
     for start in 0..mask.len() {
         if !mask[start] || seen[start] {
             continue;
         }
-        seen[start] = true;
-        let (mut stack, mut n) = (vec![start], 0);
-        while let Some(i) = stack.pop() {
-            n += 1;
-            let (x, y) = (i % w, i / w);
-            let mut near = Vec::with_capacity(4);
-            if x > 0 {
-                near.push(i - 1);
-            }
-            if x + 1 < w {
-                near.push(i + 1);
-            }
-            if y > 0 {
-                near.push(i - w);
-            }
-            if i + w < mask.len() {
-                near.push(i + w);
-            }
-            for j in near {
-                if mask[j] && !seen[j] {
-                    seen[j] = true;
-                    stack.push(j);
-                }
+        let part = crate::common::hdr::component(mask, w as usize, start);
+        let mut n = 0;
+        for (s, p) in seen.iter_mut().zip(&part) {
+            if *p {
+                *s = true;
+                n += 1;
             }
         }
         sizes.push(n);
