@@ -316,10 +316,12 @@ fn fill_grid(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    fn parcel(x: f32, y: f32, z: f32, r: f32) -> CloudParcel {
+    /// A condensed parcel at (x, y, z) of radius r, its plane half a radius
+    /// under its centre.
+    pub(crate) fn parcel(x: f32, y: f32, z: f32, r: f32) -> CloudParcel {
         CloudParcel {
             id: 0,
             center_m: Vec3::new(x, y, z),

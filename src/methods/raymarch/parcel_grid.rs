@@ -154,17 +154,7 @@ impl ParcelGrid {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::physics::CloudParcel;
-
-    fn parcel(x: f32, y: f32, z: f32, r: f32) -> CloudParcel {
-        CloudParcel {
-            id: 0,
-            center_m: Vec3::new(x, y, z),
-            radius_m: r,
-            fill: 0.8,
-            cond_plane_z_m: z - 0.5 * r,
-        }
-    }
+    use crate::methods::raymarch::pack::tests::parcel;
 
     #[test]
     fn lists_hold_what_the_gpu_grid_lists_without_its_caps() {

@@ -35,8 +35,16 @@ fn authored(sets: &[&str]) -> SceneProfile {
     load_scene_with(Some(&authored_path()), &all).unwrap().0
 }
 
-fn render_scene(ctx: &GpuContext, scene: &SceneProfile, cfg: &RenderConfig) -> Vec<u8> {
-    let mut hl = Headless::new(ctx, cfg, SIZE.0, SIZE.1).unwrap();
+/// The scene's authored clouds at its start time from its camera under
+/// `cfg`, `size` pixels: the renderer after the frame (its HDR image) and
+/// the 8-bit frame.
+pub(super) fn render_at(
+    ctx: &GpuContext,
+    scene: &SceneProfile,
+    cfg: &RenderConfig,
+    size: (u32, u32),
+) -> (Headless, Vec<u8>) {
+    let mut hl = Headless::new(ctx, cfg, size.0, size.1).unwrap();
     hl.renderer
         .set_authored(&scene.ellipsoids, &scene.particles);
     let input = FrameInput {
@@ -45,7 +53,12 @@ fn render_scene(ctx: &GpuContext, scene: &SceneProfile, cfg: &RenderConfig) -> V
         sun: cfg.sun(),
         time_s: scene.simulation.start_s as f32,
     };
-    hl.render(ctx, &input).unwrap().0
+    let img = hl.render(ctx, &input).unwrap().0;
+    (hl, img)
+}
+
+fn render_scene(ctx: &GpuContext, scene: &SceneProfile, cfg: &RenderConfig) -> Vec<u8> {
+    render_at(ctx, scene, cfg, SIZE).1
 }
 
 fn render(ctx: &GpuContext, scene: &SceneProfile) -> Vec<u8> {

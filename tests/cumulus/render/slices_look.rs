@@ -4,9 +4,7 @@
 
 use std::path::Path;
 
-use cumulus::config::{Camera, RenderConfig};
-use cumulus::render::FrameInput;
-use cumulus::render::headless::Headless;
+use cumulus::config::RenderConfig;
 use cumulus::scene::{SceneProfile, load_scene_with};
 
 use crate::common;
@@ -27,16 +25,7 @@ fn frame(
     scene: &SceneProfile,
     cfg: &RenderConfig,
 ) -> (Vec<u8>, Vec<f32>) {
-    let mut hl = Headless::new(ctx, cfg, SIZE.0, SIZE.1).unwrap();
-    hl.renderer
-        .set_authored(&scene.ellipsoids, &scene.particles);
-    let input = FrameInput {
-        camera: Camera::from(&scene.camera),
-        parcels: &[],
-        sun: cfg.sun(),
-        time_s: scene.simulation.start_s as f32,
-    };
-    let (img, _) = hl.render(ctx, &input).unwrap();
+    let (hl, img) = super::slices::render_at(ctx, scene, cfg, SIZE);
     (img, hl.read_hdr(ctx).unwrap())
 }
 
