@@ -121,7 +121,7 @@ pub struct RenderConfig {
     /// (photographic EV: −1 halves the light before the tone curve). 0 keeps
     /// the curve that the fair-weather scenes and the path-tracer
     /// comparison use; a scene of big sunlit towers is exposed lower so that
-    /// their tops do not all sit on the curve's shoulder (README).
+    /// their tops do not all sit on the curve's shoulder (docs/rendering.md).
     pub exposure_ev: f32,
     /// Meteorological visibility at the ground (the distance at which a
     /// dark hill fades to 2 % contrast against the horizon): sets the

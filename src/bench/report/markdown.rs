@@ -426,7 +426,7 @@ fn pathtraced_md(rows: Option<&[PathTracedRow]>) -> String {
     let Some(rows) = rows else {
         s.push_str(
             "Not measured: no error_vs_pathtraced.csv in this folder. Write it first with \
-             `python3 benches/pathtraced.py --out DIR` (DIR = this folder; see README).\n",
+             `python3 benches/pathtraced.py --out DIR` (DIR = this folder; see docs/validation.md).\n",
         );
         return s;
     };

@@ -314,7 +314,7 @@ fn tiny_bench_binary() {
 }
 
 /// The landscape case as the full bench runs it (1920×1080, temporal off
-/// and on), alone, for the README's figures on a CPU adapter where the
+/// and on), alone, for docs/performance.md's figures on a CPU adapter where the
 /// whole full run would take too long: `cargo test --release --test cumulus
 /// -- --ignored --nocapture bench::run::landscape_at_1080p`.
 #[test]

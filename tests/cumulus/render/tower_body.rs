@@ -2,7 +2,7 @@
 //! parcels are rendered from the side (lavapipe, a small frame, no
 //! terrain) and the separate bodies of its silhouette counted; an ignored
 //! sweep over `render.radius_scale` prints bodies and base/top luminance,
-//! the table the scene's value was chosen from (README, "rendered radius").
+//! the table the scene's value was chosen from (docs/rendering.md, the `radius_scale` table).
 
 use crate::common;
 
@@ -61,7 +61,7 @@ fn tallest_tower(parcels: &[CloudParcel]) -> Vec<CloudParcel> {
 }
 
 /// How many parcels the column holds, their radii and heights, and the
-/// widest vertical gap between neighbours in height (the README's words).
+/// widest vertical gap between neighbours in height (docs/rendering.md's words).
 fn column_summary(tower: &[CloudParcel]) -> String {
     let mut z: Vec<f32> = tower.iter().map(|p| p.center_m.z).collect();
     z.sort_by(f32::total_cmp);
@@ -216,7 +216,7 @@ fn the_towering_scene_draws_its_tallest_tower_as_one_body() {
 
 /// `cargo test --release --test cumulus -- --ignored --nocapture
 /// render::tower_body::sweep_radius_scale`: the
-/// README's table of the rendered radius.
+/// table of the rendered radius in docs/rendering.md.
 #[test]
 #[ignore]
 fn sweep_radius_scale() {
