@@ -381,7 +381,13 @@ impl CloudType {
                     density_per_km3: None,
                     width_m: [size[0] * stretch, size[1] * stretch],
                     height_m: size,
-                    rotation_deg: [0.0, 360.0],
+                    // The atlas's puffs and fog are lit from above: turned
+                    // at most 30° either way; flat cirrus turns freely.
+                    rotation_deg: if self.is_flat() {
+                        [0.0, 360.0]
+                    } else {
+                        [-30.0, 30.0]
+                    },
                     textures: k.textures.to_vec(),
                     group: g as u32,
                 }
