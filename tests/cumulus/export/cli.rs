@@ -20,43 +20,25 @@ fn sidecar(path: &Path) -> Sidecar {
 fn export_opens_at_the_scene_start_time_and_numbers_a_series() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("start.vol");
-    // 600 s: neither the embedded scene's start_s (1800 s) nor the old
-    // fixed default (1800 s).
-    cli::run_command(
-        cli::command()
-            .args([
-                "export",
-                "--stand-in",
-                "--set",
-                "simulation.start_s=600",
-                "--voxel",
-                "300",
-                "--out",
-            ])
-            .arg(&out),
-    )
-    .expect_success();
+    // The stand-in field at a coarse voxel, its scene opening at 600 s:
+    // neither the embedded scene's start_s (1800 s) nor the old fixed
+    // default (1800 s).
+    let export = |extra: &[&str], to: &Path| {
+        cli::run_command(
+            cli::command()
+                .args(["export", "--stand-in", "--set", "simulation.start_s=600"])
+                .args(["--voxel", "300"])
+                .args(extra)
+                .arg("--out")
+                .arg(to),
+        )
+        .expect_success();
+    };
+    export(&[], &out);
     assert_eq!(sidecar(&dir.path().join("start.json")).time_s, 600.0);
 
     let series = dir.path().join("series.vol");
-    cli::run_command(
-        cli::command()
-            .args([
-                "export",
-                "--stand-in",
-                "--set",
-                "simulation.start_s=600",
-                "--voxel",
-                "300",
-                "--frames",
-                "2",
-                "--every",
-                "90",
-                "--out",
-            ])
-            .arg(&series),
-    )
-    .expect_success();
+    export(&["--frames", "2", "--every", "90"], &series);
     assert!(!series.exists(), "a series writes numbered files only");
     for (i, t) in [(0, 600.0), (1, 690.0)] {
         let vol = dir.path().join(format!("series-000{i}.vol"));
