@@ -1,6 +1,6 @@
 //! `cumulus export`: simulate a scene to a time, then write its cloud density
-//! (paper eq. 18, noise included) as a Mitsuba 3 `gridvolume` `.vol` plus a
-//! JSON sidecar (camera, sun, sky, medium) beside it. Both files are written
+//! (paper eq. 18, noise included) as a Mitsuba 3 `gridvolume` `.vol` or an
+//! OpenVDB `.vdb` plus a JSON sidecar (camera, sun, sky, medium) beside it. Both files are written
 //! atomically: a failed export leaves neither a partial grid nor a sidecar.
 
 use std::path::{Path, PathBuf};
@@ -8,7 +8,8 @@ use std::path::{Path, PathBuf};
 use anyhow::Context as _;
 use cumulus::config::Camera;
 use cumulus::export::sidecar::Sidecar;
-use cumulus::export::{self, DEFAULT_MAX_MEMORY_MIB, GridSpec};
+use cumulus::export::vdb::Meta;
+use cumulus::export::{self, DEFAULT_MAX_MEMORY_MIB, GridFormat, GridSpec};
 use cumulus::methods::raymarch::field::CloudField;
 use cumulus::methods::slices::gpu::field::AuthoredField;
 use cumulus::methods::slices::gpu::slices_frame;
@@ -21,15 +22,17 @@ const PROGRESS_CELLS: u64 = 4_000_000;
 /// Arguments of `cumulus export`.
 #[derive(Debug, clap::Args)]
 #[command(
-    after_help = "Writes OUT (float32 VOL v3, x fastest, values = density rho in [0, 1]; \
-sigma_t = medium.extinction_scale_per_m x rho) and OUT with the extension .json (the sidecar). \
-In Mitsuba 3: a heterogeneous medium whose gridvolume loads OUT with to_world = translate(bounds_min_m) \
-x scale(bounds_max_m - bounds_min_m), scale = extinction_scale_per_m. \
+    after_help = "Writes OUT and OUT with the extension .json (the sidecar). Values = density rho in [0, 1]; \
+sigma_t = medium.extinction_scale_per_m x rho. \
+OUT.vol: float32 VOL v3, x fastest; in Mitsuba 3 a heterogeneous medium whose gridvolume loads OUT with \
+to_world = translate(bounds_min_m) x scale(bounds_max_m - bounds_min_m), scale = extinction_scale_per_m. \
+OUT.vdb: OpenVDB, a sparse float grid named density in metres (z up); in Blender: File > Import > OpenVDB, \
+then in the volume's material (Principled Volume) set Density to extinction_scale_per_m (docs/rendering.md, Exporting the density). \
 A scene with [[ellipsoids]] (authored, Schpok 2003) exports what the slices method draws: \
 the implicit field of the ellipsoids (animated to the frame's time) and the parcels as spheres, \
 times the tier's media filter of the noise octaves (values may exceed 1 where primitives overlap). \
 With --frames N > 1 the frames go to OUT-0000.vol, OUT-0001.vol, … (each with its .json), one \
-every --every seconds from --time: an animation's keyframes as a numbered series. \
+every --every seconds from --time (OUT-0000.vdb, … likewise): an animation's keyframes as a numbered series. \
 Any number of parcels (the density is evaluated on the CPU). When the default voxel's grid would \
 pass --max-memory-mib, the finest voxel that fits is used and stderr says so; --voxel forces a size."
 )]
@@ -38,8 +41,8 @@ pub struct Args {
     pub scene: Option<PathBuf>,
     #[command(flatten)]
     pub overrides: super::SetArgs,
-    /// Output grid: FILE.vol (Mitsuba 3 gridvolume; the only format
-    /// written); the sidecar goes beside it as FILE.json.
+    /// Output grid: FILE.vol (Mitsuba 3 gridvolume) or FILE.vdb (OpenVDB,
+    /// for Blender, Houdini, …); the sidecar goes beside it as FILE.json.
     #[arg(long)]
     pub out: PathBuf,
     /// Simulated time of the (first) exported frame, counted from the start
@@ -94,13 +97,13 @@ fn check_time(time: f64) -> anyhow::Result<()> {
 
 /// Runs `cumulus export`.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    // Before anything else: a .vdb (or any other) name must not get VOL bytes.
-    anyhow::ensure!(
-        super::render::has_extension(&args.out, "vol"),
-        "invalid --out {}: the file name must end in .vol (Mitsuba 3 gridvolume, the only format \
-         export writes; OpenVDB .vdb is not written)",
-        args.out.display()
-    );
+    // Before anything else: the format comes from the name.
+    let Some(format) = GridFormat::of_path(&args.out) else {
+        anyhow::bail!(
+            "invalid --out {}: the file name must end in .vol (Mitsuba 3 gridvolume) or .vdb (OpenVDB)",
+            args.out.display()
+        );
+    };
     if let Some(t) = args.time {
         // Checked before loading the scene; the default is checked below.
         check_time(t)?;
@@ -156,6 +159,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         clouds.at(time, &mut parcels, None)?;
         export_frame(
             &args,
+            format,
             &scene,
             &scene_name,
             &cfg,
@@ -172,6 +176,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 #[allow(clippy::too_many_arguments)]
 fn export_frame(
     args: &Args,
+    format: GridFormat,
     scene: &cumulus::scene::SceneProfile,
     scene_name: &str,
     cfg: &cumulus::config::RenderConfig,
@@ -182,6 +187,14 @@ fn export_frame(
 ) -> anyhow::Result<()> {
     let field = Density::new(scene, cfg, parcels, time)?;
     let Some((lo, hi)) = field.bounds() else {
+        let authored = scene.sprite_clouds.len() + scene.layers.len();
+        if authored > 0 {
+            anyhow::bail!(
+                "no volumetric cloud at t = {time:.0} s in {scene_name}: its {authored} sprite \
+                 cloud(s) and layer(s) are billboards of the sprites method (Wang 2003) with no \
+                 density to export; export exports parcels and [[ellipsoids]]"
+            );
+        }
         anyhow::bail!(
             "no cloud at t = {time:.0} s in {scene_name}: nothing to export (try a later --time)"
         );
@@ -235,8 +248,15 @@ fn export_frame(
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    let grid = export::vol_grid(&spec, values);
-    cumulus::output::write_atomic_with(out, |w| export::write_vol(w, &grid))
+    let meta = [
+        ("cumulus_scene", Meta::Str(scene_name.into())),
+        ("cumulus_time_s", Meta::Float(time as f32)),
+        (
+            "cumulus_extinction_scale_per_m",
+            Meta::Float(cfg.extinction_per_m),
+        ),
+    ];
+    cumulus::output::write_atomic_with(out, |w| format.write(w, &spec, values, &meta))
         .with_context(|| "writing the grid")?;
 
     let vol_name = out

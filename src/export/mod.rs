@@ -16,6 +16,7 @@
 //! thread count.
 
 pub mod sidecar;
+pub mod vdb;
 pub mod vol;
 
 use glam::Vec3;
@@ -27,6 +28,64 @@ use crate::methods::raymarch::field::{CloudField, PLANE_SHELL};
 use crate::noise;
 
 pub use vol::{VolGrid, read_vol, write_vol};
+
+/// The grid file formats `export` writes, chosen by the file's extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GridFormat {
+    /// Mitsuba 3's `gridvolume` ([`vol`]): dense float32.
+    Vol,
+    /// OpenVDB ([`vdb`]): a sparse float grid named `density`.
+    Vdb,
+}
+
+impl GridFormat {
+    /// The format of a file named `name` (`.vol` or `.vdb`, any case); None
+    /// for any other name.
+    pub fn of_path(path: &std::path::Path) -> Option<Self> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "vol" => Some(Self::Vol),
+            "vdb" => Some(Self::Vdb),
+            _ => None,
+        }
+    }
+
+    /// [`GridFormat::of_path`] of a file name; `.vol` for any other.
+    pub fn of_name(name: &str) -> Self {
+        Self::of_path(std::path::Path::new(name)).unwrap_or(Self::Vol)
+    }
+
+    /// What the file's values are (the sidecar's `volume.values`).
+    pub fn describe(self) -> &'static str {
+        match self {
+            Self::Vol => {
+                "cloud density rho in [0, 1] of paper eq. 18 (noise included) at cell centres, \
+                 x fastest; Mitsuba 3 gridvolume, float32, one channel"
+            }
+            Self::Vdb => {
+                "cloud density rho in [0, 1] of paper eq. 18 (noise included); OpenVDB float grid \
+                 'density' (class fog volume), sparse 8^3 leaves where rho > 0; index (i, j, k) \
+                 is the cell centre bounds_min_m + voxel_m (i + 1/2, j + 1/2, k + 1/2) \
+                 (UniformScaleTranslateMap)"
+            }
+        }
+    }
+
+    /// Writes `values` (x fastest over `spec`) in this format; `meta` goes
+    /// into a `.vdb`'s grid metadata.
+    pub fn write(
+        self,
+        w: &mut dyn std::io::Write,
+        spec: &GridSpec,
+        values: Vec<f32>,
+        meta: &[(&str, vdb::Meta)],
+    ) -> std::io::Result<()> {
+        match self {
+            Self::Vol => write_vol(w, &vol_grid(spec, values)),
+            Self::Vdb => vdb::write_vdb(w, spec, &values, meta),
+        }
+    }
+}
 
 /// Default cap on the grid's memory (the values in RAM, and as much again
 /// in the file). units: MiB

@@ -32,7 +32,7 @@ pub const LIGHT_DENSITY: f32 = 1.0;
 /// The grid file and what its values mean.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct VolumeInfo {
-    /// The `.vol` file, relative to the sidecar.
+    /// The grid file (`.vol` or `.vdb`), relative to the sidecar.
     pub file: String,
     /// Cells along x, y, z.
     pub dims: [u32; 3],
@@ -156,9 +156,7 @@ impl Sidecar {
                 bounds_min_m: spec.min.to_array(),
                 bounds_max_m: spec.max().to_array(),
                 memory_bytes: spec.bytes(),
-                values: "cloud density rho in [0, 1] of paper eq. 18 (noise included) at cell \
-                         centres, x fastest; Mitsuba 3 gridvolume, float32, one channel"
-                    .into(),
+                values: super::GridFormat::of_name(vol_file).describe().into(),
             },
             medium: MediumInfo {
                 extinction_scale_per_m: cfg.extinction_per_m,

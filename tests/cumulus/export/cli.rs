@@ -2,7 +2,7 @@
 //! scene's start time as `render` does (a numbered series too), a default
 //! grid over `--max-memory-mib` gets the finest voxel that fits and says
 //! so while a forced `--voxel` that does not fit is an error naming one
-//! that does, and an `--out` other than `.vol` is refused before anything
+//! that does, and an `--out` other than `.vol` or `.vdb` is refused before anything
 //! is written. The stand-in field keeps them fast; no GPU needed.
 
 use std::path::Path;
@@ -90,20 +90,14 @@ fn a_default_grid_over_the_memory_cap_gets_coarser_voxels_a_forced_one_fails() {
 #[test]
 fn export_refuses_an_extension_it_cannot_write() {
     let dir = tempfile::tempdir().unwrap();
-    for name in [
-        "clouds.vdb",
-        "clouds.VDB",
-        "clouds.json",
-        "clouds.png",
-        "clouds",
-    ] {
+    for name in ["clouds.vd", "clouds.json", "clouds.png", "clouds"] {
         let out = dir.path().join(name);
         cli::run_command(
             cli::command()
                 .args(["export", "--stand-in", "--voxel", "300", "--out"])
                 .arg(&out),
         )
-        .expect_failure_containing(&["--out", name, ".vol"]);
+        .expect_failure_containing(&["--out", name, ".vol", ".vdb"]);
     }
     // Nothing written, not even a temporary file.
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);

@@ -1,4 +1,4 @@
-//! `cumulus export`: the `.vol` writer, authored scenes, the command's
+//! `cumulus export`: the `.vol` and `.vdb` writers, authored scenes, the command's
 //! defaults and refusals, any number of parcels, and the CPU density
 //! against the GPU.
 
@@ -6,4 +6,5 @@ mod authored;
 mod cli;
 mod gpu;
 mod many;
+mod vdb;
 mod vol;
