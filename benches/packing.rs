@@ -3,15 +3,20 @@
 //! of the performance table, on the bench's cloud-field scenes; and the CPU
 //! field `cumulus export` samples (`CloudField`: its uncapped culling grid
 //! built, then ρ at 64³ points over its box) at and past the exact
-//! method's 1024 parcels (a landscape at 1800 s holds ~2300).
+//! method's 1024 parcels (a landscape at 1800 s holds ~2300); and the
+//! export of that landscape frame itself (`export_landscape_1800s`: the
+//! field, the default grid within the memory cap, every cell sampled; the
+//! simulation to 1800 s is done once, outside the timing).
 
 use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use cumulus::bench::{TABLE_COUNTS, scenes};
 use cumulus::config::RenderConfig;
+use cumulus::export::{self, GridSpec};
 use cumulus::methods::raymarch::field::CloudField;
 use cumulus::methods::raymarch::pack::pack;
+use cumulus::physics::ParcelWorld;
 
 fn packing(c: &mut Criterion) {
     let cfg = RenderConfig::default();
@@ -54,5 +59,35 @@ fn cpu_field(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, packing, cpu_field);
+fn export_landscape(c: &mut Criterion) {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let path = root.join("profiles/landscape.toml");
+    let (scene, source) = cumulus::scene::load_scene_with(Some(&path), &[]).expect("scene loads");
+    let base = source.base_dir();
+    let env = scene.atmosphere.build(&base).expect("atmosphere");
+    let mut world =
+        ParcelWorld::new(env, scene.world_config(&base).expect("world"), 1).expect("world");
+    // The CLI's frames of 2 s (`--dt` default) to 1800 s.
+    while world.time_s() < 1800.0 - 1e-9 {
+        world.step(2.0f64.min(1800.0 - world.time_s()));
+    }
+    let mut parcels = Vec::new();
+    world.cloud_parcels(&mut parcels);
+    let cfg = scene.render.clone();
+    let mut group = c.benchmark_group("export");
+    group.sample_size(10);
+    group.bench_function(BenchmarkId::new("landscape_1800s", parcels.len()), |b| {
+        b.iter(|| {
+            let field = CloudField::new(&parcels, &cfg, 1800.0).expect("any count");
+            let (lo, hi) = field.bounds();
+            let wanted = export::default_voxel_m(&cfg, &field);
+            let spec =
+                GridSpec::fitting(lo, hi, wanted, export::DEFAULT_MAX_MEMORY_MIB).expect("fits");
+            black_box(export::sample_grid(&spec, |p| field.density(p), |_, _| {}))
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, packing, cpu_field, export_landscape);
 criterion_main!(benches);
