@@ -5,15 +5,18 @@
 // the result. The frame's grid is the coarse grid: BAKE_BLOCK³ voxels a
 // cell, voxel side grid_cell / BAKE_BLOCK, origin grid_min.
 //
-// 1. `splat`, one dispatch per chunk of ≤ MAX_PARCELS parcels (a uniform
-//    buffer bound at the chunk's dynamic offset): workgroup w takes parcel w
-//    of the chunk (every thread reads the same parcel: the broadcast access
-//    uniform buffers are made for) and its threads walk the voxels of the
+// 1. `splat`, one dispatch for all the parcels (a read-only storage
+//    buffer of frame.parcel_count parcels; workgroups in rows of
+//    SPLAT_ROW along x, rows along y, so any count fits the per-dimension
+//    dispatch limit): workgroup w takes parcel w (every thread reads the
+//    same parcel) and its threads walk the voxels of the
 //    parcel's bounding box, folding (v, height above the parcel's
 //    condensation plane) into the voxel with one atomic max on a key
 //    (`voxel_key`): the largest v wins, and among equal v (saturated
 //    parcels) the lowest plane, so the voxel keeps the plane of the parcel
-//    that gives its value, as field_exact.wgsl's field_sample does.
+//    that gives its value, as field_exact.wgsl's field_sample does. The
+//    max does not depend on the order the parcels are folded in, so the
+//    field is the same whatever the scheduling.
 //    Cost ∝ parcels × voxels each, not pixels × parcels.
 // 2. `light`, one thread per coarse cell: the light volume. From the
 //    cell's centre it marches toward the sun, straight up and away from the
@@ -32,6 +35,7 @@
 
 #import "../common.wgsl"
 #import "parcel.wgsl"
+#import "occupancy.wgsl"
 
 // Voxels per coarse cell along each axis: BAKE_BLOCK of
 // src/methods/raymarch/baked.rs (a test compares them).
@@ -46,8 +50,8 @@ const BAKE_BLOCK: u32 = 4u;
 const KEY_LEVELS: f32 = 65535.0;
 const PLANE_RANGE_M: f32 = 2048.0;
 
-// The chunk's parcels, at its offset of the parcel buffer.
-@group(1) @binding(0) var<uniform> chunk: Parcels;
+// The condensed parcels (the first frame.parcel_count of them).
+@group(1) @binding(0) var<storage, read> bake_parcels: array<Parcel>;
 @group(1) @binding(1) var<storage, read_write> voxel_keys: array<atomic<u32>>;
 @group(1) @binding(2) var<storage, read_write> occupancy_bits: array<atomic<u32>>;
 @group(1) @binding(3) var field_out: texture_storage_3d<rgba16float, write>;
@@ -60,6 +64,10 @@ const LIGHT_STEP_VOXELS: f32 = 2.0;
 // Most steps of one light march (a 40 km landscape at low sun: ~60 km at
 // 2 × 84 m is ~360 steps); the rest of a longer path is left out.
 const LIGHT_MAX_STEPS: u32 = 1024u;
+
+// Workgroups per dispatch row of `splat`: SPLAT_ROW of
+// src/methods/raymarch/baked.rs (a test compares them).
+const SPLAT_ROW: u32 = 32768u;
 
 fn voxel_m() -> f32 {
     return frame.grid_cell.x / f32(BAKE_BLOCK);
@@ -99,7 +107,11 @@ fn voxel_centre(v: vec3<u32>) -> vec3<f32> {
 
 @compute @workgroup_size(64)
 fn splat(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_index) li: u32) {
-    let q = chunk.parcels[wg.x];
+    let w = wg.x + SPLAT_ROW * wg.y;
+    if w >= frame.parcel_count {
+        return;
+    }
+    let q = bake_parcels[w];
     let shell = frame.shell_m;
     let h = voxel_m();
     let dims = voxel_dims();
@@ -191,13 +203,23 @@ fn resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
     // is value order; 0 = nothing).
     let bits = bitcast<u32>(value + 1.0);
     // A trilinear fetch within one voxel of this one's centre can see it.
-    let cells = frame.grid_dims;
+    // Every level of the pyramid (occupancy.wgsl): the ancestors of those
+    // cells (the same cell of a level above often, then one atomic each).
     let c0 = (max(gid, vec3<u32>(1u)) - 1u) / BAKE_BLOCK;
-    let c1 = min((gid + 1u) / BAKE_BLOCK, cells - 1u);
-    for (var z = c0.z; z <= c1.z; z++) {
-        for (var y = c0.y; y <= c1.y; y++) {
-            for (var x = c0.x; x <= c1.x; x++) {
-                atomicMax(&occupancy_bits[x + cells.x * (y + cells.y * z)], bits);
+    let c1 = min((gid + 1u) / BAKE_BLOCK, frame.grid_dims - 1u);
+    for (var l = 0u; l < OCCUPANCY_LEVELS; l++) {
+        var step = 1u;
+        for (var i = 0u; i < l; i++) {
+            step *= OCCUPANCY_FACTOR;
+        }
+        let a = c0 / step;
+        let b = c1 / step;
+        for (var z = a.z; z <= b.z; z++) {
+            for (var y = a.y; y <= b.y; y++) {
+                for (var x = a.x; x <= b.x; x++) {
+                    let idx = occupancy_index(vec3<u32>(x, y, z) * step, l);
+                    atomicMax(&occupancy_bits[idx], bits);
+                }
             }
         }
     }

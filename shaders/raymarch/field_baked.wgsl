@@ -8,14 +8,16 @@
 // sampler interpolates between the cells' centres. The frame's grid
 // (grid_min, grid_cell, grid_dims) is the bake's coarse occupancy grid
 // (BAKE_BLOCK³ voxels a cell) over the same region; `occupancy` holds, per
-// coarse cell, the largest v that trilinear filtering can return in it
-// (bit pattern of v + 1; 0 = nothing), so rays cross empty cells in one
-// step. Bound to both the `<field>` slot (field_value, field_sample,
+// coarse cell and per cell of the levels above (occupancy.wgsl), the
+// largest v that trilinear filtering can return in it (bit pattern of
+// v + 1; 0 = nothing), so rays cross the largest empty cell around them in
+// one step: kilometres of clear air in a few. Bound to both the `<field>` slot (field_value, field_sample,
 // empty_skip: as field_exact.wgsl, see there) and the `<far_light>` slot
 // (far_light_depth, far_behind_depth: as far_light_exact.wgsl) of the
 // method (src/methods/raymarch/passes.rs).
 
 #import "../common.wgsl"
+#import "occupancy.wgsl"
 
 // The `baked` method's field (group 3 of the passes that import it).
 @group(3) @binding(0) var field_tex: texture_3d<f32>;
@@ -46,6 +48,13 @@ fn far_behind_depth(p: vec3<f32>) -> f32 {
     return textureSampleLevel(light_tex, clamp_sampler, field_uvw(p), 0.0).b;
 }
 
+// Whether occupancy cell `bits` may show cloud: the noise adds at most k/2
+// (density.wgsl), so a cell whose v stays under −k/2 shows nothing.
+fn occupied(bits: u32) -> bool {
+    let v_max = select(-1.0, bitcast<f32>(bits) - 1.0, bits != 0u);
+    return v_max + 0.5 * frame.noise_amplitude > 0.0;
+}
+
 fn empty_skip(p: vec3<f32>, rd: vec3<f32>) -> f32 {
     let dims = frame.grid_dims;
     let rel = (p - frame.grid_min) / frame.grid_cell;
@@ -53,12 +62,22 @@ fn empty_skip(p: vec3<f32>, rd: vec3<f32>) -> f32 {
         return 0.0;
     }
     let ci = vec3<u32>(rel);
-    let bits = occupancy[ci.x + dims.x * (ci.y + dims.y * ci.z)];
-    // The noise adds at most k/2 (density.wgsl): below that, nothing shows.
-    let v_max = select(-1.0, bitcast<f32>(bits) - 1.0, bits != 0u);
-    if v_max + 0.5 * frame.noise_amplitude > 0.0 {
+    // In cloud: one read, as with a single level.
+    if occupied(occupancy[occupancy_index(ci, 0u)]) {
         return 0.0;
     }
-    let lo = frame.grid_min + vec3<f32>(ci) * frame.grid_cell;
-    return max(ray_box(p, rd, lo, lo + frame.grid_cell).y, 1e-3);
+    // Empty: the largest empty cell holding p, from the top level down.
+    var level = 0u;
+    for (var l = OCCUPANCY_LEVELS - 1u; l > 0u; l--) {
+        if !occupied(occupancy[occupancy_index(ci, l)]) {
+            level = l;
+            break;
+        }
+    }
+    var step = 1u;
+    for (var i = 0u; i < level; i++) {
+        step *= OCCUPANCY_FACTOR;
+    }
+    let lo = frame.grid_min + vec3<f32>((ci / step) * step) * frame.grid_cell;
+    return max(ray_box(p, rd, lo, lo + occupancy_cell_m(level)).y, 1e-3);
 }

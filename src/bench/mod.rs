@@ -44,9 +44,10 @@ use measure::Repeats;
 use perf::{PerfRow, PruningRow, ScalingRow};
 
 /// Parcel counts of the scaling table in quick mode.
-pub const QUICK_SCALING_COUNTS: [usize; 4] = [8, 85, 1024, 4096];
+/// (1000 and 10 000: the bake's target, bake(10 000)/bake(1000).)
+pub const QUICK_SCALING_COUNTS: [usize; 6] = [8, 85, 1000, 1024, 4096, 10_000];
 /// Parcel counts of the scaling table in full mode.
-pub const FULL_SCALING_COUNTS: [usize; 7] = [8, 85, 256, 1024, 4096, 8192, 16_384];
+pub const FULL_SCALING_COUNTS: [usize; 9] = [8, 85, 256, 1000, 1024, 4096, 8192, 10_000, 16_384];
 /// Parcel counts of the performance table (paper Table 1, and beyond).
 pub const TABLE_COUNTS: [usize; 6] = [8, 14, 34, 85, 256, 1024];
 

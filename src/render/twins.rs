@@ -274,6 +274,15 @@ fn constants_shared_with_rust_match() {
         naga::front::wgsl::parse_str(&src).unwrap()
     };
     assert_eq!(wgsl_const(&bake, "BAKE_BLOCK"), baked::BAKE_BLOCK as f64);
+    assert_eq!(wgsl_const(&bake, "SPLAT_ROW"), baked::SPLAT_ROW as f64);
+    assert_eq!(
+        wgsl_const(&bake, "OCCUPANCY_LEVELS"),
+        baked::OCCUPANCY_LEVELS as f64
+    );
+    assert_eq!(
+        wgsl_const(&bake, "OCCUPANCY_FACTOR"),
+        baked::OCCUPANCY_FACTOR as f64
+    );
     assert_eq!(wgsl_const(&bake, "PLANE_SHELL"), baked::PLANE_SHELL as f64);
     assert_eq!(
         wgsl_const(&bake, "PLANE_SHELL"),

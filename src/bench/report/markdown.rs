@@ -482,5 +482,24 @@ pub fn scaling_targets(rows: &[ScalingRow]) -> String {
         };
         s.push_str(&line);
     }
+    let bake = |n: usize| {
+        rows.iter()
+            .find(|r| r.method == "baked" && r.parcels == n)
+            .map(|r| r.bake_ms)
+    };
+    // The bake takes every parcel in one dispatch: its cost is the splat's
+    // parcels × box voxels plus the resolve over a region capped at
+    // MAX_BAKE_VOXELS, so ten times the parcels must not cost ten times.
+    s.push_str(&match bake(10_000).zip(bake(1000)) {
+        Some((a, b)) => {
+            let ratio = a / b;
+            format!(
+                "- bake(10000) / bake(1000) = {} (target ≤ 2: {})\n",
+                md(ratio, 2),
+                if ratio <= 2.0 { "met" } else { "NOT met" }
+            )
+        }
+        None => "- bake(10000) / bake(1000): not measured in this mode\n".into(),
+    });
     s
 }

@@ -1,7 +1,7 @@
 //! The `baked` method's GPU data and its compute bake (shaders/raymarch/bake.wgsl):
-//! the condensed parcels go up in uniform-buffer chunks of ≤ [`MAX_PARCELS`]
-//! (bound with dynamic offsets, one splat dispatch, in its own compute pass,
-//! per chunk), are splatted
+//! the condensed parcels go up in one read-only storage buffer (any count:
+//! one splat dispatch for all of them, in workgroup rows of [`SPLAT_ROW`]),
+//! are splatted
 //! into a 3D texture of the macro field M = max f·(d+1) − 1 over the region
 //! of the condensed parcels, and a coarse occupancy grid (one cell per
 //! [`BAKE_BLOCK`]³ voxels) lets the march skip empty space. A light volume,
@@ -44,7 +44,7 @@ use crate::error::{Error, Result};
 use crate::gpu::GpuContext;
 use crate::gpu::layouts::{compute_storage_entry, storage_texture_entry_of};
 use crate::gpu::uniform::GridInfo;
-use crate::methods::raymarch::pack::{self, GpuParcel, MAX_PARCELS, ParcelsUniform};
+use crate::methods::raymarch::pack::{self, GpuParcel};
 use crate::methods::raymarch::region::{Region, region};
 use crate::physics::CloudParcel;
 
@@ -69,7 +69,30 @@ pub const LIGHT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Plane shell over sphere shell: PLANE_SHELL of
 /// shaders/raymarch/parcel.wgsl (a test compares them).
 pub const PLANE_SHELL: f32 = 0.3;
-const CHUNK_BYTES: u64 = std::mem::size_of::<ParcelsUniform>() as u64;
+/// Levels of the occupancy pyramid and cells of a level per cell of the
+/// level above: OCCUPANCY_LEVELS and OCCUPANCY_FACTOR of
+/// shaders/raymarch/occupancy.wgsl (a test compares them). Three levels of
+/// 4: cells of 4³, 16³ and 64³ voxels (at 84 m voxels, 5.4 km for the top).
+pub const OCCUPANCY_LEVELS: u32 = 3;
+pub const OCCUPANCY_FACTOR: u32 = 4;
+
+/// Cells of the whole occupancy pyramid over a level-0 grid of `cells`
+/// (occupancy.wgsl's layout: the levels one after the other).
+pub fn occupancy_cells(cells: [u32; 3]) -> u64 {
+    let mut d = cells;
+    let mut total = 0u64;
+    for _ in 0..OCCUPANCY_LEVELS {
+        total += d.iter().map(|&c| c as u64).product::<u64>();
+        d = d.map(|c| c.div_ceil(OCCUPANCY_FACTOR));
+    }
+    total
+}
+
+/// Workgroups per row of the splat's dispatch (one workgroup a parcel;
+/// rows along y): SPLAT_ROW of shaders/raymarch/bake.wgsl (a test compares
+/// them). Under the 65535 per dimension every device allows.
+pub const SPLAT_ROW: u32 = 32768;
+const PARCEL_BYTES: u64 = std::mem::size_of::<GpuParcel>() as u64;
 
 /// What the last bake covered.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -120,8 +143,9 @@ pub struct BakedField {
     splat: wgpu::ComputePipeline,
     light: wgpu::ComputePipeline,
     resolve: wgpu::ComputePipeline,
-    chunks: wgpu::Buffer,
-    chunk_capacity: u64,
+    /// The condensed parcels (read-only storage), room for `capacity`.
+    parcels: wgpu::Buffer,
+    capacity: u64,
     store: Option<Store>,
     /// Placeholder field (1 voxel, v = −1), light volume (1 cell, no
     /// cloud) and occupancy before any bake.
@@ -177,16 +201,16 @@ const FRAME_ENTRIES: &[wgpu::BindGroupLayoutEntry] = &[wgpu::BindGroupLayoutEntr
     count: None,
 }];
 
-/// Group 1 of the bake: one chunk of parcels, the accumulators, and the
-/// field and light volumes it writes.
+/// Group 1 of the bake: the parcels, the accumulators, and the field and
+/// light volumes it writes.
 const JOB_ENTRIES: &[wgpu::BindGroupLayoutEntry] = &[
     wgpu::BindGroupLayoutEntry {
         binding: 0,
         visibility: wgpu::ShaderStages::COMPUTE,
         ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: true,
-            min_binding_size: wgpu::BufferSize::new(CHUNK_BYTES),
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
+            has_dynamic_offset: false,
+            min_binding_size: wgpu::BufferSize::new(PARCEL_BYTES),
         },
         count: None,
     },
@@ -222,7 +246,7 @@ impl BakedField {
             entries: FRAME_ENTRIES,
         });
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("bake: chunk and field"),
+            label: Some("bake: parcels and field"),
             entries: JOB_ENTRIES,
         });
         let bind_frame = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -281,8 +305,8 @@ impl BakedField {
             splat,
             light,
             resolve,
-            chunks: chunk_buffer(device, 1),
-            chunk_capacity: 1,
+            parcels: parcel_buffer(device, 1),
+            capacity: 1,
             store: None,
             empty_view: empty.create_view(&Default::default()),
             empty_light_view: volume_texture(device, "bake: light volume", LIGHT_FORMAT, [1, 1, 1])
@@ -382,19 +406,15 @@ impl BakedField {
                 dims[0], dims[1], dims[2], r.voxel_m
             )));
         }
-        let n_chunks = live.len().div_ceil(MAX_PARCELS) as u64;
-        if n_chunks > self.chunk_capacity {
-            self.chunks = chunk_buffer(device, n_chunks);
-            self.chunk_capacity = n_chunks;
+        let n = live.len() as u64;
+        if n > self.capacity {
+            // Room to grow by half again before the next reallocation.
+            self.capacity = n + n / 2;
+            self.parcels = parcel_buffer(device, self.capacity);
             self.store = None;
         }
-        for (i, chunk) in live.chunks(MAX_PARCELS).enumerate() {
-            ctx.queue.write_buffer(
-                &self.chunks,
-                i as u64 * CHUNK_BYTES,
-                bytemuck::cast_slice(chunk),
-            );
-        }
+        ctx.queue
+            .write_buffer(&self.parcels, 0, bytemuck::cast_slice(live));
         if self.store.as_ref().map(|s| s.dims) != Some(dims) {
             self.store = Some(self.make_store(device, dims, r.cells));
             self.generation += 1;
@@ -420,23 +440,18 @@ impl BakedField {
             usage: wgpu::BufferUsages::STORAGE,
             mapped_at_creation: false,
         });
-        let n_cells: u64 = cells.iter().map(|&c| c as u64).product();
-        let occupancy = occupancy_buffer(device, n_cells);
+        let occupancy = occupancy_buffer(device, occupancy_cells(cells));
         let light_view = volume_texture(device, "bake: light volume", LIGHT_FORMAT, cells)
             .create_view(&Default::default());
         let view = volume_texture(device, "baked macro field", FIELD_FORMAT, dims)
             .create_view(&Default::default());
         let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("bake: chunk and field"),
+            label: Some("bake: parcels and field"),
             layout: &self.layout,
             entries: &[
                 wgpu::BindGroupEntry {
                     binding: 0,
-                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                        buffer: &self.chunks,
-                        offset: 0,
-                        size: wgpu::BufferSize::new(CHUNK_BYTES),
-                    }),
+                    resource: self.parcels.as_entire_binding(),
                 },
                 wgpu::BindGroupEntry {
                     binding: 1,
@@ -466,8 +481,9 @@ impl BakedField {
         }
     }
 
-    /// Encodes the bake (splat per chunk, then resolve) when the parcels
-    /// changed; `timestamps` = (query set, first index) times it as one pass.
+    /// Encodes the bake (one splat dispatch for every parcel, then the
+    /// light volume and resolve) when the parcels changed; `timestamps` =
+    /// (query set, first index) times it as one pass.
     pub fn encode(
         &mut self,
         enc: &mut wgpu::CommandEncoder,
@@ -477,27 +493,20 @@ impl BakedField {
             return;
         };
         enc.clear_buffer(&store.occupancy, 0, None);
-        // One compute pass per chunk: on llvmpipe a second dispatch in the
-        // same pass, after rebinding the chunk, runs its parcels ~8× slower
-        // (docs/notes.md, "Baked field").
-        let n = self.parcel_count as usize;
-        for (i, start) in (0..n).step_by(MAX_PARCELS).enumerate() {
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("bake: splat"),
-                timestamp_writes: timestamps.filter(|_| i == 0).map(|(set, i)| {
-                    wgpu::ComputePassTimestampWrites {
-                        query_set: set,
-                        beginning_of_pass_write_index: Some(i),
-                        end_of_pass_write_index: None,
-                    }
-                }),
-            });
-            pass.set_pipeline(&self.splat);
-            pass.set_bind_group(0, &self.bind_frame, &[]);
-            let count = (n - start).min(MAX_PARCELS) as u32;
-            pass.set_bind_group(1, &store.bind, &[(i as u64 * CHUNK_BYTES) as u32]);
-            pass.dispatch_workgroups(count, 1, 1);
-        }
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("bake: splat"),
+            timestamp_writes: timestamps.map(|(set, i)| wgpu::ComputePassTimestampWrites {
+                query_set: set,
+                beginning_of_pass_write_index: Some(i),
+                end_of_pass_write_index: None,
+            }),
+        });
+        pass.set_pipeline(&self.splat);
+        pass.set_bind_group(0, &self.bind_frame, &[]);
+        pass.set_bind_group(1, &store.bind, &[]);
+        let [x, y] = splat_workgroups(self.parcel_count);
+        pass.dispatch_workgroups(x, y, 1);
+        drop(pass);
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("bake: resolve"),
             timestamp_writes: timestamps.map(|(set, i)| wgpu::ComputePassTimestampWrites {
@@ -507,7 +516,7 @@ impl BakedField {
             }),
         });
         pass.set_bind_group(0, &self.bind_frame, &[]);
-        pass.set_bind_group(1, &store.bind, &[0]);
+        pass.set_bind_group(1, &store.bind, &[]);
         // The light volume reads the splat's accumulators before resolve
         // clears them (wgpu orders the two dispatches); resolve does not
         // read it.
@@ -523,11 +532,17 @@ impl BakedField {
     }
 }
 
-fn chunk_buffer(device: &wgpu::Device, chunks: u64) -> wgpu::Buffer {
+/// The splat's dispatch for `n` parcels: rows of [`SPLAT_ROW`] workgroups
+/// (the shader skips those past the count).
+fn splat_workgroups(n: u32) -> [u32; 2] {
+    [n.min(SPLAT_ROW).max(1), n.div_ceil(SPLAT_ROW).max(1)]
+}
+
+fn parcel_buffer(device: &wgpu::Device, parcels: u64) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("bake: parcel chunks"),
-        size: chunks * CHUNK_BYTES,
-        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        label: Some("bake: parcels"),
+        size: parcels.max(1) * PARCEL_BYTES,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
 }

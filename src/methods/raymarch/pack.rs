@@ -125,8 +125,8 @@ pub(crate) fn parcel_bounds(p: &GpuParcel, shell_m: f32) -> (Vec3, Vec3) {
 /// The condensed parcels as drawn: checked (finite fields, else an error
 /// naming the parcel), those with f = 0 or r = 0 skipped (eq. 18 gives them
 /// no density), radii scaled by `radius_scale`, f capped at 1. No count
-/// limit: the exact method's [`pack`] and the baked method's chunks apply
-/// their own.
+/// limit: the exact method's [`pack`] applies its own (the baked method's
+/// storage buffer has none).
 pub fn gpu_parcels(
     parcels: &[CloudParcel],
     shell_m: f32,

@@ -18,6 +18,7 @@ pub const FILES: &[(&str, &str)] = crate::gpu::shaders::shader_files![
     "raymarch/field_exact.wgsl",
     "raymarch/far_light_exact.wgsl",
     "raymarch/field_baked.wgsl",
+    "raymarch/occupancy.wgsl",
     "raymarch/density.wgsl",
     "raymarch/lighting.wgsl",
     "raymarch/bake.wgsl",
