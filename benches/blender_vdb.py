@@ -49,6 +49,9 @@ import sys
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from pathtraced import camera_rays  # noqa: E402  (the renderer's camera, written once)
+
 ROOT = os.path.dirname(HERE)
 SAMPLE = os.path.join(HERE, "data", "sample.vdb")
 # The arguments that made the committed sample (its sidecar says the same).
@@ -82,21 +85,6 @@ def read_vol(path):
     box = np.frombuffer(b, "<f4", 6, 24).astype(np.float64)
     vals = np.frombuffer(b, "<f4", int(np.prod(dims)), 48).reshape(dims[2], dims[1], dims[0])
     return dims, box[:3], box[3:], vals
-
-
-def camera_rays(cam, size):
-    """Origin and unit directions (h, w, 3) of the renderer's pinhole camera."""
-    w, h = size
-    pos, tgt, up = (np.asarray(cam[k], dtype=float) for k in ("position_m", "target_m", "up"))
-    f = (tgt - pos) / np.linalg.norm(tgt - pos)
-    r = np.cross(f, up)
-    r /= np.linalg.norm(r)
-    u = np.cross(r, f)
-    t = math.tan(math.radians(cam["vfov_deg"]) / 2.0)
-    y = (1.0 - 2.0 * (np.arange(h) + 0.5) / h) * t
-    x = (2.0 * (np.arange(w) + 0.5) / w - 1.0) * t * w / h
-    d = f + x[None, :, None] * r + y[:, None, None] * u
-    return pos, d / np.linalg.norm(d, axis=-1, keepdims=True)
 
 
 def our_transmittance(vol, side, size):

@@ -291,8 +291,9 @@ def path_trace(side, vol_path, size, spp, variant, max_depth, ground_extent=None
     return np.array(img, dtype=np.float64)[..., :3]
 
 
-def above_horizon(cam, size):
-    """Pixels (height, width) whose camera ray points above the horizon."""
+def camera_rays(cam, size):
+    """Origin and unit directions (height, width, 3) of the renderer's
+    pinhole camera (the sidecar's `camera`), rows top first."""
     w, h = size
     pos, tgt, up = (np.asarray(cam[k], dtype=float) for k in ("position_m", "target_m", "up"))
     f = (tgt - pos) / np.linalg.norm(tgt - pos)
@@ -302,8 +303,13 @@ def above_horizon(cam, size):
     t = math.tan(math.radians(cam["vfov_deg"]) / 2.0)
     y = (1.0 - 2.0 * (np.arange(h) + 0.5) / h) * t
     x = (2.0 * (np.arange(w) + 0.5) / w - 1.0) * t * w / h
-    dz = f[2] + x[None, :] * r[2] + y[:, None] * u[2]
-    return dz > 0.0
+    d = f + x[None, :, None] * r + y[:, None, None] * u
+    return pos, d / np.linalg.norm(d, axis=-1, keepdims=True)
+
+
+def above_horizon(cam, size):
+    """Pixels (height, width) whose camera ray points above the horizon."""
+    return camera_rays(cam, size)[1][..., 2] > 0.0
 
 
 def flip(ref, test):
