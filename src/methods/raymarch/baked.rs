@@ -535,7 +535,7 @@ impl BakedField {
 /// The splat's dispatch for `n` parcels: rows of [`SPLAT_ROW`] workgroups
 /// (the shader skips those past the count).
 fn splat_workgroups(n: u32) -> [u32; 2] {
-    [n.min(SPLAT_ROW).max(1), n.div_ceil(SPLAT_ROW).max(1)]
+    [n.clamp(1, SPLAT_ROW), n.div_ceil(SPLAT_ROW).max(1)]
 }
 
 fn parcel_buffer(device: &wgpu::Device, parcels: u64) -> wgpu::Buffer {
