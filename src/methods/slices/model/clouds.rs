@@ -1,0 +1,172 @@
+//! Slices per cloud (paper 001 slices one cloud; issue 33): the
+//! primitives of a frame are grouped into clouds, each cloud gets its own
+//! light-aligned stack of planes over its own bounds ([`slice_grid`], so a
+//! small cloud is sliced as finely as the paper's one cloud), and the
+//! stacks are put in draw order, farthest first (painter's algorithm
+//! between clouds as between planes).
+//!
+//! A cloud is a group of primitives whose bounding spheres touch and
+//! whose boxes overlap ([`touching_groups`]), through chains: their
+//! fields may overlap, so they must be summed in one stack; primitives
+//! apart have disjoint fields, so their stacks only meet on screen. Many small clouds (hundreds of fair-weather
+//! parcels) would each pay a full stack, so past [`MAX_STACKS`] clouds
+//! the join distance grows by √2 steps until at most that many remain: neighbouring
+//! small clouds then share one stack, which is the one-stack slicing of
+//! a few clouds (correct, only coarser).
+
+use std::ops::Range;
+
+use glam::Vec3;
+
+use super::ellipsoid::{EllipsoidState, bounds_m};
+use super::slicing::{SliceGeometry, slice_grid};
+use crate::config::slices::SlicesConfig;
+use crate::error::Result;
+use crate::methods::clusters::touching_groups;
+
+/// Most stacks a frame draws (the GPU field pass's table holds as many:
+/// `MAX_STACKS` in shaders/slices/vertex_field.wgsl).
+pub const MAX_STACKS: usize = 32;
+
+/// One cloud's stack of slicing planes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CloudStack {
+    /// Its primitives, a range of [`CloudSlices::states`].
+    pub primitives: Range<usize>,
+    /// Its planes, back to front, with their vertex values once evaluated.
+    pub geometry: SliceGeometry,
+    /// Distance from the eye to the centre of its bounds. units: m
+    pub distance_m: f32,
+}
+
+/// Every cloud's stack of one frame, in draw order.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct CloudSlices {
+    /// The primitives, grouped by cloud (each cloud's a contiguous range,
+    /// clouds in draw order).
+    pub states: Vec<EllipsoidState>,
+    /// The stacks, farthest first.
+    pub stacks: Vec<CloudStack>,
+}
+
+/// The clouds of `states` (those with strength > 0; the others draw
+/// nothing and are left out): a cloud index per primitive, at most
+/// [`MAX_STACKS`] clouds, the join distance growing from touching
+/// bounding spheres and overlapping boxes (both grown about their centres
+/// by that factor) until so.
+pub fn cloud_groups(states: &[EllipsoidState]) -> Vec<usize> {
+    let spheres: Vec<(Vec3, f32)> = states
+        .iter()
+        .map(|e| (e.centre_m, e.radii_m.max_element()))
+        .collect();
+    let half: Vec<Vec3> = states.iter().map(|e| e.half_extent_m()).collect();
+    let mut reach = 1.0;
+    loop {
+        let boxes_meet = |i: usize, j: usize| {
+            let gap = (states[i].centre_m - states[j].centre_m).abs();
+            gap.cmplt(reach * (half[i] + half[j])).all()
+        };
+        let groups = touching_groups(&spheres, reach, &boxes_meet);
+        if groups.iter().all(|&g| g < MAX_STACKS) {
+            return groups;
+        }
+        // √2 steps: neighbours merge before the next ring of them.
+        reach *= std::f32::consts::SQRT_2;
+    }
+}
+
+impl CloudSlices {
+    /// The stacks of `states` for the light toward `to_light` and an eye
+    /// at `eye_m` looking along `view_dir`: each cloud sliced for the
+    /// direction from the eye to its centre (the view direction when the
+    /// eye is at the centre), the stacks sorted farthest first. Vertex
+    /// values are zero until [`Self::evaluate`].
+    pub fn grid(
+        states: &[EllipsoidState],
+        cfg: &SlicesConfig,
+        to_light: Vec3,
+        eye_m: Vec3,
+        view_dir: Vec3,
+    ) -> Result<Self> {
+        let live: Vec<EllipsoidState> =
+            states.iter().filter(|e| e.strength > 0.0).cloned().collect();
+        let groups = cloud_groups(&live);
+        let clouds = groups.iter().copied().max().map_or(0, |m| m + 1);
+        let mut members: Vec<Vec<EllipsoidState>> = vec![Vec::new(); clouds];
+        for (e, &g) in live.iter().zip(&groups) {
+            members[g].push(*e);
+        }
+        let mut stacks = Vec::with_capacity(clouds);
+        for cloud in members {
+            let (lo, hi) = bounds_m(&cloud).expect("a cloud has a primitive with strength");
+            let centre = (lo + hi) * 0.5;
+            let to_cloud = centre - eye_m;
+            let dir = if to_cloud.length() > 1.0 { to_cloud } else { view_dir };
+            let geometry = slice_grid(&cloud, cfg, to_light, dir)?;
+            stacks.push((cloud, geometry, to_cloud.length()));
+        }
+        // Farthest first; ties keep the clouds' order (a stable sort).
+        stacks.sort_by(|a, b| b.2.total_cmp(&a.2));
+        let mut out = Self::default();
+        for (cloud, geometry, distance_m) in stacks {
+            let start = out.states.len();
+            out.states.extend(cloud);
+            out.stacks.push(CloudStack {
+                primitives: start..out.states.len(),
+                geometry,
+                distance_m,
+            });
+        }
+        Ok(out)
+    }
+
+    /// Evaluates every stack's vertex field and shadow from its own
+    /// primitives ([`SliceGeometry::evaluate`]): a stack's bounds may
+    /// reach into another cloud, whose field its planes must not draw
+    /// again.
+    pub fn evaluate(
+        &mut self,
+        cfg: &SlicesConfig,
+        to_light: Vec3,
+        octave_weight: Option<&dyn Fn(Vec3) -> f32>,
+    ) -> Result<()> {
+        for s in &mut self.stacks {
+            let own = &self.states[s.primitives.clone()];
+            s.geometry.evaluate(own, cfg, to_light, octave_weight)?;
+        }
+        Ok(())
+    }
+
+    /// Every stack's vertices, in draw order.
+    pub fn vertices(&self) -> Vec<super::slicing::SliceVertex> {
+        self.stacks
+            .iter()
+            .flat_map(|s| s.geometry.vertices.iter().copied())
+            .collect()
+    }
+
+    /// Every stack's triangles, in draw order, indexing [`Self::vertices`].
+    /// With `skip_empty` (the vertex values are evaluated) a triangle whose
+    /// three vertices hold no field is left out: its fragments interpolate
+    /// a density of exactly 0, which the cut-off (Sharpness × plane
+    /// opacity ≥ 0) discards whatever the noise, so the image is the same
+    /// and most of a stack's box, empty air, is never rasterised.
+    pub fn indices(&self, skip_empty: bool) -> Vec<u32> {
+        let mut base = 0u32;
+        let mut out = Vec::new();
+        for s in &self.stacks {
+            let v = &s.geometry.vertices;
+            let drawn = s.geometry.indices.chunks_exact(3).filter(|t| {
+                !skip_empty || t.iter().any(|&i| v[i as usize].density > 0.0)
+            });
+            out.extend(drawn.flatten().map(|i| i + base));
+            base += v.len() as u32;
+        }
+        out
+    }
+
+    /// Vertices of every stack together.
+    pub fn vertex_count(&self) -> usize {
+        self.stacks.iter().map(|s| s.geometry.vertices.len()).sum()
+    }
+}
