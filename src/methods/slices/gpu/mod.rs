@@ -200,7 +200,7 @@ pub fn slices_frame(
     );
     if let Some(noise) = cpu_noise {
         let weight = |p: Vec3| field::first_octave_weight(&octaves, noise, p);
-        let weight: Option<&dyn Fn(Vec3) -> f32> = s.shadow_octave.then_some(&weight);
+        let weight: Option<&(dyn Fn(Vec3) -> f32 + Sync)> = s.shadow_octave.then_some(&weight);
         slices.evaluate(s, to_light, weight)?;
     }
     let index = FlatIndex::new(&slices.states);

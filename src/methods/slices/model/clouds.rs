@@ -17,6 +17,7 @@
 use std::ops::Range;
 
 use glam::Vec3;
+use rayon::prelude::*;
 
 use super::ellipsoid::{EllipsoidState, bounds_m};
 use super::slicing::{SliceGeometry, slice_grid};
@@ -96,15 +97,17 @@ impl CloudSlices {
         for (e, &g) in live.iter().zip(&groups) {
             members[g].push(*e);
         }
-        let mut stacks = Vec::with_capacity(clouds);
-        for cloud in members {
-            let (lo, hi) = bounds_m(&cloud).expect("a cloud has a primitive with strength");
-            let centre = (lo + hi) * 0.5;
-            let to_cloud = centre - eye_m;
-            let dir = if to_cloud.length() > 1.0 { to_cloud } else { view_dir };
-            let geometry = slice_grid(&cloud, cfg, to_light, dir)?;
-            stacks.push((cloud, geometry, to_cloud.length()));
-        }
+        // The clouds are independent: sliced on every core.
+        let mut stacks = members
+            .into_par_iter()
+            .map(|cloud| {
+                let (lo, hi) = bounds_m(&cloud).expect("a cloud has a primitive with strength");
+                let to_cloud = (lo + hi) * 0.5 - eye_m;
+                let dir = if to_cloud.length() > 1.0 { to_cloud } else { view_dir };
+                let geometry = slice_grid(&cloud, cfg, to_light, dir)?;
+                Ok((cloud, geometry, to_cloud.length()))
+            })
+            .collect::<Result<Vec<_>>>()?;
         // Farthest first; ties keep the clouds' order (a stable sort).
         stacks.sort_by(|a, b| b.2.total_cmp(&a.2));
         let mut out = Self::default();
@@ -128,13 +131,14 @@ impl CloudSlices {
         &mut self,
         cfg: &SlicesConfig,
         to_light: Vec3,
-        octave_weight: Option<&dyn Fn(Vec3) -> f32>,
+        octave_weight: Option<&(dyn Fn(Vec3) -> f32 + Sync)>,
     ) -> Result<()> {
-        for s in &mut self.stacks {
-            let own = &self.states[s.primitives.clone()];
-            s.geometry.evaluate(own, cfg, to_light, octave_weight)?;
-        }
-        Ok(())
+        let states = &self.states;
+        self.stacks.par_iter_mut().try_for_each(|s| {
+            let own = &states[s.primitives.clone()];
+            let weight = octave_weight.map(|f| f as &dyn Fn(Vec3) -> f32);
+            s.geometry.evaluate(own, cfg, to_light, weight)
+        })
     }
 
     /// Every stack's vertices, in draw order.
