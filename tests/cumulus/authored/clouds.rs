@@ -222,3 +222,37 @@ fn plane_opacity_is_the_paper_s_for_one_ellipsoid_and_grows_with_a_cloud_s_depth
         );
     }
 }
+
+#[test]
+fn many_clouds_share_a_vertex_budget_that_quality_does_not_change() {
+    use cumulus::methods::slices::model::clouds::{PLANE_VERTEX_BUDGET, min_spacing_m};
+    // 20 parcel-sized clouds 3 km apart: at 33² vertices a plane each they
+    // are 2.7× the budget, so their vertices spread out to fit it; a cloud
+    // alone keeps the tessellation.
+    let states: Vec<EllipsoidState> = (0..20)
+        .map(|i| {
+            let (x, y) = ((i % 5) as f32, (i / 5) as f32);
+            ellipsoid(Vec3::new(3000.0 * x, 3000.0 * y, 1500.0), Vec3::splat(400.0))
+        })
+        .collect();
+    let eye = Vec3::new(6000.0, -15000.0, 1500.0);
+    let l = Vec3::new(0.3, 0.3, 0.9).normalize();
+    let sides = |states: &[EllipsoidState], quality: u32| {
+        let cfg = SlicesConfig {
+            quality,
+            ..SlicesConfig::default()
+        };
+        let s = CloudSlices::grid(states, &cfg, l, eye, Vec3::Y).unwrap();
+        s.stacks.iter().map(|st| st.geometry.side()).collect::<Vec<_>>()
+    };
+    let (q32, q128) = (sides(&states, 32), sides(&states, 128));
+    assert_eq!(q32, q128, "Quality does not change the tessellation");
+    assert_eq!(q32.len(), 20);
+    let per_plane: usize = q32.iter().map(|s| s * s).sum();
+    assert!(per_plane <= PLANE_VERTEX_BUDGET, "{per_plane} vertices a plane");
+    let tessellation = SlicesConfig::default().tessellation as usize;
+    assert!(q32.iter().all(|&s| s < tessellation + 1), "{q32:?}");
+    assert_eq!(sides(&states[..1], 128), vec![tessellation + 1]);
+    let one: Vec<Vec<EllipsoidState>> = vec![states[..1].to_vec()];
+    assert_eq!(min_spacing_m(&one, &SlicesConfig::default()), 0.0);
+}

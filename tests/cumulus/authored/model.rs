@@ -581,14 +581,23 @@ fn authored_frame_gathers_geometry_and_octaves_for_the_renderer() {
     let f = at(600.0);
     assert_eq!(f.states.len(), 8);
     // A stack per cloud, every primitive in one, each of Quality planes
-    // of at least the configured tessellation, farthest first.
+    // of square grids with vertices no farther apart than the floor,
+    // farthest first.
     let stacks = &f.slices.stacks;
     assert!(stacks.len() >= 2, "the storm and the cumulus apart");
     assert_eq!(f.slices.states.len(), 8);
     for st in stacks {
         let g = &st.geometry;
         assert_eq!(g.plane_offsets_m.len(), 128);
-        assert!(g.side() >= 33 && g.vertices.len() == 128 * g.side() * g.side());
+        assert_eq!(g.vertices.len(), 128 * g.side() * g.side());
+        let p = |i: usize| Vec3::from(g.vertices[i].position_m);
+        // Unless one more cell a side would pass the stack's vertex cap
+        // (the storm's spreading anvil, 15 km and more at 128 planes).
+        let capped = (128 * (g.side() + 1).pow(2)) as u64 > slicing::MAX_STACK_VERTICES;
+        for step in [p(1) - p(0), p(g.side()) - p(0)] {
+            // f32 positions of km-scale vertices: 1e-4 relative.
+            assert!(capped || step.length() <= slicing::MAX_VERTEX_SPACING_M * 1.0001);
+        }
     }
     assert!(stacks.windows(2).all(|w| w[0].distance_m >= w[1].distance_m));
     let v = f.slices.vertices();

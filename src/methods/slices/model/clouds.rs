@@ -12,7 +12,13 @@
 //! parcels) would each pay a full stack, so past [`MAX_STACKS`] clouds
 //! the join distance grows by √2 steps until at most that many remain: neighbouring
 //! small clouds then share one stack, which is the one-stack slicing of
-//! a few clouds (correct, only coarser).
+//! a few clouds (correct, only coarser). And where the clouds' planes
+//! together would hold more than [`PLANE_VERTEX_BUDGET`] vertices, their
+//! vertices are spaced no closer than the spacing that fits
+//! ([`min_spacing_m`]): the small clouds' stacks lose the cells they had
+//! beyond need, a large cloud keeps its floor of one vertex per
+//! [`MAX_VERTEX_SPACING_M`]. The budget is per plane so that Quality
+//! never changes the tessellation.
 
 use std::ops::Range;
 
@@ -20,10 +26,16 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::ellipsoid::{EllipsoidState, bounds_m};
-use super::slicing::{SliceGeometry, slice_grid};
+use super::slicing::{MAX_VERTEX_SPACING_M, SliceGeometry, slice_grid_spaced, stack_cells};
 use crate::config::slices::SlicesConfig;
 use crate::error::Result;
 use crate::methods::clusters::touching_groups;
+
+/// Vertices of one plane of every stack together, beyond which the small
+/// clouds' vertices spread out: 2¹³ (about 90²), 7.5 × the one-stack
+/// slicing's 33². The fair-weather field's 20 clouds at 33² each were
+/// 2.7× that.
+pub const PLANE_VERTEX_BUDGET: usize = 1 << 13;
 
 /// Most stacks a frame draws (the GPU field pass's table holds as many:
 /// `MAX_STACKS` in shaders/slices/vertex_field.wgsl).
@@ -76,6 +88,40 @@ pub fn cloud_groups(states: &[EllipsoidState]) -> Vec<usize> {
     }
 }
 
+/// The closest vertex spacing the `clouds` may have for one plane of each
+/// together to hold at most [`PLANE_VERTEX_BUDGET`] vertices (0: the
+/// tessellation fits), found by bisection on the cells [`stack_cells`]
+/// gives each; a cloud's extent across its planes is taken as its box's
+/// diagonal (an upper bound whatever the orientation). units: m
+pub fn min_spacing_m(clouds: &[Vec<EllipsoidState>], cfg: &SlicesConfig) -> f32 {
+    let planes = cfg.planes() as usize;
+    let extents: Vec<f32> = clouds
+        .iter()
+        .filter_map(|c| bounds_m(c).map(|(lo, hi)| (hi - lo).length()))
+        .collect();
+    let vertices = |s: f32| -> usize {
+        extents
+            .iter()
+            .map(|&e| (stack_cells(cfg, planes, e, s) + 1).pow(2))
+            .sum()
+    };
+    if vertices(0.0) <= PLANE_VERTEX_BUDGET {
+        return 0.0;
+    }
+    // Past MAX_VERTEX_SPACING_M every cloud is at its floor: the budget
+    // cannot be met by spacing alone, and the floor wins.
+    let (mut lo, mut hi) = (0.0f32, MAX_VERTEX_SPACING_M);
+    for _ in 0..24 {
+        let mid = 0.5 * (lo + hi);
+        if vertices(mid) <= PLANE_VERTEX_BUDGET {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    hi
+}
+
 impl CloudSlices {
     /// The stacks of `states` for the light toward `to_light` and an eye
     /// at `eye_m` looking along `view_dir`: each cloud sliced for the
@@ -97,6 +143,7 @@ impl CloudSlices {
         for (e, &g) in live.iter().zip(&groups) {
             members[g].push(*e);
         }
+        let spacing = min_spacing_m(&members, cfg);
         // The clouds are independent: sliced on every core.
         let mut stacks = members
             .into_par_iter()
@@ -104,7 +151,7 @@ impl CloudSlices {
                 let (lo, hi) = bounds_m(&cloud).expect("a cloud has a primitive with strength");
                 let to_cloud = (lo + hi) * 0.5 - eye_m;
                 let dir = if to_cloud.length() > 1.0 { to_cloud } else { view_dir };
-                let geometry = slice_grid(&cloud, cfg, to_light, dir)?;
+                let geometry = slice_grid_spaced(&cloud, cfg, to_light, dir, spacing)?;
                 Ok((cloud, geometry, to_cloud.length()))
             })
             .collect::<Result<Vec<_>>>()?;

@@ -32,7 +32,7 @@ pub use octaves::{NoiseMotion, NoiseTier, OctaveUniform, octave_uniform};
 pub mod media {
     pub use crate::config::slices::MediaFilter;
 }
-pub use clouds::{CloudSlices, CloudStack, MAX_STACKS, cloud_groups};
+pub use clouds::{CloudSlices, CloudStack, MAX_STACKS, PLANE_VERTEX_BUDGET, cloud_groups};
 pub use slicing::{
     CloudScale, ShadowRays, SliceGeometry, SliceOrientation, SliceVertex, build_slices,
     slice_grid, slice_normal,

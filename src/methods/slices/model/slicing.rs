@@ -174,11 +174,15 @@ pub fn build_slices(
 }
 
 /// Cells across a stack whose planes are `extent_m` wide, with `planes`
-/// planes: the configured tessellation, or more where it would space the
+/// planes: the configured tessellation, but no finer than
+/// `min_spacing_m` (0: no such bound), and more where it would space the
 /// vertices wider than [`MAX_VERTEX_SPACING_M`], within
 /// [`MAX_STACK_VERTICES`].
-pub fn stack_cells(cfg: &SlicesConfig, planes: usize, extent_m: f32) -> usize {
-    let t = cfg.tessellation as usize;
+pub fn stack_cells(cfg: &SlicesConfig, planes: usize, extent_m: f32, min_spacing_m: f32) -> usize {
+    let mut t = cfg.tessellation as usize;
+    if min_spacing_m > 0.0 {
+        t = t.min((extent_m / min_spacing_m).ceil().max(1.0) as usize);
+    }
     let fine = (extent_m / MAX_VERTEX_SPACING_M).ceil().max(1.0) as usize;
     let most = ((MAX_STACK_VERTICES / planes.max(1) as u64) as f64).sqrt() as usize - 1;
     t.max(fine.min(most))
@@ -192,6 +196,18 @@ pub fn slice_grid(
     cfg: &SlicesConfig,
     to_light: Vec3,
     view_dir: Vec3,
+) -> Result<SliceGeometry> {
+    slice_grid_spaced(states, cfg, to_light, view_dir, 0.0)
+}
+
+/// [`slice_grid`] with its vertices no closer than `min_spacing_m` where
+/// the tessellation would put them closer ([`stack_cells`]).
+pub fn slice_grid_spaced(
+    states: &[EllipsoidState],
+    cfg: &SlicesConfig,
+    to_light: Vec3,
+    view_dir: Vec3,
+    min_spacing_m: f32,
 ) -> Result<SliceGeometry> {
     let l = unit("to_light", to_light)?;
     let v = unit("view_dir", view_dir)?;
@@ -234,7 +250,7 @@ pub fn slice_grid(
             .fold((f32::MAX, f32::MIN), |(a, b), x| (a.min(x), b.max(x)))
     };
     let ((u0, u1), (w0, w1), (n0, n1)) = (range(u), range(w), range(n));
-    let t = stack_cells(cfg, planes, (u1 - u0).max(w1 - w0));
+    let t = stack_cells(cfg, planes, (u1 - u0).max(w1 - w0), min_spacing_m);
     let side = t + 1;
     let scale = CloudScale::new(states, n, l);
     let plane_opacity = cfg.plane_opacity() * scale.view;
