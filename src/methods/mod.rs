@@ -7,11 +7,9 @@
 //! - [`slices`]: Schpok et al. 2003's authored ellipsoids drawn by
 //!   light-aligned slicing planes.
 //!
-//! [`clusters`] groups primitives into clouds (sprites and slices).
 //! [`standin`] is a deterministic stand-in cloud field for the tests and
 //! the bench (parcels any method draws).
 
-pub mod clusters;
 pub mod standin;
 
 use crate::config::RenderMethod;

@@ -171,7 +171,7 @@ fn many_small_clouds_are_merged_into_at_most_the_cap() {
             ellipsoid(c, Vec3::splat(300.0))
         })
         .collect();
-    let unmerged = cumulus::methods::clusters::touching_groups(
+    let unmerged = cumulus::physics::clusters::touching_groups(
         &states.iter().map(|e| (e.centre_m, 300.0)).collect::<Vec<_>>(),
         1.0,
         &|_, _| true,

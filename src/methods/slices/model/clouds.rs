@@ -29,7 +29,7 @@ use super::ellipsoid::{EllipsoidState, bounds_m};
 use super::slicing::{MAX_VERTEX_SPACING_M, SliceGeometry, slice_grid_spaced, stack_cells};
 use crate::config::slices::SlicesConfig;
 use crate::error::Result;
-use crate::methods::clusters::touching_groups;
+use crate::physics::clusters::touching_groups;
 
 /// Vertices of one plane of every stack together, beyond which the small
 /// clouds' vertices spread out: 2¹³ (about 90²), 7.5 × the one-stack

@@ -92,7 +92,7 @@ pub fn levels(bottom_m: f32, top_m: f32) -> Vec<ColorLevel> {
 /// Returns a cloud index per parcel, numbered in order of first parcel.
 pub fn clusters(parcels: &[CloudParcel]) -> Vec<usize> {
     let spheres: Vec<(Vec3, f32)> = parcels.iter().map(|p| (p.center_m, p.radius_m)).collect();
-    crate::methods::clusters::touching_groups(&spheres, TOUCHING, &|_, _| true)
+    crate::physics::clusters::touching_groups(&spheres, TOUCHING, &|_, _| true)
 }
 
 /// Every condensed parcel (fill > 0) as a sprite cloud, seeded by its

@@ -1,8 +1,9 @@
-//! Clouds as connected groups of spheres, shared by the methods that draw
-//! a cloud as a whole: the sprites shade touching parcels as one cloud
-//! (Wang 2003 §5), the slices give each cloud its own stack of planes
-//! (Schpok 2003 slices one cloud). A union-find over a uniform grid of
-//! the spheres' centres.
+//! Clouds as connected groups of spheres (parcels, or the bounding spheres
+//! of authored ellipsoids): which primitives make one cloud. The render
+//! methods that draw a cloud as a whole read it: the sprites shade
+//! touching parcels as one cloud (Wang 2003 §5), the slices give each
+//! cloud its own stack of planes (Schpok 2003 slices one cloud). A
+//! union-find over a uniform grid of the spheres' centres.
 
 use glam::{IVec3, Vec3};
 
