@@ -22,6 +22,11 @@ sRGB values on 0..1 (ours exists only as 8-bit display values).
 
 Terrain is switched off in both (Mitsuba gets no ground): the comparison is
 clouds against sky. `--quick` uses a CPU variant at a small size.
+`--methods slices,baked` renders only those methods. `--reuse-reference`
+takes the path-traced radiance from an earlier run into the same --out
+(pathtraced.npy) when its key (pathtraced.key: a hash of the exported
+grid, its sidecar and the path tracer's settings) is the same, so methods
+can be re-measured without path tracing again.
 
 Usage: python3 benches/pathtraced.py [--quick] --out DIR [--cumulus BIN]
 Requirements: pip install -r benches/requirements.txt
@@ -326,6 +331,20 @@ def load_png(path):
     return a[..., :3] / (255.0 if a.max() > 1.0 else 1.0)
 
 
+def reference_key(vol_path, side, settings):
+    """A hash of what the path-traced image depends on: the exported grid's
+    bytes, its sidecar and the path tracer's settings."""
+    import hashlib
+
+    h = hashlib.sha256()
+    with open(vol_path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
+    h.update(json.dumps(side, sort_keys=True).encode())
+    h.update(repr(settings).encode())
+    return h.hexdigest()
+
+
 def save_exr(path, rgb):
     import mitsuba as mi
 
@@ -361,6 +380,12 @@ def main():
         help="a flat Lambertian ground on both sides (Mitsuba: a square of the terrain's extent and "
         "GROUND_ALBEDO at z = 0; ours: the terrain flat), so both light the cloud bases from the same "
         "lower hemisphere; the errors are then taken over the pixels above the horizon only",
+    )
+    ap.add_argument("--methods", help="comma-separated render methods to measure (default: every one)")
+    ap.add_argument(
+        "--reuse-reference",
+        action="store_true",
+        help="reuse the path-traced radiance of an earlier run into --out when its key matches",
     )
     a = ap.parse_args()
 
@@ -412,7 +437,21 @@ def main():
 
         with open(a.scene, "rb") as f:
             extent = tomllib.load(f).get("render", {}).get("terrain", {}).get("extent_m", 40000.0)
-    hdr = path_trace(side, vol, (width, height), spp, variant, a.max_depth, extent)
+    key = reference_key(vol, side, (width, height, spp, variant, a.max_depth, extent))
+    cached = os.path.join(a.out, "pathtraced.npy")
+    key_path = os.path.join(a.out, "pathtraced.key")
+    reuse = a.reuse_reference and os.path.exists(cached) and os.path.exists(key_path)
+    if reuse:
+        with open(key_path, encoding="utf-8") as f:
+            reuse = f.read().strip() == key
+    if reuse:
+        hdr = np.load(cached)
+        print("path-traced radiance reused (same key)", file=sys.stderr)
+    else:
+        hdr = path_trace(side, vol, (width, height), spp, variant, a.max_depth, extent)
+        np.save(cached, np.asarray(hdr, dtype=np.float32))
+        with open(key_path, "w", encoding="utf-8") as f:
+            f.write(key + "\n")
     # Where the error is taken: everywhere, or above the horizon with a ground
     # (the two grounds' textures differ; the clouds are above it).
     sky = above_horizon(side["camera"], (width, height)) if a.ground else np.ones((height, width), bool)
@@ -426,7 +465,14 @@ def main():
     rows = [("pathtraced", pt_ms, 0.0, 0.0)]
     settings = sweep_settings(a.scene)
     settings = settings if a.settings == "all" else settings[:1]
-    for method in render_methods(cumulus):
+    methods = render_methods(cumulus)
+    if a.methods:
+        wanted = [m.strip() for m in a.methods.split(",") if m.strip()]
+        unknown = [m for m in wanted if m not in methods]
+        if unknown:
+            fail(f"--methods: {', '.join(unknown)} not among {', '.join(str(m) for m in methods)}")
+        methods = wanted
+    for method in methods:
         for name, overrides in settings:
             label = name if method is None else f"{name} method={method}"
             path = os.path.join(a.out, "scene_" + re.sub(r"[^a-z0-9_.=-]", "_", label) + ".toml")

@@ -16,7 +16,9 @@ The frames: the fair-weather and towering-cumulus scenes at 1800 s (their
 Samples per pixel and the Mitsuba variant are what pathtraced.py picks for
 the size: at 160x120 its --quick (scalar_rgb, 16 spp), at any other size
 its default (256 spp, cuda_ad_rgb where it loads, else scalar_rgb).
-`--quick` runs 160x120 only.
+`--quick` runs 160x120 only. `--methods` and `--reuse-reference` are passed
+to pathtraced.py (measure some methods; reuse the path-traced images of an
+earlier run into the same --out).
 
 Usage: python3 benches/pathtraced_frames.py [--quick] --out DIR [--cumulus BIN]
 """
@@ -107,6 +109,8 @@ def main():
     ap.add_argument("--variant", help="Mitsuba variant (default: pathtraced.py's for the size)")
     ap.add_argument("--max-depth", type=int, help="most scattering events per path (default: pathtraced.py's)")
     ap.add_argument("--voxel", type=float, help="export voxel (m); default: cumulus's")
+    ap.add_argument("--methods", help="comma-separated render methods (default: every one)")
+    ap.add_argument("--reuse-reference", action="store_true", help="reuse earlier path-traced images in --out")
     a = ap.parse_args()
 
     frames = [f.strip() for f in a.frames.split(",") if f.strip()]
@@ -132,6 +136,8 @@ def main():
             cmd += ["--variant", a.variant] if a.variant else []
             cmd += ["--max-depth", str(a.max_depth)] if a.max_depth else []
             cmd += ["--voxel", str(a.voxel)] if a.voxel else []
+            cmd += ["--methods", a.methods] if a.methods else []
+            cmd += ["--reuse-reference"] if a.reuse_reference else []
             t0 = time.time()
             p = subprocess.run(cmd, capture_output=True, text=True)
             if p.returncode != 0:

@@ -31,10 +31,10 @@ struct SlicesOctaves {
 }
 
 struct SlicesParams {
-    plane_opacity: f32,
-    alpha_cutoff: f32,
+    sharpness: f32,               // alpha cutoff ÷ plane opacity (Table 2)
     _pad2: f32,
-    shadow_scale: f32,            // vertex shadow to optical depth
+    _pad3: f32,
+    _pad4: f32,
     cloud_colour: vec3<f32>,      // lit cloud (linear)
     _pad0: f32,
     shadow_colour: vec3<f32>,     // fully shadowed cloud (linear)
@@ -136,6 +136,12 @@ fn wyvill(s2: f32) -> f32 {
 // Σ strength · C(s²) over the primitives listed in p's cell of the index
 // (FieldIndex::field), 0 below a primitive's flat base.
 fn implicit_field(p: vec3<f32>) -> f32 {
+    return implicit_field_of(p, 0u, 0xffffffffu);
+}
+
+// implicit_field over the primitives numbered in [first, end) alone: one
+// cloud's (a stack's vertices hold their own cloud's field).
+fn implicit_field_of(p: vec3<f32>, first: u32, end: u32) -> f32 {
     let n = u32(params.cells_per_axis);
     let q = (p - params.index_min) / params.index_cell;
     if any(q < vec3<f32>(0.0)) || any(q >= vec3<f32>(f32(n))) {
@@ -145,7 +151,11 @@ fn implicit_field(p: vec3<f32>) -> f32 {
     let cell = c.x + n * (c.y + n * c.z);
     var sum = 0.0;
     for (var k = cell_lists[cell]; k < cell_lists[cell + 1u]; k++) {
-        let e = primitives[cell_lists[k]];
+        let j = cell_lists[k];
+        if j < first || j >= end {
+            continue;
+        }
+        let e = primitives[j];
         if p.z < e.base_z_m {
             continue;
         }

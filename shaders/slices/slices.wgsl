@@ -16,8 +16,9 @@
 //              (Sharpness × plane opacity), and the artist's colours lit by
 //              the frame's sky and by its sun through exp(−shadow) (the
 //              shadow is an optical depth toward the sun; artist.wgsl).
-// Plane opacity and shadow come scaled for a cloudscape (one stack of
-// planes over many clouds): see CloudscapeScale in src/methods/slices/gpu/mod.rs.
+// Every cloud has its own stack (src/methods/slices/model/clouds.rs), whose
+// plane opacity rides on its vertices, compensated for the cloud and its
+// shadow scaled likewise: see CloudScale in src/methods/slices/model/slicing.rs.
 // Seen through the air per vertex (air.wgsl). Output is premultiplied,
 // through output_color() like every pass.
 
@@ -41,6 +42,7 @@ struct SliceIn {
     @location(0) position_m: vec3<f32>,
     @location(1) density: f32,
     @location(2) shadow: f32,
+    @location(3) plane_opacity: f32,
 }
 
 struct SliceOut {
@@ -52,6 +54,8 @@ struct SliceOut {
     // changes over kilometres, the planes' vertices over a few hundred metres.
     @location(3) air_light: vec3<f32>,
     @location(4) air_transmittance: vec3<f32>,
+    // The same on every vertex of a stack.
+    @location(5) @interpolate(flat) plane_opacity: f32,
 }
 
 @vertex
@@ -61,6 +65,7 @@ fn vs_main(v: SliceIn) -> SliceOut {
     o.world = v.position_m;
     o.density = v.density;
     o.shadow = v.shadow;
+    o.plane_opacity = v.plane_opacity;
     let from_eye = v.position_m - frame.camera_pos.eye_m;
     let dist = length(from_eye);
     let air = air_toward(from_eye / max(dist, 1e-3), dist);
@@ -81,17 +86,18 @@ fn fs_main(in: SliceOut) -> @location(0) vec4<f32> {
     // The media filters are at most 1: where the field alone leaves τ at
     // or under the cut-off, no noise can lift it over, so the four noise
     // fetches are skipped (the same image: render::slices_discard).
-    if EARLY_DISCARD && params.plane_opacity * in.density <= params.alpha_cutoff {
+    let cutoff = params.sharpness * in.plane_opacity;
+    if EARLY_DISCARD && in.plane_opacity * in.density <= cutoff {
         discard;
     }
-    let tau = params.plane_opacity * in.density * media_at(in.world);
-    if tau <= params.alpha_cutoff {
+    let tau = in.plane_opacity * in.density * media_at(in.world);
+    if tau <= cutoff {
         discard;
     }
     let alpha = 1.0 - exp(-tau);
     // Lit: the painted colour under the sky's light and the share of the
     // sun's the light-ray shadow (eq. 2) lets through.
-    let lit = exp(-in.shadow * params.shadow_scale);
+    let lit = exp(-in.shadow);
     let c = artist_light(mix(params.shadow_colour, params.cloud_colour, lit), 1.0, lit);
     let seen = seen_through(Air(in.air_light, in.air_transmittance), c * alpha, alpha);
     return vec4<f32>(output_color(seen), alpha);

@@ -315,6 +315,7 @@ impl Density {
             cfg,
             time as f32,
             cfg.sun_direction(),
+            camera.position,
             camera.target - camera.position,
             None, // the primitives only: no vertex values
         )?;

@@ -45,8 +45,9 @@ impl VertexField {
 #[serde(default, deny_unknown_fields)]
 pub struct SlicesConfig {
     /// Overall opacity of the cloud, 0.01 to 16 (the integral of plane
-    /// opacities across all planes; the renderer scales it so it acts on
-    /// one mean primitive, see `methods::slices::gpu::CloudscapeScale`).
+    /// opacities across all planes of a cloud's stack; the renderer scales
+    /// it so it acts on one mean primitive of the cloud, see
+    /// `methods::slices::model::CloudScale`).
     pub opacity: f32,
     /// Number of slicing planes, 8 to 1024.
     pub quality: u32,
@@ -98,7 +99,7 @@ pub struct SlicesConfig {
 impl Default for SlicesConfig {
     fn default() -> Self {
         Self {
-            // With the cloudscape scaling of the renderer, τ through a mean
+            // With the per-cloud scaling of the renderer, τ through a mean
             // primitive's centre is about Opacity × ½ (mean Wyvill field on
             // a diameter) × ½ (mean noise): 6 makes it ~0.8 opaque.
             opacity: 6.0,

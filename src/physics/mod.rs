@@ -13,6 +13,7 @@
 //! - [`ground`]: heat/humidity maps and the parcel generator;
 //! - [`parcel`]: one parcel's state and how to create one;
 //! - [`cloud_file`]: the condensed parcels as a CSV file;
+//! - [`clusters`]: which spheres touch, through chains (one cloud);
 //! - [`sph`], [`tessellation`], [`rng`]: kernels, the 18 × 9 sphere, SplitMix64;
 //! - [`scale_bench`]: the lattice worlds of the speed measurements.
 //!
@@ -40,6 +41,7 @@
 //!   Leaving the sides or the top (domain or profile) is an escape.
 
 pub mod cloud_file;
+pub mod clusters;
 pub mod config;
 pub mod ground;
 pub mod parcel;

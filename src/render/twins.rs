@@ -145,7 +145,7 @@ fn temporal_uniform_matches() {
 fn slices_structs_match() {
     use crate::methods::slices::gpu::SlicesParams;
     use crate::methods::slices::gpu::buffers::GpuPrimitive;
-    use crate::methods::slices::gpu::gpu_field::FieldJob;
+    use crate::methods::slices::gpu::gpu_field::{FieldJob, StackJob};
     use crate::methods::slices::model::octaves::{OctaveUniform, TierUniform};
     let m = module(&slices::SLICES, &slices::SLOTS);
     check(
@@ -173,10 +173,10 @@ fn slices_structs_match() {
         &m,
         "SlicesParams",
         rust_layout!(SlicesParams {
-            plane_opacity,
-            alpha_cutoff,
+            sharpness,
             _pad2,
-            shadow_scale,
+            _pad3,
+            _pad4,
             cloud_colour,
             _pad0,
             shadow_colour,
@@ -207,12 +207,27 @@ fn slices_structs_match() {
         rust_layout!(FieldJob {
             vertices,
             rays,
+            stack_count,
+            first_octave,
+            stacks,
+        }),
+    );
+    check(
+        &module(&slices::SLICE_FIELD, &slices::SLOTS),
+        "StackJob",
+        rust_layout!(StackJob {
+            first_vertex,
+            end_vertex,
+            first_ray,
+            end_ray,
             ray_stride,
             ray_offset,
             vertex_step,
             ray_vertices,
-            first_octave,
             shadow_step,
+            first_primitive,
+            end_primitive,
+            _pad,
         }),
     );
 }
@@ -300,5 +315,11 @@ fn constants_shared_with_rust_match() {
     assert_eq!(
         wgsl_const(&exact, "GRID_ENTRY_QUADS"),
         (MAX_GRID_ENTRIES / 4) as f64
+    );
+    // The stack table of the slices' vertex-field job.
+    let field = module(&slices::SLICE_FIELD, &slices::SLOTS);
+    assert_eq!(
+        wgsl_const(&field, "MAX_STACKS"),
+        crate::methods::slices::model::MAX_STACKS as f64
     );
 }

@@ -573,21 +573,39 @@ fn bad_ellipsoids_name_the_file_line_and_key() {
 #[test]
 fn authored_frame_gathers_geometry_and_octaves_for_the_renderer() {
     let p = SceneProfile::load(&profile_path()).unwrap_or_else(|e| panic!("{e}"));
-    let view = Vec3::from(p.camera.target_m) - Vec3::from(p.camera.position_m);
+    let eye = Vec3::from(p.camera.position_m);
+    let view = Vec3::from(p.camera.target_m) - eye;
     let sun = p.render.sun_direction();
     let s = &p.render.slices;
-    let at = |t| authored_frame(&p.ellipsoids, &p.particles, s, t, sun, view).unwrap();
+    let at = |t| authored_frame(&p.ellipsoids, &p.particles, s, t, sun, eye, view).unwrap();
     let f = at(600.0);
     assert_eq!(f.states.len(), 8);
-    assert_eq!(f.geometry.vertices.len(), 128 * 33 * 33);
+    // A stack per cloud, every primitive in one, each of Quality planes
+    // of square grids with vertices no farther apart than the floor,
+    // farthest first.
+    let stacks = &f.slices.stacks;
+    assert!(stacks.len() >= 2, "the storm and the cumulus apart");
+    assert_eq!(f.slices.states.len(), 8);
+    for st in stacks {
+        let g = &st.geometry;
+        assert_eq!(g.plane_offsets_m.len(), 128);
+        assert_eq!(g.vertices.len(), 128 * g.side() * g.side());
+        let p = |i: usize| Vec3::from(g.vertices[i].position_m);
+        // Unless one more cell a side would pass the stack's vertex cap
+        // (the storm's spreading anvil, 15 km and more at 128 planes).
+        let capped = (128 * (g.side() + 1).pow(2)) as u64 > slicing::MAX_STACK_VERTICES;
+        for step in [p(1) - p(0), p(g.side()) - p(0)] {
+            // f32 positions of km-scale vertices: 1e-4 relative.
+            assert!(capped || step.length() <= slicing::MAX_VERTEX_SPACING_M * 1.0001);
+        }
+    }
+    assert!(stacks.windows(2).all(|w| w[0].distance_m >= w[1].distance_m));
+    let v = f.slices.vertices();
     assert!(
-        f.geometry.vertices.iter().any(|v| v.density > 0.5),
+        v.iter().any(|v| v.density > 0.5),
         "the planes cross the clouds"
     );
-    assert!(
-        f.geometry.vertices.iter().any(|v| v.shadow > 0.01),
-        "and shade them"
-    );
+    assert!(v.iter().any(|v| v.shadow > 0.01), "and shade them");
     assert_eq!((f.octaves.tier_count, f.octaves.octave_count), (3, 4));
     // The noise pivots on the centre of the clouds' bounds at time 0: at
     // t = 0 every tier's first octave maps it to the texture origin.

@@ -7,6 +7,9 @@ use cumulus::methods::slices::model::{
 };
 use glam::{Mat3, Vec3};
 
+/// A sphere at the origin. The tests below that count vertices use
+/// spheres of 100 m or so: a stack that narrow keeps the configured
+/// tessellation (its vertices are closer than MAX_VERTEX_SPACING_M).
 fn sphere(radius_m: f32) -> EllipsoidState {
     EllipsoidState {
         centre_m: Vec3::ZERO,
@@ -97,10 +100,10 @@ fn planes_are_oriented_by_the_rule_for_several_light_view_pairs() {
 #[test]
 fn planes_come_back_to_front_and_carry_the_field() {
     let states = [
-        sphere(1000.0),
+        sphere(100.0),
         EllipsoidState {
-            centre_m: Vec3::new(800.0, 300.0, 200.0),
-            ..sphere(600.0)
+            centre_m: Vec3::new(80.0, 30.0, 20.0),
+            ..sphere(60.0)
         },
     ];
     for (l, v) in [
@@ -119,7 +122,7 @@ fn planes_come_back_to_front_and_carry_the_field() {
         );
         // Depth from an eye 20 km back along the view: plane after plane it
         // only decreases (painter's algorithm).
-        let eye = -v.normalize() * 20_000.0;
+        let eye = -v.normalize() * 2_000.0;
         let depth =
             |k: usize| (Vec3::from(g.vertices[k * per_plane].position_m) - eye).dot(v.normalize());
         assert!(
@@ -128,7 +131,7 @@ fn planes_come_back_to_front_and_carry_the_field() {
         );
         for (i, vert) in g.vertices.iter().enumerate() {
             let p = Vec3::from(vert.position_m);
-            // Positions are km-scale f32: millimetre rounding.
+            // Positions are 100 m-scale f32: well under millimetre rounding.
             assert!(
                 (g.normal.dot(p) - g.plane_offsets_m[i / per_plane]).abs() < 0.01,
                 "vertex {i} on its plane"
@@ -148,8 +151,8 @@ fn planes_come_back_to_front_and_carry_the_field() {
     }
 }
 
-/// C(s) of the Wyvill function at the four plane offsets ±125, ±375, ±625,
-/// ±875 m of 8 planes through a 1 km sphere, worked out by hand from
+/// C(s) of the Wyvill function at the four plane offsets ±12.5, ±37.5,
+/// ±62.5, ±87.5 m of 8 planes through a 100 m sphere, worked out by hand from
 /// 1 − 4/9·s⁶ + 17/9·s⁴ − 22/9·s².
 const C_0125: f32 = 0.962_265;
 const C_0375: f32 = 0.692_367_6;
@@ -161,15 +164,15 @@ fn shadow_accumulates_along_the_light_as_eq_2() {
     assert!((wyvill(0.375 * 0.375) - C_0375).abs() < 1e-6);
     let d = 0.5;
     // Sun overhead, viewer looking down: 8 planes across the light, the
-    // first drawn at z = −875 m (farthest), the last at +875 m (nearest
+    // first drawn at z = −87.5 m (farthest), the last at +87.5 m (nearest
     // the sun). The centre vertex of each 3×3 grid is on the z axis.
-    let g = build_slices(&[sphere(1000.0)], &cfg(8, 2, d), Vec3::Z, -Vec3::Z).unwrap();
+    let g = build_slices(&[sphere(100.0)], &cfg(8, 2, d), Vec3::Z, -Vec3::Z).unwrap();
     assert_eq!(g.orientation, Some(SliceOrientation::OrthogonalToLight));
     let centre: Vec<_> = (0..8).map(|k| g.vertices[k * 9 + 4]).collect();
     let z: Vec<f32> = centre.iter().map(|v| v.position_m[2]).collect();
     assert_eq!(
         z,
-        [-875.0, -625.0, -375.0, -125.0, 125.0, 375.0, 625.0, 875.0]
+        [-87.5, -62.5, -37.5, -12.5, 12.5, 37.5, 62.5, 87.5]
     );
     // shadow_i = shadow_(i−1) + (Dirtiness ÷ plane opacity) × plane opacity
     // × C_i ÷ 8 (the 8 vertices along each light ray), from the top down.
@@ -192,7 +195,7 @@ fn shadow_accumulates_along_the_light_as_eq_2() {
         );
     }
     assert!((centre[0].shadow - d / 4.0 * (C_0125 + C_0375 + C_0625 + C_0875)).abs() < 1e-5);
-    // Every other grid vertex is 1 km or more off the axis: outside the
+    // Every other grid vertex is 100 m or more off the axis: outside the
     // sphere, no density and no shadow.
     assert!(
         g.vertices
@@ -204,16 +207,16 @@ fn shadow_accumulates_along_the_light_as_eq_2() {
 
     // Sun in the east, viewer looking north: planes contain the light; each
     // grid row of 3 vertices runs along x, and the shadow grows westward
-    // from x = +1 km.
-    let g = build_slices(&[sphere(1000.0)], &cfg(8, 2, d), Vec3::X, Vec3::Y).unwrap();
+    // from x = +100 m.
+    let g = build_slices(&[sphere(100.0)], &cfg(8, 2, d), Vec3::X, Vec3::Y).unwrap();
     assert_eq!(g.orientation, Some(SliceOrientation::ParallelToLight));
-    // Plane 3 of the draw order is at y = +125 m; its middle row is z = 0.
+    // Plane 3 of the draw order is at y = +12.5 m; its middle row is z = 0.
     let row: Vec<_> = (0..3).map(|i| g.vertices[3 * 9 + 3 + i]).collect();
     assert_eq!(
         row.iter().map(|v| v.position_m[0]).collect::<Vec<_>>(),
-        [-1000.0, 0.0, 1000.0]
+        [-100.0, 0.0, 100.0]
     );
-    assert_eq!(row[1].position_m[1], 125.0);
+    assert_eq!(row[1].position_m[1], 12.5);
     assert_eq!(row[2].shadow, 0.0, "nearest the sun, outside the sphere");
     assert!((row[1].shadow - d * C_0125 / 3.0).abs() < 1e-6);
     assert!(
@@ -224,13 +227,13 @@ fn shadow_accumulates_along_the_light_as_eq_2() {
 
 #[test]
 fn quality_does_not_darken_the_shadow() {
-    // Behind a 1 km sphere lit from above: the shadow at the bottom of its
+    // Behind a 100 m sphere lit from above: the shadow at the bottom of its
     // axis is Dirtiness × the mean of C along a diameter, whatever the
     // number of planes (or, with planes containing the light, of vertices
     // per row).
     let bottom = |quality: u32, tessellation: u32, to_light: Vec3, view: Vec3| {
         let g = build_slices(
-            &[sphere(1000.0)],
+            &[sphere(100.0)],
             &cfg(quality, tessellation, 0.5),
             to_light,
             view,

@@ -53,6 +53,7 @@ fn an_authored_animation_exports_as_a_numbered_series() {
         cfg,
         0.0,
         cfg.sun_direction(),
+        camera.position,
         camera.target - camera.position,
         None, // the primitives only: no vertex values
     )

@@ -363,6 +363,7 @@ fn cpu_frame(scene: &SceneProfile) -> cumulus::methods::slices::gpu::SlicesFrame
         cfg,
         scene.simulation.start_s as f32,
         cfg.sun().direction,
+        camera.position,
         camera.target - camera.position,
         Some(&noise),
     )
@@ -379,7 +380,7 @@ fn the_first_octave_shades_the_vertex_shadow_and_can_be_switched_off() {
     };
     let (on, off) = (cpu_frame(&sets("true")), cpu_frame(&sets("false")));
     let (mut moved, mut total) = (0.0f32, 0.0f32);
-    for (a, b) in on.geometry.vertices.iter().zip(&off.geometry.vertices) {
+    for (a, b) in on.slices.vertices().iter().zip(&off.slices.vertices()) {
         assert_eq!(a.density, b.density, "the field itself does not change");
         moved += (a.shadow - b.shadow).abs();
         total += b.shadow;
@@ -416,15 +417,16 @@ fn parcels_sliced_get_flat_bases_at_their_condensation_planes() {
         &cfg,
         0.0,
         cfg.sun().direction,
+        glam::Vec3::new(-3000.0, -10000.0, 2000.0),
         glam::Vec3::new(0.3, 1.0, -0.1),
         Some(&noise),
     )
     .unwrap();
-    let v = &frame.geometry.vertices;
+    let v = &frame.slices.vertices();
     // The drawn sphere (radius × radius_scale) reaches far below the plane,
     // but every vertex under it is empty and the cloud above it is not.
     let below: Vec<_> = v.iter().filter(|v| v.position_m[2] < plane).collect();
-    assert!(frame.states[0].centre_m.z - frame.states[0].radii_m.z < plane - 300.0);
+    assert!(frame.slices.states[0].centre_m.z - frame.slices.states[0].radii_m.z < plane - 300.0);
     assert!(below.len() > v.len() / 10, "{} of {}", below.len(), v.len());
     assert!(below.iter().all(|v| v.density == 0.0));
     assert!(v.iter().any(|v| v.position_m[2] > plane && v.density > 0.5));
@@ -497,7 +499,8 @@ fn the_compute_pass_gives_the_cpu_vertex_field() {
     let cpu_scene = authored(&sets);
     let gpu_scene = authored(&["render.slices.quality=32", "render.slices.vertex_field=gpu"]);
     let reference = cpu_frame(&cpu_scene);
-    let n = reference.geometry.vertices.len();
+    let reference = reference.slices.vertices();
+    let n = reference.len();
     let cfg = &gpu_scene.render;
     let mut hl = Headless::new(&ctx, cfg, SIZE.0, SIZE.1).unwrap();
     hl.renderer
@@ -512,7 +515,7 @@ fn the_compute_pass_gives_the_cpu_vertex_field() {
     assert!(hl.renderer.pass_names().contains(&"slice_field"));
     let gpu = hl.renderer.slice_vertices(&ctx, n).unwrap();
     let (mut field, mut shadow, mut max_shadow) = (0.0f32, 0.0f32, 0.0f32);
-    for (c, g) in reference.geometry.vertices.iter().zip(&gpu) {
+    for (c, g) in reference.iter().zip(&gpu) {
         assert_eq!(c.position_m, g.position_m);
         field = field.max((c.density - g.density).abs());
         shadow = shadow.max((c.shadow - g.shadow).abs());

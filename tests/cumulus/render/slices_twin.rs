@@ -43,6 +43,7 @@ fn gpu_slices_density_matches_its_cpu_twin() {
         cfg,
         120.0,
         Vec3::new(0.3, 0.2, 0.9).normalize(),
+        Vec3::new(0.0, -20000.0, 3000.0),
         Vec3::Y,
         None,
     )
@@ -56,7 +57,7 @@ fn gpu_slices_density_matches_its_cpu_twin() {
         s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
         (s >> 8) as f32 / (1u32 << 24) as f32
     };
-    let states = &frame.states;
+    let states = &frame.slices.states;
     let pts: Vec<[f32; 4]> = (0..4096)
         .map(|k| {
             let u = Vec3::new(rnd(), rnd(), rnd());
@@ -77,7 +78,7 @@ fn gpu_slices_density_matches_its_cpu_twin() {
     let noise = cumulus::noise::NoiseVolume::new(cfg.noise_texels);
     let noise_view = cumulus::gpu::noise::texture(&noise, device, &ctx.queue);
     let sampler = cumulus::gpu::noise::repeat_sampler(device);
-    let prims: Vec<GpuPrimitive> = frame.states.iter().map(GpuPrimitive::new).collect();
+    let prims: Vec<GpuPrimitive> = frame.slices.states.iter().map(GpuPrimitive::new).collect();
     let octaves = buffer(device, bytemuck::bytes_of(&frame.octaves), U::UNIFORM);
     let params = buffer(device, bytemuck::bytes_of(&frame.params), U::UNIFORM);
     let prims = buffer(device, bytemuck::cast_slice(&prims), U::STORAGE);

@@ -132,11 +132,12 @@ impl SlicesGpu {
         let q = &ctx.queue;
         q.write_buffer(&self.octaves, 0, bytemuck::bytes_of(&frame.octaves));
         q.write_buffer(&self.params, 0, bytemuck::bytes_of(&frame.params));
-        let g = &frame.geometry;
-        self.primitives_drawn = frame.states.len() as u32;
-        self.index_count = g.indices.len() as u32;
+        let vertices = frame.slices.vertices();
+        let indices = frame.slices.indices(frame.values_on_cpu);
+        self.primitives_drawn = frame.slices.states.len() as u32;
+        self.index_count = indices.len() as u32;
         let storage = wgpu::BufferUsages::STORAGE;
-        let packed: Vec<GpuPrimitive> = frame.states.iter().map(GpuPrimitive::new).collect();
+        let packed: Vec<GpuPrimitive> = frame.slices.states.iter().map(GpuPrimitive::new).collect();
         let mut rebind = fill(
             ctx,
             &mut self.primitives,
@@ -155,20 +156,20 @@ impl SlicesGpu {
             self.bind = Some(self.make_bind(&ctx.device, &layouts.get(&super::passes::PRIMITIVES)));
         }
         self.field_pending = false;
-        if g.indices.is_empty() {
+        if indices.is_empty() {
             return Ok(());
         }
         let vertices_grown = fill(
             ctx,
             &mut self.vertices,
-            bytemuck::cast_slice::<SliceVertex, u8>(&g.vertices),
+            bytemuck::cast_slice::<SliceVertex, u8>(&vertices),
             wgpu::BufferUsages::VERTEX | storage | wgpu::BufferUsages::COPY_SRC,
             "slices: vertices",
         );
         fill(
             ctx,
             &mut self.indices,
-            bytemuck::cast_slice::<u32, u8>(&g.indices),
+            bytemuck::cast_slice::<u32, u8>(&indices),
             wgpu::BufferUsages::INDEX,
             "slices: indices",
         );
@@ -260,7 +261,9 @@ impl SlicesGpu {
         Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
 
-    /// Draws the uploaded planes (pipeline and groups 0–1 already set).
+    /// Draws the uploaded planes (pipeline and groups 0–1 already set):
+    /// one draw, the stacks one after the other in the index buffer, so
+    /// the clouds blend back to front as their planes do.
     pub fn draw(&self, rp: &mut wgpu::RenderPass<'_>) {
         let (Some(v), Some(i), Some(bind)) = (&self.vertices, &self.indices, &self.bind) else {
             return;

@@ -26,7 +26,7 @@ impl AuthoredField {
     /// volume of `noise_texels` (`render.noise_texels`).
     pub fn new(frame: &super::SlicesFrame, noise_texels: u32) -> Self {
         Self {
-            states: frame.states.clone(),
+            states: frame.slices.states.clone(),
             octaves: frame.octaves,
             noise: NoiseVolume::new(noise_texels),
         }

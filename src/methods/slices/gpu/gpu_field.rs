@@ -1,19 +1,25 @@
 //! The slice vertices' field and shadow in a compute pass (`[render.slices]
 //! vertex_field = "gpu"`, shaders/slices/vertex_field.wgsl): one dispatch
-//! evaluates the Wyvill sum at every vertex, a second walks every light
-//! ray of [`ShadowRays`] accumulating eq. 2, both into the vertex buffer
+//! evaluates the Wyvill sum of its stack's own primitives at every vertex,
+//! a second walks every light ray of every stack's [`ShadowRays`]
+//! accumulating eq. 2, both into the vertex buffer
 //! the planes are then drawn from. The CPU's `SliceGeometry::evaluate` is
 //! the reference it is tested against. Its pipelines are made at the first
 //! frame that asks for them, never when the CPU evaluates the vertices.
 
 use bytemuck::{Pod, Zeroable};
 
+use glam::Vec3;
+
 use super::SlicesFrame;
 use super::passes::{FIELD_JOB, PRIMITIVES, SLICE_FIELD, SLOTS};
+use crate::methods::slices::model::SlicesConfig;
+use crate::methods::slices::model::clouds::{CloudSlices, MAX_STACKS};
 use crate::error::Result;
 use crate::gpu::GpuContext;
 use crate::gpu::layouts::{COMMON, Layouts, uniform_buffer};
 use crate::gpu::pass::SLOT_GROUP;
+#[cfg(doc)]
 use crate::methods::slices::model::slicing::ShadowRays;
 
 /// Threads per workgroup of both entry points (`@workgroup_size(64)`).
@@ -21,12 +27,16 @@ const WORKGROUP: u32 = 64;
 /// Most workgroups along x (WebGPU's minimum limit); more go along y.
 const MAX_GROUPS_X: u32 = 65535;
 
-/// WGSL `struct FieldJob` in shaders/slices/vertex_field.wgsl (32 bytes).
+/// One stack's share of the job: WGSL `struct StackJob` in
+/// shaders/slices/vertex_field.wgsl (48 bytes). Ray starts are relative to
+/// the stack's first vertex.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct FieldJob {
-    pub vertices: u32,
-    pub rays: u32,
+pub struct StackJob {
+    pub first_vertex: u32,
+    pub end_vertex: u32,
+    pub first_ray: u32,
+    pub end_ray: u32,
     /// Vertex index stride between ray starts.
     pub ray_stride: u32,
     /// Vertex index of the first ray's start.
@@ -35,26 +45,63 @@ pub struct FieldJob {
     pub vertex_step: i32,
     /// Vertices per ray.
     pub ray_vertices: i32,
-    /// 1: the shadow weighs the first noise octave.
-    pub first_octave: i32,
-    /// units: m
+    /// [`ShadowRays::shadow_step`].
     pub shadow_step: f32,
+    /// The stack's primitives, a range of the primitive buffer.
+    pub first_primitive: u32,
+    pub end_primitive: u32,
+    pub _pad: u32,
 }
 
-const _: () = assert!(std::mem::size_of::<FieldJob>() == 32);
+const _: () = assert!(std::mem::size_of::<StackJob>() == 48);
+
+/// WGSL `struct FieldJob` in shaders/slices/vertex_field.wgsl (16 + 48 ×
+/// [`MAX_STACKS`] bytes).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct FieldJob {
+    pub vertices: u32,
+    pub rays: u32,
+    pub stack_count: u32,
+    /// 1: the shadow weighs the first noise octave.
+    pub first_octave: i32,
+    pub stacks: [StackJob; MAX_STACKS],
+}
+
+const _: () = assert!(std::mem::size_of::<FieldJob>() == 16 + 48 * MAX_STACKS);
 
 impl FieldJob {
-    pub fn new(vertices: u32, rays: &ShadowRays, shadow_octave: bool) -> Self {
-        Self {
-            vertices,
-            rays: rays.rays,
-            ray_stride: rays.start_stride,
-            ray_offset: rays.start_offset,
-            vertex_step: rays.step,
-            ray_vertices: rays.count as i32,
-            first_octave: shadow_octave as i32,
-            shadow_step: rays.shadow_step,
+    /// The job of every stack of `slices`, drawn with `cfg`, lit from
+    /// `to_light`.
+    pub fn new(slices: &CloudSlices, cfg: &SlicesConfig, to_light: Vec3) -> Self {
+        let mut job = Self::zeroed();
+        job.first_octave = cfg.shadow_octave as i32;
+        for (k, s) in slices.stacks.iter().enumerate() {
+            let g = &s.geometry;
+            let first_vertex = job.vertices;
+            job.vertices += g.vertices.len() as u32;
+            let mut stack = StackJob {
+                first_vertex,
+                end_vertex: job.vertices,
+                first_ray: job.rays,
+                end_ray: job.rays,
+                first_primitive: s.primitives.start as u32,
+                end_primitive: s.primitives.end as u32,
+                ..StackJob::zeroed()
+            };
+            if let Some(rays) = g.shadow_rays(cfg, to_light) {
+                job.rays += rays.rays;
+                stack.end_ray = job.rays;
+                stack.ray_stride = rays.start_stride;
+                stack.ray_offset = rays.start_offset;
+                stack.vertex_step = rays.step;
+                stack.ray_vertices = rays.count as i32;
+                stack.shadow_step = rays.shadow_step;
+            }
+            job.stacks[k] = stack;
+            job.stack_count = k as u32 + 1;
         }
+        job
     }
 }
 
@@ -127,15 +174,11 @@ impl FieldPass {
         vertices: &wgpu::Buffer,
         rebind: bool,
     ) {
-        let g = &frame.geometry;
-        self.vertices = g.vertices.len() as u32;
-        self.rays = 0;
-        if let Some(rays) = g.shadow_rays(&frame.cfg, frame.to_light) {
-            self.rays = rays.rays;
-            let job = FieldJob::new(self.vertices, &rays, frame.cfg.shadow_octave);
-            ctx.queue
-                .write_buffer(&self.job, 0, bytemuck::bytes_of(&job));
-        }
+        let job = FieldJob::new(&frame.slices, &frame.cfg, frame.to_light);
+        self.vertices = job.vertices;
+        self.rays = job.rays;
+        ctx.queue
+            .write_buffer(&self.job, 0, bytemuck::bytes_of(&job));
         if rebind || self.bind.is_none() {
             self.bind = Some(ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("slice field: job and vertices"),

@@ -133,6 +133,7 @@ impl CloudMethod for Slices {
             cfg,
             input.time_s,
             input.sun.direction,
+            input.camera.position,
             input.camera.target - input.camera.position,
             self.noise.as_ref().filter(|_| cpu).map(|(_, v)| v),
         )?;
@@ -145,7 +146,7 @@ impl CloudMethod for Slices {
         if self.gpu.index_count > 0 {
             grid.parcel_count = self.gpu.primitives_drawn;
             if let Some((lo, hi)) =
-                crate::methods::slices::model::ellipsoid::bounds_m(&frame.states)
+                crate::methods::slices::model::ellipsoid::bounds_m(&frame.slices.states)
             {
                 grid.min = lo;
                 grid.cell = (hi - lo).max(glam::Vec3::ONE);

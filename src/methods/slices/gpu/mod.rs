@@ -1,8 +1,8 @@
 //! The `slices` render method on the GPU (Schpok et al. 2003 §4, Table 1):
-//! each frame the CPU half ([`crate::methods::slices::model::slicing`]) slices the
-//! implicit field of the authored ellipsoids and of the physics' parcels
-//! (each a sphere of the rendered radius) with light-aligned planes and
-//! stores field and shadow at the vertices; this module uploads those
+//! each frame the CPU half ([`crate::methods::slices::model::clouds`]) groups
+//! the authored ellipsoids and the physics' parcels (each a sphere of the
+//! rendered radius) into clouds, slices each cloud with its own stack of
+//! light-aligned planes and stores field and shadow at the vertices; this module uploads those
 //! vertices, the noise-octave transforms ([`OctaveUniform`]) and the
 //! qualitative controls ([`SlicesParams`]) into the buffers of
 //! [`buffers`]; [`method`] (the render-method trait) draws them with
@@ -30,26 +30,26 @@ use glam::Vec3;
 use crate::config::RenderConfig;
 use crate::error::Result;
 use crate::methods::slices::model::ellipsoid::FieldIndex;
+use crate::methods::slices::model::clouds::CloudSlices;
 use crate::methods::slices::model::ellipsoid::{EllipsoidState, bounds_m};
 use crate::methods::slices::model::octaves::{OctaveUniform, octave_uniform};
-use crate::methods::slices::model::slicing::{SliceGeometry, slice_grid};
+use crate::methods::slices::model::slicing::CloudScale;
 use crate::methods::slices::model::{Ellipsoid, ParticleConfig, states_at};
 use crate::noise::NoiseVolume;
 use crate::physics::CloudParcel;
 
 /// The qualitative controls as the shaders take them: WGSL
 /// `struct SlicesParams` in shaders/slices/implicit.wgsl (80 bytes; a test
-/// compares the layouts).
+/// compares the layouts). The plane opacity is per stack, in the vertices
+/// ([`crate::methods::slices::model::CloudScale`]).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct SlicesParams {
-    /// Plane opacity (Opacity ÷ planes) × the view's [`CloudscapeScale`].
-    pub plane_opacity: f32,
-    /// Alpha cutoff (Sharpness × that plane opacity).
-    pub alpha_cutoff: f32,
+    /// Sharpness: the alpha cutoff in units of the plane opacity (Table 2).
+    pub sharpness: f32,
     pub _pad2: f32,
-    /// The light's [`CloudscapeScale`] (× the vertex shadow).
-    pub shadow_scale: f32,
+    pub _pad3: f32,
+    pub _pad4: f32,
     /// Lit cloud colour as painted (sRGB-encoded).
     pub cloud_colour: [f32; 3],
     pub _pad0: f32,
@@ -71,72 +71,22 @@ pub struct SlicesParams {
 
 const _: () = assert!(std::mem::size_of::<SlicesParams>() == 80);
 
-/// The paper slices one cloud, so its planes span that cloud and "plane
-/// opacity = Opacity ÷ planes" makes Opacity the cloud's opacity whatever
-/// the Quality. We slice a whole cloudscape with one stack of planes over
-/// the bounds of every primitive, so a cloud crosses only the fraction
-/// (its depth ÷ the bounds' depth) of the planes, and the same for the
-/// vertices its shadow sums along a light ray (slicing.rs divides by all
-/// of them). These factors, the bounds' depth over the mean primitive's
-/// depth along the view-side normal and along the light, restore the
-/// paper's meaning: Opacity (and Dirtiness) act on one mean primitive as
-/// they would on the paper's single cloud. Neither depends on Quality or
-/// Opacity, so the compensations of Table 2 still hold.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CloudscapeScale {
-    /// Along the planes' normal (multiplies the plane opacity and cutoff).
-    pub view: f32,
-    /// Along the light (multiplies the vertex shadow).
-    pub light: f32,
-    /// The mean primitive's depth along the light. units: m
-    pub mean_depth_light_m: f32,
-}
-
-impl CloudscapeScale {
-    /// The factors for `states` (strength > 0 count) sliced along `normal`
-    /// with light toward `to_light`; 1 when there is no primitive.
-    pub fn new(states: &[EllipsoidState], normal: Vec3, to_light: Vec3) -> Self {
-        let Some((lo, hi)) = bounds_m(states) else {
-            return Self {
-                view: 1.0,
-                light: 1.0,
-                mean_depth_light_m: 1.0,
-            };
-        };
-        // Depth along unit `d` of a box of half-extents h: 2·Σ|d_k|·h_k.
-        let depth = |d: Vec3, h: Vec3| 2.0 * d.abs().dot(h);
-        let live: Vec<Vec3> = states
-            .iter()
-            .filter(|e| e.strength > 0.0)
-            .map(|e| e.half_extent_m())
-            .collect();
-        let mean = |d: Vec3| {
-            let d = d.normalize_or_zero();
-            live.iter().map(|h| depth(d, *h)).sum::<f32>() / live.len() as f32
-        };
-        let ratio = |d: Vec3| depth(d.normalize_or_zero(), (hi - lo) * 0.5) / mean(d);
-        Self {
-            view: ratio(normal),
-            light: ratio(to_light),
-            mean_depth_light_m: mean(to_light).max(1.0),
-        }
-    }
-}
-
 impl SlicesParams {
-    /// The derived quantities of `[render.slices]` (Table 2), scaled for
-    /// the cloudscape by `scale`, with the primitives' grid `index`
+    /// The derived quantities of `[render.slices]` (Table 2) for the
+    /// primitives `states` lit from `to_light`, with their grid `index`
     /// ([`FlatIndex`]).
     pub fn new(
         cfg: &crate::methods::slices::model::SlicesConfig,
-        scale: CloudscapeScale,
+        states: &[EllipsoidState],
+        to_light: Vec3,
         index: &FlatIndex,
     ) -> Self {
+        let mean_depth_light_m = CloudScale::new(states, to_light, to_light).mean_depth_light_m;
         Self {
-            plane_opacity: cfg.plane_opacity() * scale.view,
-            alpha_cutoff: cfg.alpha_cutoff() * scale.view,
+            sharpness: cfg.sharpness,
             _pad2: 0.0,
-            shadow_scale: scale.light,
+            _pad3: 0.0,
+            _pad4: 0.0,
             cloud_colour: cfg.cloud_colour,
             _pad0: 0.0,
             shadow_colour: cfg.shadow_colour,
@@ -144,7 +94,7 @@ impl SlicesParams {
             index_min: index.min_m.to_array(),
             cells_per_axis: index.cells_per_axis as f32,
             index_cell: index.cell_m.to_array(),
-            shadow_extinction_per_m: cfg.opacity / scale.mean_depth_light_m,
+            shadow_extinction_per_m: cfg.opacity / mean_depth_light_m,
         }
     }
 }
@@ -195,10 +145,10 @@ pub fn parcel_spheres(parcels: &[CloudParcel], radius_scale: f32) -> Vec<Ellipso
 
 /// Everything the slices pass draws in one frame.
 pub struct SlicesFrame {
-    /// Every primitive at this frame's time: the authored ellipsoids, then
-    /// the parcel spheres.
-    pub states: Vec<EllipsoidState>,
-    pub geometry: SliceGeometry,
+    /// Every cloud's stack, farthest first, and every primitive with
+    /// strength at this frame's time (the authored ellipsoids and the
+    /// parcel spheres) grouped by cloud in that order (`slices.states`).
+    pub slices: CloudSlices,
     pub octaves: OctaveUniform,
     pub params: SlicesParams,
     /// The primitives' grid index (the GPU's field reads it).
@@ -214,8 +164,8 @@ pub struct SlicesFrame {
 
 /// Builds the frame at `time_s` (units: s): the authored `ellipsoids`
 /// animated by their keyframes and `particles`, plus the `parcels` as
-/// spheres, sliced for the light toward `to_light` and a viewer looking
-/// along `view_dir`, with the noise octaves of `cfg.slices` pivoting on the
+/// spheres, a stack per cloud, sliced for the light toward `to_light` and
+/// an eye at `eye_m` looking along `view_dir`, with the noise octaves of `cfg.slices` pivoting on the
 /// authored clouds' centre at time 0 (so the pivot does not drift with
 /// them; the origin when there are none). With `cpu_noise` the vertices'
 /// field and shadow are evaluated here on the CPU (the noise volume gives
@@ -230,6 +180,7 @@ pub fn slices_frame(
     cfg: &RenderConfig,
     time_s: f32,
     to_light: Vec3,
+    eye_m: Vec3,
     view_dir: Vec3,
     cpu_noise: Option<&NoiseVolume>,
 ) -> Result<SlicesFrame> {
@@ -238,7 +189,7 @@ pub fn slices_frame(
     states.extend(parcel_spheres(parcels, cfg.radius_scale));
     let pivot_m = bounds_m(&states_at(ellipsoids, particles, 0.0))
         .map_or(Vec3::ZERO, |(lo, hi)| (lo + hi) * 0.5);
-    let mut geometry = slice_grid(&states, s, to_light, view_dir)?;
+    let mut slices = CloudSlices::grid(&states, s, to_light, eye_m, view_dir)?;
     let octaves = octave_uniform(
         &s.tiers,
         &s.base,
@@ -249,15 +200,13 @@ pub fn slices_frame(
     );
     if let Some(noise) = cpu_noise {
         let weight = |p: Vec3| field::first_octave_weight(&octaves, noise, p);
-        let weight: Option<&dyn Fn(Vec3) -> f32> = s.shadow_octave.then_some(&weight);
-        geometry.evaluate(&states, s, to_light, weight)?;
+        let weight: Option<&(dyn Fn(Vec3) -> f32 + Sync)> = s.shadow_octave.then_some(&weight);
+        slices.evaluate(s, to_light, weight)?;
     }
-    let scale = CloudscapeScale::new(&states, geometry.normal, to_light);
-    let index = FlatIndex::new(&states);
+    let index = FlatIndex::new(&slices.states);
     Ok(SlicesFrame {
-        params: SlicesParams::new(s, scale, &index),
-        states,
-        geometry,
+        params: SlicesParams::new(s, &slices.states, to_light, &index),
+        slices,
         octaves,
         index,
         values_on_cpu: cpu_noise.is_some(),

@@ -36,9 +36,9 @@ pub static FIELD_JOB: LayoutSpec = LayoutSpec {
 };
 
 /// Vertex layout of [`crate::methods::slices::model::SliceVertex`]:
-/// position, field, shadow.
-pub const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
-    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32, 2 => Float32];
+/// position, field, shadow, plane opacity.
+pub const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 4] =
+    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32, 2 => Float32, 3 => Float32];
 
 /// The planes, back to front into the float cloud image, premultiplied
 /// "over" (shaders/slices/slices.wgsl).

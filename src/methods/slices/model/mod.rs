@@ -11,9 +11,11 @@
 //!   (`[render.slices]`) are configuration: [`crate::config::slices`];
 //! - [`pick`]: picking, moving and resizing ellipsoids with the mouse;
 //! - [`slicing`]: light-aligned slicing planes, vertex field and shadows;
+//! - [`clouds`]: the primitives grouped into clouds, a stack each;
 //! - [`frame`]: all of it for one frame, as the slice renderer takes it.
 
 pub mod animation;
+pub mod clouds;
 pub mod ellipsoid;
 pub mod frame;
 pub mod octaves;
@@ -30,9 +32,10 @@ pub use octaves::{NoiseMotion, NoiseTier, OctaveUniform, octave_uniform};
 pub mod media {
     pub use crate::config::slices::MediaFilter;
 }
+pub use clouds::{CloudSlices, CloudStack, MAX_STACKS, PLANE_VERTEX_BUDGET, cloud_groups};
 pub use slicing::{
-    ShadowRays, SliceGeometry, SliceOrientation, SliceVertex, build_slices, slice_grid,
-    slice_normal,
+    CloudScale, ShadowRays, SliceGeometry, SliceOrientation, SliceVertex, build_slices,
+    slice_grid, slice_normal,
 };
 
 use crate::error::{Error, Result};

@@ -4,7 +4,9 @@
 //! implicit field sampled at every vertex; the shadow accumulated along
 //! vertices colinear with the light ray (eq. 2); planes emitted back to
 //! front for the painter's algorithm. The output is vertex and index
-//! arrays a GPU pass draws as they are.
+//! arrays a GPU pass draws as they are. This is one stack over one cloud,
+//! as the paper slices one cloud; [`super::clouds`] gives every cloud of
+//! a scene its own.
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
@@ -16,6 +18,17 @@ use crate::error::{Error, Result};
 /// Most vertices one slicing may produce (planes × (tessellation + 1)²):
 /// 2²³ vertices are 168 MB of vertices and about as much of indices.
 pub const MAX_SLICE_VERTICES: u64 = 1 << 23;
+
+/// The widest spacing of a stack's vertices across its planes: a 2 km
+/// tower must get at least 16 vertices across (issue 33), and a chord of
+/// 2 km holds at least 16 lattice points strictly inside it when 17
+/// spacings fit in it. units: m
+pub const MAX_VERTEX_SPACING_M: f32 = 2000.0 / 17.0;
+
+/// Most vertices the spacing floor above may give one stack (planes ×
+/// (cells + 1)²): 2²¹ vertices (50 MB) keep a 15 km cloud at 128 planes
+/// within it, and beyond it the stack's vertices spread out instead.
+pub const MAX_STACK_VERTICES: u64 = 1 << 21;
 
 /// How the planes sit relative to the light.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -38,9 +51,66 @@ pub struct SliceVertex {
     pub density: f32,
     /// Shadow depth accumulated toward the light (eq. 2), 0 = fully lit.
     pub shadow: f32,
+    /// The plane opacity of this vertex's stack (Table 2, compensated for
+    /// its cloud: [`CloudScale`]), the same on every vertex of a stack.
+    pub plane_opacity: f32,
 }
 
-const _: () = assert!(std::mem::size_of::<SliceVertex>() == 20);
+const _: () = assert!(std::mem::size_of::<SliceVertex>() == 24);
+
+/// The paper slices one cloud with planes spanning it, so "plane opacity =
+/// Opacity ÷ planes" makes Opacity that cloud's opacity whatever the
+/// Quality, and the shadow divided by the vertices along a light ray
+/// makes Dirtiness its darkening. A cloud here is a group of primitives
+/// (authored ellipsoids or parcel spheres): these factors, its stack's
+/// depth over its mean primitive's depth along the planes' normal and
+/// along the light, make Opacity and Dirtiness act on one mean primitive
+/// of the cloud as the paper's on its cloud, so a tower of eight parcels
+/// seen end-on is eight parcels deep, and a cloud of one ellipsoid is
+/// exactly the paper's (both factors 1). Plane opacity × planes is still
+/// Opacity × that ratio, so Quality, Opacity (and the cut-off) keep the
+/// independence of Table 2.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CloudScale {
+    /// Along the planes' normal (× the plane opacity and cut-off).
+    pub view: f32,
+    /// Along the light (× the vertex shadow).
+    pub light: f32,
+    /// The mean primitive's depth along the light. units: m
+    pub mean_depth_light_m: f32,
+}
+
+impl CloudScale {
+    /// The factors for the cloud `states` (strength > 0 count) sliced
+    /// along `normal` with light toward `to_light`; 1 when there is no
+    /// primitive.
+    pub fn new(states: &[EllipsoidState], normal: Vec3, to_light: Vec3) -> Self {
+        let Some((lo, hi)) = bounds_m(states) else {
+            return Self {
+                view: 1.0,
+                light: 1.0,
+                mean_depth_light_m: 1.0,
+            };
+        };
+        // Depth along unit `d` of a box of half-extents h: 2·Σ|d_k|·h_k.
+        let depth = |d: Vec3, h: Vec3| 2.0 * d.abs().dot(h);
+        let live: Vec<Vec3> = states
+            .iter()
+            .filter(|e| e.strength > 0.0)
+            .map(|e| e.half_extent_m())
+            .collect();
+        let mean = |d: Vec3| {
+            let d = d.normalize_or_zero();
+            live.iter().map(|h| depth(d, *h)).sum::<f32>() / live.len() as f32
+        };
+        let ratio = |d: Vec3| depth(d.normalize_or_zero(), (hi - lo) * 0.5) / mean(d);
+        Self {
+            view: ratio(normal),
+            light: ratio(to_light),
+            mean_depth_light_m: mean(to_light).max(1.0),
+        }
+    }
+}
 
 /// Slicing planes ready to draw.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -56,6 +126,9 @@ pub struct SliceGeometry {
     pub vertices: Vec<SliceVertex>,
     /// Triangle list, plane after plane in draw order.
     pub indices: Vec<u32>,
+    /// The cloud's compensation factors ([`CloudScale::light`] scales the
+    /// shadow; the view factor is in the vertices' plane opacity).
+    pub scale: Option<CloudScale>,
 }
 
 /// The slicing rule of §4.1: the candidates are the light direction itself
@@ -100,13 +173,41 @@ pub fn build_slices(
     Ok(g)
 }
 
+/// Cells across a stack whose planes are `extent_m` wide, with `planes`
+/// planes: the configured tessellation, but no finer than
+/// `min_spacing_m` (0: no such bound), and more where it would space the
+/// vertices wider than [`MAX_VERTEX_SPACING_M`], within
+/// [`MAX_STACK_VERTICES`].
+pub fn stack_cells(cfg: &SlicesConfig, planes: usize, extent_m: f32, min_spacing_m: f32) -> usize {
+    let mut t = cfg.tessellation as usize;
+    if min_spacing_m > 0.0 {
+        t = t.min((extent_m / min_spacing_m).ceil().max(1.0) as usize);
+    }
+    let fine = (extent_m / MAX_VERTEX_SPACING_M).ceil().max(1.0) as usize;
+    let most = ((MAX_STACK_VERTICES / planes.max(1) as u64) as f64).sqrt() as usize - 1;
+    t.max(fine.min(most))
+}
+
 /// The tessellated planes alone (field and shadow 0 at every vertex): the
-/// static geometry of §4.1, over the bounds of `states`.
+/// static geometry of §4.1, over the bounds of the cloud `states`, with
+/// its plane opacity ([`CloudScale`]) at every vertex.
 pub fn slice_grid(
     states: &[EllipsoidState],
     cfg: &SlicesConfig,
     to_light: Vec3,
     view_dir: Vec3,
+) -> Result<SliceGeometry> {
+    slice_grid_spaced(states, cfg, to_light, view_dir, 0.0)
+}
+
+/// [`slice_grid`] with its vertices no closer than `min_spacing_m` where
+/// the tessellation would put them closer ([`stack_cells`]).
+pub fn slice_grid_spaced(
+    states: &[EllipsoidState],
+    cfg: &SlicesConfig,
+    to_light: Vec3,
+    view_dir: Vec3,
+    min_spacing_m: f32,
 ) -> Result<SliceGeometry> {
     let l = unit("to_light", to_light)?;
     let v = unit("view_dir", view_dir)?;
@@ -118,8 +219,7 @@ pub fn slice_grid(
         });
     };
     let planes = cfg.planes() as usize;
-    let t = cfg.tessellation as usize;
-    let side = t + 1;
+    let side = cfg.tessellation as usize + 1;
     let count = planes as u64 * (side * side) as u64;
     if count > MAX_SLICE_VERTICES {
         return Err(Error::invalid(
@@ -150,6 +250,10 @@ pub fn slice_grid(
             .fold((f32::MAX, f32::MIN), |(a, b), x| (a.min(x), b.max(x)))
     };
     let ((u0, u1), (w0, w1), (n0, n1)) = (range(u), range(w), range(n));
+    let t = stack_cells(cfg, planes, (u1 - u0).max(w1 - w0), min_spacing_m);
+    let side = t + 1;
+    let scale = CloudScale::new(states, n, l);
+    let plane_opacity = cfg.plane_opacity() * scale.view;
     // Back to front: the viewer looks along +n, so the largest offset is
     // the farthest plane. Plane k sits mid-way in its slab.
     let plane_offsets_m: Vec<f32> = (0..planes)
@@ -158,7 +262,7 @@ pub fn slice_grid(
         .collect();
     let lattice =
         |i: usize, extent: (f32, f32)| extent.0 + i as f32 * (extent.1 - extent.0) / t as f32;
-    let mut vertices = Vec::with_capacity(count as usize);
+    let mut vertices = Vec::with_capacity(planes * side * side);
     for &d in &plane_offsets_m {
         for j in 0..side {
             for i in 0..side {
@@ -167,6 +271,7 @@ pub fn slice_grid(
                     position_m: p.into(),
                     density: 0.0,
                     shadow: 0.0,
+                    plane_opacity,
                 });
             }
         }
@@ -178,6 +283,7 @@ pub fn slice_grid(
         plane_offsets_m,
         vertices,
         indices,
+        scale: Some(scale),
     })
 }
 
@@ -193,7 +299,8 @@ pub struct ShadowRays {
     pub start_offset: u32,
     pub step: i32,
     pub count: u32,
-    /// Shadow magnitude × plane opacity ÷ vertices along a ray (eq. 2, §5.2).
+    /// Shadow magnitude × plane opacity ÷ vertices along a ray (eq. 2,
+    /// §5.2), × the cloud's [`CloudScale::light`].
     pub shadow_step: f32,
 }
 
@@ -228,7 +335,9 @@ impl SliceGeometry {
     /// the shadow is a Riemann sum of the density across the cloud's
     /// bounds, and Quality does not darken it: behind a full-strength block
     /// as deep as the bounds it is Dirtiness. A vertex's own opacity counts
-    /// toward its shadow, as eq. 2 has it.
+    /// toward its shadow, as eq. 2 has it. The step is then scaled by the
+    /// cloud's [`CloudScale::light`], so the shadow is an optical depth
+    /// toward the light for one mean primitive's Dirtiness.
     pub fn shadow_rays(&self, cfg: &SlicesConfig, to_light: Vec3) -> Option<ShadowRays> {
         let orientation = self.orientation?;
         let planes = self.plane_offsets_m.len();
@@ -261,7 +370,8 @@ impl SliceGeometry {
             start_offset: start_offset as u32,
             step,
             count: count as u32,
-            shadow_step: cfg.shadow_magnitude() * cfg.plane_opacity() / count as f32,
+            shadow_step: cfg.shadow_magnitude() * cfg.plane_opacity() / count as f32
+                * self.scale.map_or(1.0, |s| s.light),
         })
     }
 

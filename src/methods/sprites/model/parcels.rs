@@ -91,54 +91,8 @@ pub fn levels(bottom_m: f32, top_m: f32) -> Vec<ColorLevel> {
 /// ([`TOUCHING`]) are joined, through any chain of touching parcels.
 /// Returns a cloud index per parcel, numbered in order of first parcel.
 pub fn clusters(parcels: &[CloudParcel]) -> Vec<usize> {
-    let n = parcels.len();
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn root(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
-    let r_max = parcels.iter().map(|p| p.radius_m).fold(1.0f32, f32::max);
-    let cell = 2.0 * TOUCHING * r_max;
-    let key = |v: Vec3| (v / cell).floor().as_ivec3();
-    let mut grid: std::collections::HashMap<glam::IVec3, Vec<usize>> = Default::default();
-    for (i, p) in parcels.iter().enumerate() {
-        grid.entry(key(p.center_m)).or_default().push(i);
-    }
-    for (i, p) in parcels.iter().enumerate() {
-        let k = key(p.center_m);
-        for dz in -1..=1 {
-            for dy in -1..=1 {
-                for dx in -1..=1 {
-                    let Some(cell) = grid.get(&(k + glam::IVec3::new(dx, dy, dz))) else {
-                        continue;
-                    };
-                    for &j in cell {
-                        let q = &parcels[j];
-                        let reach = TOUCHING * (p.radius_m + q.radius_m);
-                        if j > i && p.center_m.distance_squared(q.center_m) < reach * reach {
-                            let (a, b) = (root(&mut parent, i), root(&mut parent, j));
-                            parent[a.max(b)] = a.min(b);
-                        }
-                    }
-                }
-            }
-        }
-    }
-    let mut index = vec![usize::MAX; n];
-    let mut next = 0;
-    (0..n)
-        .map(|i| {
-            let r = root(&mut parent, i);
-            if index[r] == usize::MAX {
-                index[r] = next;
-                next += 1;
-            }
-            index[r]
-        })
-        .collect()
+    let spheres: Vec<(Vec3, f32)> = parcels.iter().map(|p| (p.center_m, p.radius_m)).collect();
+    crate::physics::clusters::touching_groups(&spheres, TOUCHING, &|_, _| true)
 }
 
 /// Every condensed parcel (fill > 0) as a sprite cloud, seeded by its

@@ -1,0 +1,69 @@
+//! Clouds as connected groups of spheres (parcels, or the bounding spheres
+//! of authored ellipsoids): which primitives make one cloud. The render
+//! methods that draw a cloud as a whole read it: the sprites shade
+//! touching parcels as one cloud (Wang 2003 §5), the slices give each
+//! cloud its own stack of planes (Schpok 2003 slices one cloud). A
+//! union-find over a uniform grid of the spheres' centres.
+
+use glam::{IVec3, Vec3};
+
+/// The group each sphere (centre, radius in m) belongs to: spheres whose
+/// centres are closer than `reach` × the sum of their radii, and for which
+/// `also(i, j)` holds, are joined, through any chain of such pairs.
+/// Returns a group index per sphere, numbered in order of first sphere.
+pub fn touching_groups(
+    spheres: &[(Vec3, f32)],
+    reach: f32,
+    also: &dyn Fn(usize, usize) -> bool,
+) -> Vec<usize> {
+    let n = spheres.len();
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let r_max = spheres.iter().map(|s| s.1).fold(1.0f32, f32::max);
+    // Two joined spheres are at most reach × 2 r_max apart: a cell that
+    // wide keeps every candidate in the 27 cells around a centre.
+    let cell = 2.0 * reach * r_max;
+    let key = |v: Vec3| (v / cell).floor().as_ivec3();
+    let mut grid: std::collections::HashMap<IVec3, Vec<usize>> = Default::default();
+    for (i, s) in spheres.iter().enumerate() {
+        grid.entry(key(s.0)).or_default().push(i);
+    }
+    for (i, &(c, r)) in spheres.iter().enumerate() {
+        let k = key(c);
+        for dz in -1..=1 {
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    let Some(list) = grid.get(&(k + IVec3::new(dx, dy, dz))) else {
+                        continue;
+                    };
+                    for &j in list {
+                        let (cj, rj) = spheres[j];
+                        let d = reach * (r + rj);
+                        if j > i && c.distance_squared(cj) < d * d && also(i, j) {
+                            let (a, b) = (root(&mut parent, i), root(&mut parent, j));
+                            parent[a.max(b)] = a.min(b);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let mut index = vec![usize::MAX; n];
+    let mut next = 0;
+    (0..n)
+        .map(|i| {
+            let r = root(&mut parent, i);
+            if index[r] == usize::MAX {
+                index[r] = next;
+                next += 1;
+            }
+            index[r]
+        })
+        .collect()
+}
