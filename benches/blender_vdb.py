@@ -50,7 +50,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from pathtraced import camera_rays  # noqa: E402  (the renderer's camera, written once)
+from pathtraced import read_vol, transmittance  # noqa: E402  (written once there)
 
 ROOT = os.path.dirname(HERE)
 SAMPLE = os.path.join(HERE, "data", "sample.vdb")
@@ -73,54 +73,6 @@ def export(cumulus, args, out):
     p = subprocess.run([cumulus, "export", *args, "--out", out], capture_output=True, text=True)
     if p.returncode != 0:
         fail(f"cumulus export {' '.join(args)} failed:\n{p.stderr}")
-
-
-def read_vol(path):
-    """(dims x, y, z, min, max, values[z, y, x]) of a float32 VOL v3."""
-    with open(path, "rb") as f:
-        b = f.read()
-    if b[:3] != b"VOL" or b[3] != 3:
-        fail(f"{path}: not a VOL v3 file")
-    dims = np.frombuffer(b, "<i4", 3, 8)
-    box = np.frombuffer(b, "<f4", 6, 24).astype(np.float64)
-    vals = np.frombuffer(b, "<f4", int(np.prod(dims)), 48).reshape(dims[2], dims[1], dims[0])
-    return dims, box[:3], box[3:], vals
-
-
-def our_transmittance(vol, side, size):
-    """Transmittance of the `.vol` density along each camera ray: trilinear
-    between cell centres, steps of a quarter voxel through the grid's box."""
-    dims, lo, hi, rho = vol
-    sigma = side["medium"]["extinction_scale_per_m"]
-    voxel = (hi[0] - lo[0]) / dims[0]
-    origin, d = camera_rays(side["camera"], size)
-    inv = 1.0 / np.where(np.abs(d) < 1e-12, 1e-12, d)
-    t0 = np.maximum.reduce(np.minimum((lo - origin) * inv, (hi - origin) * inv), axis=-1)
-    t1 = np.minimum.reduce(np.maximum((lo - origin) * inv, (hi - origin) * inv), axis=-1)
-    t0 = np.maximum(t0, 0.0)
-    step = 0.25 * voxel
-    tau = np.zeros(d.shape[:2])
-    padded = np.pad(rho, 1)  # zero outside: trilinear fades to the box's edge
-    n = int(np.ceil(np.max(np.where(t1 > t0, t1 - t0, 0.0)) / step))
-    for k in range(n):
-        t = t0 + (k + 0.5) * step
-        live = t < t1
-        if not live.any():
-            break
-        p = origin + t[..., None] * d
-        g = (p - lo) / voxel - 0.5 + 1.0  # padded cell-centre coordinates, x y z
-        i0 = np.floor(g).astype(int)
-        fr = g - i0
-        acc = np.zeros(tau.shape)
-        for corner in range(8):
-            o = np.array([(corner >> a) & 1 for a in range(3)])
-            idx = i0 + o
-            ok = np.all((idx >= 0) & (idx < np.array(padded.shape[::-1])), axis=-1)
-            wgt = np.prod(np.where(o == 1, fr, 1.0 - fr), axis=-1)
-            ix, iy, iz = (np.clip(idx[..., a], 0, padded.shape[2 - a] - 1) for a in range(3))
-            acc += np.where(ok, wgt * padded[iz, iy, ix], 0.0)
-        tau += np.where(live, acc * sigma * step, 0.0)
-    return np.exp(-tau)
 
 
 def blender_render(vdb, side, size, samples, png):
@@ -220,7 +172,7 @@ def compare(name, vdb, vol, size, samples, out_dir):
         side = json.load(f)
     png = os.path.join(out_dir, f"blender_{name}_{size[0]}x{size[1]}.png")
     px = blender_render(vdb, side, size, samples, png)
-    ours = our_transmittance(read_vol(vol), side, size) < CLOUD_T
+    ours = transmittance(read_vol(vol), side, size) < CLOUD_T
     theirs = px[..., 3] > 1.0 - CLOUD_T
     union = np.sum(ours | theirs)
     iou = float(np.sum(ours & theirs) / union) if union else 1.0

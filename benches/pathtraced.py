@@ -49,6 +49,11 @@ ROOT = os.path.dirname(HERE)
 # Growth of the light-march steps (shaders/raymarch/lighting.wgsl LIGHT_GROWTH).
 LIGHT_GROWTH = 1.6
 
+# `--cloud-only`: a pixel has cloud when the exported density lets less
+# than this through along its ray (2 % extinction: the faintest wisp a
+# display shows over the sky, about 1/255 of its brightness or more).
+CLOUD_ONLY_T = 0.98
+
 # Albedo of the `--ground` plane: the mean of the terrain's meadow (0.06,
 # 0.10, 0.035) and field (0.10, 0.13, 0.05) albedos (shaders/terrain.wgsl
 # `ground`), which its noise mixes about half and half.
@@ -312,6 +317,55 @@ def camera_rays(cam, size):
     return pos, d / np.linalg.norm(d, axis=-1, keepdims=True)
 
 
+def read_vol(path):
+    """(dims x, y, z, min, max, values[z, y, x]) of a float32 VOL v3."""
+    with open(path, "rb") as f:
+        b = f.read()
+    if b[:3] != b"VOL" or b[3] != 3:
+        fail(f"{path}: not a VOL v3 file")
+    dims = np.frombuffer(b, "<i4", 3, 8)
+    box = np.frombuffer(b, "<f4", 6, 24).astype(np.float64)
+    vals = np.frombuffer(b, "<f4", int(np.prod(dims)), 48).reshape(dims[2], dims[1], dims[0])
+    return dims, box[:3], box[3:], vals
+
+
+def transmittance(vol, side, size):
+    """Transmittance of the exported density `vol` (read_vol) along each
+    camera ray of the sidecar `side`: trilinear between cell centres, steps
+    of a quarter voxel through the grid's box. (height, width)"""
+    dims, lo, hi, rho = vol
+    sigma = side["medium"]["extinction_scale_per_m"]
+    voxel = (hi[0] - lo[0]) / dims[0]
+    origin, d = camera_rays(side["camera"], size)
+    inv = 1.0 / np.where(np.abs(d) < 1e-12, 1e-12, d)
+    t0 = np.maximum.reduce(np.minimum((lo - origin) * inv, (hi - origin) * inv), axis=-1)
+    t1 = np.minimum.reduce(np.maximum((lo - origin) * inv, (hi - origin) * inv), axis=-1)
+    t0 = np.maximum(t0, 0.0)
+    step = 0.25 * voxel
+    tau = np.zeros(d.shape[:2])
+    padded = np.pad(rho, 1)  # zero outside: trilinear fades to the box's edge
+    n = int(np.ceil(np.max(np.where(t1 > t0, t1 - t0, 0.0)) / step))
+    for k in range(n):
+        t = t0 + (k + 0.5) * step
+        live = t < t1
+        if not live.any():
+            break
+        p = origin + t[..., None] * d
+        g = (p - lo) / voxel + 0.5  # padded cell-centre coordinates, x y z
+        i0 = np.floor(g).astype(int)
+        fr = g - i0
+        acc = np.zeros(tau.shape)
+        for corner in range(8):
+            o = np.array([(corner >> a) & 1 for a in range(3)])
+            idx = i0 + o
+            ok = np.all((idx >= 0) & (idx < np.array(padded.shape[::-1])), axis=-1)
+            wgt = np.prod(np.where(o == 1, fr, 1.0 - fr), axis=-1)
+            ix, iy, iz = (np.clip(idx[..., a], 0, padded.shape[2 - a] - 1) for a in range(3))
+            acc += np.where(ok, wgt * padded[iz, iy, ix], 0.0)
+        tau += np.where(live, acc * sigma * step, 0.0)
+    return np.exp(-tau)
+
+
 def above_horizon(cam, size):
     """Pixels (height, width) whose camera ray points above the horizon."""
     return camera_rays(cam, size)[1][..., 2] > 0.0
@@ -380,6 +434,12 @@ def main():
         help="a flat Lambertian ground on both sides (Mitsuba: a square of the terrain's extent and "
         "GROUND_ALBEDO at z = 0; ours: the terrain flat), so both light the cloud bases from the same "
         "lower hemisphere; the errors are then taken over the pixels above the horizon only",
+    )
+    ap.add_argument(
+        "--cloud-only",
+        action="store_true",
+        help="take the errors over the pixels where the exported density has cloud (its "
+        f"transmittance along the pixel's ray under {CLOUD_ONLY_T}) only",
     )
     ap.add_argument("--methods", help="comma-separated render methods to measure (default: every one)")
     ap.add_argument(
@@ -455,6 +515,9 @@ def main():
     # Where the error is taken: everywhere, or above the horizon with a ground
     # (the two grounds' textures differ; the clouds are above it).
     sky = above_horizon(side["camera"], (width, height)) if a.ground else np.ones((height, width), bool)
+    if a.cloud_only:
+        sky &= transmittance(read_vol(vol), side, (width, height)) < CLOUD_ONLY_T
+        print(f"errors over the {int(sky.sum())} pixels with cloud", file=sys.stderr)
     pt_ms = (time.time() - t0) * 1e3
     exposure = side["light"]["tone_exposure"]
     pt = tone_map(hdr, exposure)
