@@ -34,6 +34,10 @@
 
 // Read the terrain depth (false: no terrain pass, rays run to the box end).
 override HAS_TERRAIN: bool = true;
+// Debug (`[render] debug_march_steps`): output the march's iteration count
+// (samples and empty-space jumps) as opaque grey radiance instead of the
+// colour. False in every ordinary frame, where the branch is compiled out.
+override MARCH_STEPS: bool = false;
 
 // The terrain depth, read as an unfilterable float texture (OpenGL's GLSL
 // cannot load from a depth texture binding).
@@ -52,6 +56,17 @@ fn vs_main(@builtin(vertex_index) i: u32) -> FullscreenOut {
 struct MarchOut {
     color: vec4<f32>,
     depth: f32,
+    // Loop iterations the march took (read only under MARCH_STEPS).
+    steps: u32,
+}
+
+// What a pixel shows: the march's colour, or under MARCH_STEPS its
+// iteration count (opaque, so the composite keeps it as it is).
+fn shown(m: MarchOut) -> vec4<f32> {
+    if MARCH_STEPS {
+        return vec4<f32>(vec3<f32>(f32(m.steps)), 1.0);
+    }
+    return m.color;
 }
 
 // Lattice steps (of dt) an in-cloud sample stands for at transmittance
@@ -74,6 +89,7 @@ fn march(pix: vec2<f32>, ndc: vec2<f32>, jitter: f32) -> MarchOut {
     var out: MarchOut;
     out.color = vec4<f32>(0.0);
     out.depth = 0.0;
+    out.steps = 0u;
     let ro = frame.camera_pos.eye_m;
     let rd = view_dir(ndc);
     // The near plane along this ray (depth 0 in wgpu's clip space).
@@ -108,6 +124,7 @@ fn march(pix: vec2<f32>, ndc: vec2<f32>, jitter: f32) -> MarchOut {
     // Lattice steps the last in-cloud sample stood for.
     var m = 1.0;
     for (var i = 0u; i < max_steps; i++) {
+        out.steps = i + 1u;
         let t = t_first + k * dt;
         if t >= t1 {
             break;
@@ -159,7 +176,7 @@ fn march(pix: vec2<f32>, ndc: vec2<f32>, jitter: f32) -> MarchOut {
 
 @fragment
 fn fs_main(in: FullscreenOut) -> @location(0) vec4<f32> {
-    return march(in.pos.xy, in.ndc, hash2(in.pos.xy)).color;
+    return shown(march(in.pos.xy, in.ndc, hash2(in.pos.xy)));
 }
 
 // NDC of the pixel centre `pix` in a `size` frame, as the rasteriser
@@ -181,7 +198,7 @@ fn cs_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let pix = vec2<f32>(gid.xy) + 0.5;
     let m = march(pix, ndc_of(pix, size), hash2(pix));
-    textureStore(cloud_out, gid.xy, m.color);
+    textureStore(cloud_out, gid.xy, shown(m));
     // No cloud on this ray: infinitely far (every sprite is in front).
     let depth = select(m.depth, 1e30, m.color.a <= 0.0);
     textureStore(cloud_depth_out, gid.xy, vec4<f32>(depth, 0.0, 0.0, 0.0));
@@ -212,6 +229,6 @@ fn cs_temporal(@builtin(global_invocation_id) gid: vec3<u32>) {
     let p = min(2u * gid.xy + temporal.offset, full - 1u);
     let pix = vec2<f32>(p) + 0.5;
     let m = march(pix, ndc_of(pix, full), temporal_jitter(pix, temporal.frame_index));
-    textureStore(cloud_out, gid.xy, m.color);
+    textureStore(cloud_out, gid.xy, shown(m));
     textureStore(cloud_depth_out, gid.xy, vec4<f32>(m.depth, 0.0, 0.0, 0.0));
 }

@@ -49,6 +49,31 @@ pub struct LandscapeRow {
     /// Mean FLIP of this path's frame after [`ACCUMULATED_FRAMES`] frames
     /// against the full-resolution march's (0 for the full march itself).
     pub mean_flip_vs_full: f64,
+    /// Mean march iterations per pixel of the full march (samples and
+    /// empty-space jumps; `[render] debug_march_steps`); None for the
+    /// temporal row.
+    pub steps_per_pixel: Option<f64>,
+}
+
+/// Mean and largest march iterations per pixel of `cfg`'s full march of
+/// `input` at `w`×`h` (the debug output, read from the HDR scene).
+pub fn march_steps(
+    ctx: &GpuContext,
+    cfg: &RenderConfig,
+    input: &FrameInput<'_>,
+    (w, h): (u32, u32),
+) -> Result<(f64, f64)> {
+    let cfg = RenderConfig {
+        debug_march_steps: true,
+        temporal: Some(false),
+        ..cfg.clone()
+    };
+    let mut hl = Headless::new(ctx, &cfg, w, h)?;
+    hl.render(ctx, input)?;
+    let hdr = hl.read_hdr(ctx)?;
+    let steps: Vec<f64> = hdr.chunks_exact(3).map(|p| p[0] as f64).collect();
+    let max = steps.iter().copied().fold(0.0, f64::max);
+    Ok((steps.iter().sum::<f64>() / steps.len().max(1) as f64, max))
 }
 
 /// Measures the landscape with temporal amortisation off, then on.
@@ -92,6 +117,9 @@ pub fn landscape(
             .iter()
             .filter_map(|p| m.pass_ms(p))
             .sum();
+        let steps = (!temporal)
+            .then(|| march_steps(ctx, &cfg, &input, (w, h)).map(|s| s.0))
+            .transpose()?;
         let flip = if temporal {
             // A fresh history: exactly ACCUMULATED_FRAMES frames of the scene.
             let mut fresh = Headless::new(ctx, &cfg, w, h)?;
@@ -110,13 +138,14 @@ pub fn landscape(
             frame_ms: m.render_ms,
             cloud_ms,
             mean_flip_vs_full: flip,
+            steps_per_pixel: steps,
         });
     }
     Ok(rows)
 }
 
 /// `landscape.csv`: temporal, width, height, parcels, frame_ms, cloud_ms,
-/// mean_flip_vs_full.
+/// mean_flip_vs_full, steps_per_pixel (the full march's only).
 pub fn landscape_csv(rows: &[LandscapeRow]) -> Result<Vec<u8>> {
     let body: Vec<Vec<String>> = rows
         .iter()
@@ -129,6 +158,8 @@ pub fn landscape_csv(rows: &[LandscapeRow]) -> Result<Vec<u8>> {
                 format!("{:.3}", r.frame_ms),
                 format!("{:.3}", r.cloud_ms),
                 format!("{:.4}", r.mean_flip_vs_full),
+                r.steps_per_pixel
+                    .map_or(String::new(), |v| format!("{v:.2}")),
             ]
         })
         .collect();
@@ -141,6 +172,7 @@ pub fn landscape_csv(rows: &[LandscapeRow]) -> Result<Vec<u8>> {
             "frame_ms",
             "cloud_ms",
             "mean_flip_vs_full",
+            "steps_per_pixel",
         ],
         &body,
     )
@@ -178,6 +210,13 @@ pub fn landscape_md(rows: &[LandscapeRow]) -> String {
             off.cloud_ms / on.cloud_ms.max(1e-9),
             off.frame_ms / on.frame_ms.max(1e-9)
         );
+        if let Some(steps) = off.steps_per_pixel {
+            let _ = writeln!(
+                s,
+                "\nThe full march takes {steps:.1} iterations per pixel on average (samples and \
+                 empty-space jumps, `[render] debug_march_steps`)."
+            );
+        }
     }
     s
 }

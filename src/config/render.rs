@@ -79,6 +79,14 @@ pub struct RenderConfig {
     /// Finite-difference normals of the density for extra shading (paper
     /// "with FDM normals"; slower).
     pub normals: bool,
+    /// Debug: the ray-march writes, instead of its colour, the number of
+    /// march iterations each pixel took (samples and empty-space jumps) as
+    /// opaque grey radiance, so `render --out steps.exr` holds iterations
+    /// per pixel (the bench's landscape section reads them). Off in every
+    /// ordinary frame: the shader's branch is a pipeline constant
+    /// (`MARCH_STEPS` of shaders/raymarch/clouds.wgsl), compiled out.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub debug_march_steps: bool,
     /// Temporal amortisation of the ray-march: a quarter of the pixels
     /// marched per frame, the rest reprojected from earlier frames with
     /// the camera's motion at the clouds' depth, clamped to the fresh
@@ -158,6 +166,7 @@ impl Default for RenderConfig {
             shadows: true,
             aerial_perspective: true,
             normals: false,
+            debug_march_steps: false,
             temporal: None,
             grid_culling: true,
             step_m: 40.0,

@@ -143,6 +143,7 @@ impl Raymarch {
         let own = [
             ("USE_NORMALS", flag(cfg.normals)),
             ("HAS_TERRAIN", flag(around.terrain)),
+            ("MARCH_STEPS", flag(cfg.debug_march_steps)),
         ];
         spec.key(ray_slots(cfg), cfg, &own, SCENE_FORMAT)
     }

@@ -43,7 +43,10 @@ fn a_2_km_tower_gets_16_vertices_across_its_planes() {
     // plane through it holds ≥ 16 vertices with field along its rows and
     // along its columns. One stack of 32 × 32 cells over the field (the
     // slicing before issue 33) spaced them ≈ 500 m: 4 across.
-    let tower = ellipsoid(Vec3::new(0.0, 0.0, 3500.0), Vec3::new(1000.0, 1000.0, 2500.0));
+    let tower = ellipsoid(
+        Vec3::new(0.0, 0.0, 3500.0),
+        Vec3::new(1000.0, 1000.0, 2500.0),
+    );
     let mut field = vec![tower];
     for i in 0..12 {
         let a = i as f32 * 0.52;
@@ -99,7 +102,11 @@ fn each_cloud_gets_its_own_stack_farthest_first() {
     let sizes: Vec<usize> = s.stacks.iter().map(|st| st.primitives.len()).collect();
     // Farthest first: the lone far sphere, the pair, the near sphere.
     assert_eq!(sizes, vec![1, 2, 1]);
-    assert!(s.stacks.windows(2).all(|w| w[0].distance_m > w[1].distance_m));
+    assert!(
+        s.stacks
+            .windows(2)
+            .all(|w| w[0].distance_m > w[1].distance_m)
+    );
     for st in &s.stacks {
         let own = &s.states[st.primitives.clone()];
         for v in &st.geometry.vertices {
@@ -125,7 +132,11 @@ fn each_cloud_gets_its_own_stack_farthest_first() {
     let (mut at, mut base) = (0, 0u32);
     for st in &s.stacks {
         let (n, v) = (st.geometry.indices.len(), st.geometry.vertices.len() as u32);
-        assert!(indices[at..at + n].iter().all(|&i| (base..base + v).contains(&i)));
+        assert!(
+            indices[at..at + n]
+                .iter()
+                .all(|&i| (base..base + v).contains(&i))
+        );
         (at, base) = (at + n, base + v);
     }
     assert_eq!(at, indices.len());
@@ -133,7 +144,10 @@ fn each_cloud_gets_its_own_stack_farthest_first() {
 
 #[test]
 fn empty_triangles_are_left_out_only_when_the_field_is_known() {
-    let states = [ellipsoid(Vec3::new(0.0, 5000.0, 2000.0), Vec3::splat(800.0))];
+    let states = [ellipsoid(
+        Vec3::new(0.0, 5000.0, 2000.0),
+        Vec3::splat(800.0),
+    )];
     let cfg = SlicesConfig {
         quality: 16,
         tessellation: 16,
@@ -146,7 +160,12 @@ fn empty_triangles_are_left_out_only_when_the_field_is_known() {
     let v = s.vertices();
     assert_eq!(all.len(), s.stacks[0].geometry.indices.len());
     // The sphere fills π/6 of its box: many triangles are empty air.
-    assert!(drawn.len() < all.len() * 3 / 4, "{} of {}", drawn.len(), all.len());
+    assert!(
+        drawn.len() < all.len() * 3 / 4,
+        "{} of {}",
+        drawn.len(),
+        all.len()
+    );
     // Every triangle with field at a corner is kept.
     let with_field = all
         .chunks_exact(3)
@@ -172,7 +191,10 @@ fn many_small_clouds_are_merged_into_at_most_the_cap() {
         })
         .collect();
     let unmerged = cumulus::physics::clusters::touching_groups(
-        &states.iter().map(|e| (e.centre_m, 300.0)).collect::<Vec<_>>(),
+        &states
+            .iter()
+            .map(|e| (e.centre_m, 300.0))
+            .collect::<Vec<_>>(),
         1.0,
         &|_, _| true,
     );
@@ -181,8 +203,14 @@ fn many_small_clouds_are_merged_into_at_most_the_cap() {
     let clouds = groups.iter().max().unwrap() + 1;
     assert!(clouds <= MAX_STACKS && clouds > 1, "{clouds} clouds");
     let cfg = SlicesConfig::default();
-    let s = CloudSlices::grid(&states, &cfg, Vec3::Z, Vec3::new(0.0, -5000.0, 2000.0), Vec3::Y)
-        .unwrap();
+    let s = CloudSlices::grid(
+        &states,
+        &cfg,
+        Vec3::Z,
+        Vec3::new(0.0, -5000.0, 2000.0),
+        Vec3::Y,
+    )
+    .unwrap();
     assert_eq!(s.stacks.len(), clouds);
     assert_eq!(s.states.len(), 300);
 }
@@ -195,13 +223,25 @@ fn plane_opacity_is_the_paper_s_for_one_ellipsoid_and_grows_with_a_cloud_s_depth
         ..SlicesConfig::default()
     };
     let plane_opacity = |states: &[EllipsoidState], quality: u32| {
-        let c = SlicesConfig { quality, ..cfg.clone() };
-        let s = CloudSlices::grid(states, &c, Vec3::Z, Vec3::new(0.0, -9000.0, 1500.0), Vec3::Y)
-            .unwrap();
+        let c = SlicesConfig {
+            quality,
+            ..cfg.clone()
+        };
+        let s = CloudSlices::grid(
+            states,
+            &c,
+            Vec3::Z,
+            Vec3::new(0.0, -9000.0, 1500.0),
+            Vec3::Y,
+        )
+        .unwrap();
         assert_eq!(s.stacks.len(), 1);
         s.stacks[0].geometry.vertices[0].plane_opacity
     };
-    let one = [ellipsoid(Vec3::new(0.0, 0.0, 1500.0), Vec3::new(500.0, 700.0, 400.0))];
+    let one = [ellipsoid(
+        Vec3::new(0.0, 0.0, 1500.0),
+        Vec3::new(500.0, 700.0, 400.0),
+    )];
     // One ellipsoid: Opacity ÷ planes exactly (f32 of one division and a
     // product by 1).
     assert!((plane_opacity(&one, 32) - 2.0 / 32.0).abs() < 1e-7);
@@ -232,7 +272,10 @@ fn many_clouds_share_a_vertex_budget_that_quality_does_not_change() {
     let states: Vec<EllipsoidState> = (0..20)
         .map(|i| {
             let (x, y) = ((i % 5) as f32, (i / 5) as f32);
-            ellipsoid(Vec3::new(3000.0 * x, 3000.0 * y, 1500.0), Vec3::splat(400.0))
+            ellipsoid(
+                Vec3::new(3000.0 * x, 3000.0 * y, 1500.0),
+                Vec3::splat(400.0),
+            )
         })
         .collect();
     let eye = Vec3::new(6000.0, -15000.0, 1500.0);
@@ -243,13 +286,19 @@ fn many_clouds_share_a_vertex_budget_that_quality_does_not_change() {
             ..SlicesConfig::default()
         };
         let s = CloudSlices::grid(states, &cfg, l, eye, Vec3::Y).unwrap();
-        s.stacks.iter().map(|st| st.geometry.side()).collect::<Vec<_>>()
+        s.stacks
+            .iter()
+            .map(|st| st.geometry.side())
+            .collect::<Vec<_>>()
     };
     let (q32, q128) = (sides(&states, 32), sides(&states, 128));
     assert_eq!(q32, q128, "Quality does not change the tessellation");
     assert_eq!(q32.len(), 20);
     let per_plane: usize = q32.iter().map(|s| s * s).sum();
-    assert!(per_plane <= PLANE_VERTEX_BUDGET, "{per_plane} vertices a plane");
+    assert!(
+        per_plane <= PLANE_VERTEX_BUDGET,
+        "{per_plane} vertices a plane"
+    );
     let tessellation = SlicesConfig::default().tessellation as usize;
     assert!(q32.iter().all(|&s| s < tessellation + 1), "{q32:?}");
     assert_eq!(sides(&states[..1], 128), vec![tessellation + 1]);

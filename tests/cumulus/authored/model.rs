@@ -599,7 +599,11 @@ fn authored_frame_gathers_geometry_and_octaves_for_the_renderer() {
             assert!(capped || step.length() <= slicing::MAX_VERTEX_SPACING_M * 1.0001);
         }
     }
-    assert!(stacks.windows(2).all(|w| w[0].distance_m >= w[1].distance_m));
+    assert!(
+        stacks
+            .windows(2)
+            .all(|w| w[0].distance_m >= w[1].distance_m)
+    );
     let v = f.slices.vertices();
     assert!(
         v.iter().any(|v| v.density > 0.5),

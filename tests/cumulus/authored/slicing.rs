@@ -170,10 +170,7 @@ fn shadow_accumulates_along_the_light_as_eq_2() {
     assert_eq!(g.orientation, Some(SliceOrientation::OrthogonalToLight));
     let centre: Vec<_> = (0..8).map(|k| g.vertices[k * 9 + 4]).collect();
     let z: Vec<f32> = centre.iter().map(|v| v.position_m[2]).collect();
-    assert_eq!(
-        z,
-        [-87.5, -62.5, -37.5, -12.5, 12.5, 37.5, 62.5, 87.5]
-    );
+    assert_eq!(z, [-87.5, -62.5, -37.5, -12.5, 12.5, 37.5, 62.5, 87.5]);
     // shadow_i = shadow_(i−1) + (Dirtiness ÷ plane opacity) × plane opacity
     // × C_i ÷ 8 (the 8 vertices along each light ray), from the top down.
     let c = [

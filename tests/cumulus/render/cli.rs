@@ -270,3 +270,41 @@ fn render_defaults_to_baked_and_agrees_with_the_papers_exact_path() {
     let no_clouds = common::flip::mean_flip(&a, &c, (192, 108));
     assert!(no_clouds > 0.05, "clouds barely show: {no_clouds:.4}");
 }
+
+#[test]
+fn debug_march_steps_writes_the_iterations_of_each_pixel() {
+    if common::context("GPU render test").is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        cli::run_command(
+            cli::command()
+                .args(["render", "--stand-in", "--width", "64", "--height", "48"])
+                .args(["--set", "render.temporal=false"])
+                .args(extra)
+                .arg("--out")
+                .arg(&out),
+        )
+        .expect_success();
+        image::open(out).unwrap().to_rgb32f()
+    };
+    let steps = render("steps.exr", &["--set", "render.debug_march_steps=true"]);
+    let frame = render("frame.exr", &[]);
+    let max_steps = cumulus::config::RenderConfig::default().max_steps as f32;
+    let mut marched = 0;
+    for (s, f) in steps.pixels().zip(frame.pixels()) {
+        let n = s.0[0];
+        // A count: a whole number, grey, at most the loop's bound.
+        assert!(n == n.round() && (0.0..=max_steps).contains(&n), "{n}");
+        assert!(s.0[1] == n && s.0[2] == n);
+        marched += usize::from(n > 0.0);
+        // Not the frame's colour (the debug output replaces it).
+        assert!(n == 0.0 || s.0 != f.0);
+    }
+    assert!(
+        marched > 0,
+        "the stand-in's towers are in view: some rays march"
+    );
+}
