@@ -13,25 +13,33 @@
 //!   potential temperature θ_e in the lowest [`MOST_UNSTABLE_DEPTH_PA`],
 //!   started there.
 //!
-//! Each is lifted with [`lifting::lift_from`] (the simulation's
-//! thermodynamics) and compared in virtual temperature, the vapour's
-//! correction included in both parcel and environment, as MetPy's
-//! `cape_cin` does:
+//! Each is lifted with [`lifting::lift_from`] (the thermodynamics of
+//! [`LiftOptions::thermo`]: the forecasters' standard for `cumulus parcel`,
+//! the simulation's own for the window's curve) and compared in virtual
+//! temperature, the vapour's correction included in both parcel and
+//! environment, as MetPy's `cape_cin` does:
 //!
-//!   CAPE = R_d ∫_{EL}^{LFC} max(T_v,parcel − T_v,env, 0) d ln p,
-//!   CIN  = R_d ∫_{LFC}^{p_start} (T_v,parcel − T_v,env) d ln p, set to 0 if positive.
+//!   CAPE = R_d ∫_{EL}^{LFC} (T_v,parcel − T_v,env) d ln p, 0 if negative,
+//!   CIN  = R_d ∫_{LFC}^{p_start} min(T_v,parcel − T_v,env, 0) d ln p.
 //!
-//! The integrals are trapezoids over the ascent's own ≤ 10 m steps, cut at the
-//! LFC and EL. Without an LFC both are 0; a parcel still buoyant at the top
-//! integrates CAPE to the top of the data (MetPy uses the last level).
-//! CAPE counts the buoyant area only (SHARPpy's positive area): MetPy's net
-//! area between LFC and EL is the same on soundings whose parcel stays
-//! buoyant there (both shipped ones), but on a profile that ends while the
-//! parcel is buoyant again above a capping inversion it subtracts the whole
-//! cap and can go negative, so a moister surface would *lower* CAPE.
+//! The LFC is the base of one of the parcel's buoyant layers, chosen by
+//! [`LiftOptions::lfc`] with MetPy's `which_lfc` names: the lowest
+//! (`bottom`, MetPy's `cape_cin` default), the highest (`top`) or, the
+//! default here, the one whose CAPE is largest (`most_cape`). The EL is the
+//! top of the highest buoyant layer (MetPy's `which_el="top"`), or the top
+//! of the data for a parcel still buoyant there. CAPE is the *net* area from
+//! LFC to EL, as MetPy's: with `most_cape` a cap between two buoyant layers
+//! is never subtracted from the upper one, because that layer's own base is
+//! then the LFC. CIN is all the *negative* area from the parcel's start to
+//! the LFC, the forecasters' definition: a buoyant superadiabatic surface
+//! layer under a cap does not cancel the cap (MetPy nets the two and clips
+//! at 0, so it differs by that layer's positive area).
+//!
+//! The integrals are trapezoids over the ascent's own ≤ 10 m steps, cut at
+//! the LFC and EL. Without an LFC both are 0.
 
 use super::environment::{EnvLevel, Environment};
-use super::lifting::{self, LevelMark, LiftOptions, ParcelAscent, ParcelStart};
+use super::lifting::{self, LevelMark, LfcChoice, LiftOptions, ParcelAscent, ParcelStart};
 use super::thermo;
 use crate::error::{Error, Result};
 
@@ -86,8 +94,15 @@ pub struct ParcelReport {
     pub start: ParcelStart,
     /// Pressure at the start. units: Pa
     pub start_p_pa: f64,
-    /// LCL, LFC, EL and the parcel at every ≤ 10 m step from the start.
+    /// LCL, the buoyant layers and the parcel at every ≤ 10 m step from
+    /// the start.
     pub ascent: ParcelAscent,
+    /// The LFC the energies use (chosen by [`LiftOptions::lfc`]); None if
+    /// the parcel is never buoyant above its LCL.
+    pub lfc: Option<LevelMark>,
+    /// The EL the energies use; None without an LFC or if the parcel is
+    /// still buoyant at the top.
+    pub el: Option<LevelMark>,
     /// units: J/kg (≥ 0)
     pub cape_j_per_kg: f64,
     /// units: J/kg (≤ 0)
@@ -116,34 +131,64 @@ pub fn parcel_report(
         .map(|i| (start.z_m + i as f64 * lifting::MAX_STEP_M).min(top))
         .collect();
     let ascent = lifting::lift_from(env, opts, &start, &heights)?;
-    let (cape, cin) = cape_cin(&ascent, start.z_m, top);
+    let lfc = choose_lfc(&ascent, opts.lfc, top);
+    let (cape, cin) = match lfc {
+        None => (0.0, 0.0),
+        Some(lfc) => {
+            let el = ascent.el.map_or(top, |m| m.z_m);
+            (
+                buoyancy_integral(&ascent, lfc.z_m, el, Area::Net).max(0.0),
+                buoyancy_integral(&ascent, start.z_m, lfc.z_m, Area::Negative),
+            )
+        }
+    };
     Ok(ParcelReport {
         kind,
         start,
         start_p_pa: env.pressure_pa(start.z_m),
+        lfc,
+        el: lfc.and(ascent.el),
         ascent,
         cape_j_per_kg: cape,
         cin_j_per_kg: cin,
     })
 }
 
-/// CAPE and CIN of an ascent recorded at fine steps from `z_start` up to
-/// `top`. units: J/kg
-fn cape_cin(a: &ParcelAscent, z_start: f64, top: f64) -> (f64, f64) {
-    let Some(lfc) = a.lfc.map(|m: LevelMark| m.z_m) else {
-        return (0.0, 0.0);
-    };
-    let el = a.el.map(|m| m.z_m).unwrap_or(top);
-    let cape = buoyancy_integral(a, lfc, el, true);
-    let cin = buoyancy_integral(a, z_start, lfc, false).min(0.0);
-    (cape, cin)
+/// The LFC `choice` picks among the bases of the ascent's buoyant layers
+/// (the lowest on ties). units: m
+fn choose_lfc(a: &ParcelAscent, choice: LfcChoice, top: f64) -> Option<LevelMark> {
+    let bases = a.layers.iter().map(|l| l.lfc);
+    match choice {
+        LfcChoice::Bottom => a.layers.first().map(|l| l.lfc),
+        LfcChoice::Top => a.layers.last().map(|l| l.lfc),
+        LfcChoice::MostCape => {
+            let el = a.el.map_or(top, |m| m.z_m);
+            let mut best: Option<(f64, LevelMark)> = None;
+            for lfc in bases {
+                let cape = buoyancy_integral(a, lfc.z_m, el, Area::Net);
+                if best.is_none_or(|(b, _)| cape > b) {
+                    best = Some((cape, lfc));
+                }
+            }
+            best.map(|(_, m)| m)
+        }
+    }
+}
+
+/// Which part of the area between the parcel and environment curves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Area {
+    /// Positive and negative parts summed.
+    Net,
+    /// Only where the parcel is colder (CIN).
+    Negative,
 }
 
 /// R_d ∫ (T_v,parcel − T_v,env) d(−ln p) over heights [z_lo, z_hi]:
 /// trapezoids over the recorded steps, the end segments cut by linear
-/// interpolation in z; with `positive_only` just the area where the parcel
-/// is buoyant (the buoyancy linear within each step). units: J/kg
-fn buoyancy_integral(a: &ParcelAscent, z_lo: f64, z_hi: f64, positive_only: bool) -> f64 {
+/// interpolation in z; with [`Area::Negative`] just the area where the
+/// parcel is colder (the buoyancy linear within each step). units: J/kg
+fn buoyancy_integral(a: &ParcelAscent, z_lo: f64, z_hi: f64, area: Area) -> f64 {
     let mut sum = 0.0;
     for w in a.levels.windows(2) {
         let (l0, l1) = (&w[0], &w[1]);
@@ -159,14 +204,14 @@ fn buoyancy_integral(a: &ParcelAscent, z_lo: f64, z_hi: f64, positive_only: bool
             (b0 + (b1 - b0) * f, lnp)
         };
         let ((ba, xa), (bb, xb)) = (at(za), at(zb));
-        sum += if !positive_only || (ba >= 0.0 && bb >= 0.0) {
+        sum += if area == Area::Net || (ba <= 0.0 && bb <= 0.0) {
             0.5 * (ba + bb) * (xa - xb)
-        } else if ba <= 0.0 && bb <= 0.0 {
+        } else if ba >= 0.0 && bb >= 0.0 {
             0.0
         } else {
-            // The buoyant triangle of a step that changes sign.
-            let pos = ba.max(bb);
-            0.5 * pos * pos / (ba - bb).abs() * (xa - xb)
+            // The negative triangle of a step that changes sign.
+            let neg = ba.min(bb);
+            0.5 * neg * neg / (ba - bb).abs() * (xa - xb) * -1.0
         };
     }
     thermo::R_DRY * sum
@@ -222,19 +267,21 @@ fn mixed_layer(env: &Environment) -> Result<(ParcelStart, Environment)> {
             ..*env.levels().last().expect("an environment has ≥ 2 levels")
         });
     }
-    let mixed = Environment::new(levels, ps, env.pressure_model())?;
+    let mixed = Environment::new(levels, ps, env.pressure_model())?
+        .with_thermo(env.thermo())
+        .with_humidity_top(env.humidity_top_m());
     Ok((start, mixed))
 }
 
 /// The environment level of highest θ_e within the lowest
 /// [`MOST_UNSTABLE_DEPTH_PA`] (the lowest such level on ties, as numpy's
-/// `argmax`).
+/// `argmax`), among levels with a measured humidity.
 fn most_unstable_start(env: &Environment) -> ParcelStart {
     let p_min = env.surface_pressure_pa() - MOST_UNSTABLE_DEPTH_PA;
     let mut best = (f64::NEG_INFINITY, 0.0);
     for l in env.levels() {
         let p = env.pressure_pa(l.z_m);
-        if p < p_min || l.z_m >= env.top_m() {
+        if p < p_min || l.z_m >= env.top_m() || env.humidity_top_m().is_some_and(|z| l.z_m > z) {
             break;
         }
         let theta_e = thermo::equivalent_potential_temperature_k(

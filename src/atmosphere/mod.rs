@@ -8,6 +8,7 @@ pub mod environment;
 pub mod lifting;
 pub mod sounding;
 mod spec;
+pub mod standard;
 pub mod thermo;
 pub mod wind;
 

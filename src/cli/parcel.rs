@@ -10,7 +10,8 @@ use std::path::PathBuf;
 use anyhow::Context as _;
 use cumulus::atmosphere::Sounding;
 use cumulus::atmosphere::cape::{self, ParcelKind, ParcelReport};
-use cumulus::atmosphere::lifting::{self, LevelMark, LiftOptions, ParcelAscent};
+use cumulus::atmosphere::lifting::{self, LevelMark, LfcChoice, LiftOptions, ParcelAscent};
+use cumulus::atmosphere::thermo::Thermo;
 use cumulus::physics::PhysicsConfig;
 use cumulus::physics::single::{self, SingleRelease, SingleRun};
 use cumulus::plots::skewt::{SkewT, write_skew_t_png};
@@ -42,6 +43,18 @@ pub struct Args {
     /// Surface parcel dewpoint instead of the sounding's, in °C (at most the temperature).
     #[arg(long, value_name = "C", allow_negative_numbers = true)]
     pub surface_dewpoint: Option<f64>,
+    /// Parcel thermodynamics: standard (the forecasters', as MetPy 1.7:
+    /// pseudo-adiabatic ascent, Ambaum 2020 saturation pressure) or model
+    /// (the cloud simulation's own: reversible ascent with Tetens, paper
+    /// eq. 1-3). The output says which was used.
+    #[arg(long, value_enum, default_value_t = ThermoChoice::Standard)]
+    pub thermo: ThermoChoice,
+    /// Which level of free convection CAPE and CIN use when the parcel is
+    /// buoyant in more than one layer (MetPy's which_lfc): bottom (the
+    /// lowest), top (the highest) or most-cape (the base of the layer with
+    /// the most CAPE, so a strong cap counts as CIN).
+    #[arg(long, value_enum, default_value_t = LfcArg::MostCape)]
+    pub lfc: LfcArg,
     /// Count the condensed water's weight in the parcel's virtual temperature
     /// (lowers the EL; the simulation's `condensate_loading`, off by default there too).
     #[arg(long)]
@@ -98,6 +111,26 @@ pub struct Args {
     /// and environment, q_v, q_l, radius, mass) to this CSV file.
     #[arg(long, value_name = "FILE.csv", requires = "dynamic")]
     pub csv: Option<PathBuf>,
+}
+
+/// The `--thermo` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ThermoChoice {
+    /// The forecasters' (MetPy's): pseudo-adiabatic, Ambaum saturation pressure.
+    Standard,
+    /// The cloud simulation's: reversible, Tetens saturation pressure.
+    Model,
+}
+
+/// The `--lfc` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum LfcArg {
+    /// The lowest LFC.
+    Bottom,
+    /// The highest LFC.
+    Top,
+    /// The base of the buoyant layer with the most CAPE.
+    MostCape,
 }
 
 /// The `--parcel` values.
@@ -205,14 +238,24 @@ fn write_trajectory_csv(path: &std::path::Path, run: &SingleRun) -> anyhow::Resu
 /// Runs `cumulus parcel`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     let sounding = Sounding::load(&args.sounding)?;
+    let thermo = match args.thermo {
+        ThermoChoice::Standard => Thermo::Standard,
+        ThermoChoice::Model => Thermo::Model,
+    };
     let env = sounding
-        .to_environment()
+        .to_environment_with(thermo)
         .with_context(|| format!("building the environment of {}", args.sounding.display()))?;
     let opts = LiftOptions {
         alpha: 1.0,
         surface_t_k: args.surface_temp.map(|c| c + 273.15),
         surface_td_k: args.surface_dewpoint.map(|c| c + 273.15),
         condensate_loading: args.condensate_loading,
+        thermo,
+        lfc: match args.lfc {
+            LfcArg::Bottom => LfcChoice::Bottom,
+            LfcArg::Top => LfcChoice::Top,
+            LfcArg::MostCape => LfcChoice::MostCape,
+        },
     };
     let reports = ParcelKind::ALL
         .iter()
@@ -236,10 +279,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let levels = lifting::lift_from(&env, &opts, &chosen.start, &heights)?.levels;
     let ascent = ParcelAscent {
         levels,
+        lfc: chosen.lfc,
+        el: chosen.el,
         ..chosen.ascent.clone()
     };
     let dynamic = if args.dynamic {
-        Some(release_dynamic(&args, &env, &ascent)?)
+        // The simulation runs on its own thermodynamics' environment.
+        let sim_env = sounding.to_environment()?;
+        Some(release_dynamic(&args, &sim_env, &ascent)?)
     } else {
         None
     };
@@ -289,15 +336,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         json["cape_j_per_kg"] = sb.cape_j_per_kg.into();
         json["cin_j_per_kg"] = sb.cin_j_per_kg.into();
         // The top level is the surface parcel (the --surface-* options apply).
-        for (key, m) in [
-            ("lcl", sb.ascent.lcl),
-            ("lfc", sb.ascent.lfc),
-            ("el", sb.ascent.el),
-        ] {
+        for (key, m) in [("lcl", sb.ascent.lcl), ("lfc", sb.lfc), ("el", sb.el)] {
             json[format!("{key}_hpa")] = m.map(|m| m.p_pa / 100.0).into();
             json[format!("{key}_m")] = m.map(|m| m.z_m).into();
         }
         json["lifted_parcel"] = kind.key().into();
+        json["thermo"] = thermo.key().into();
+        json["lfc_choice"] = opts.lfc.key().into();
+        json["humidity_top_hpa"] = env
+            .humidity_top_m()
+            .map(|z| env.pressure_pa(z) / 100.0)
+            .into();
         json["parcels"] = reports
             .iter()
             .map(|r| (r.kind.key().to_string(), report_json(r)))
@@ -310,6 +359,19 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         writeln!(out)?;
     } else {
         write_table(&mut out, &sounding, &ascent, &reports, kind)?;
+        writeln!(
+            out,
+            "thermodynamics: {}; LFC: {}",
+            thermo.describe(),
+            opts.lfc.key()
+        )?;
+        if let Some(z) = env.humidity_top_m() {
+            writeln!(
+                out,
+                "humidity: no dewpoint above {:.0} hPa ({z:.0} m): missing, not zero; the environment holds that level's relative humidity above it",
+                env.pressure_pa(z) / 100.0
+            )?;
+        }
         match env.wind() {
             Some(w) => writeln!(
                 out,
@@ -367,8 +429,8 @@ fn report_json(r: &ParcelReport) -> serde_json::Value {
         "start_hpa": r.start_p_pa / 100.0, "start_m": r.start.z_m,
         "start_t_c": r.start.t_k - 273.15, "start_td_c": r.start.td_k - 273.15,
         "lcl_hpa": hpa(a.lcl), "lcl_m": z(a.lcl),
-        "lfc_hpa": hpa(a.lfc), "lfc_m": z(a.lfc),
-        "el_hpa": hpa(a.el), "el_m": z(a.el),
+        "lfc_hpa": hpa(r.lfc), "lfc_m": z(r.lfc),
+        "el_hpa": hpa(r.el), "el_m": z(r.el),
         "cape_j_per_kg": r.cape_j_per_kg, "cin_j_per_kg": r.cin_j_per_kg,
     })
 }
@@ -495,8 +557,8 @@ fn write_table(
             r.start.t_k - 273.15,
             r.start.td_k - 273.15,
             hpa(r.ascent.lcl),
-            hpa(r.ascent.lfc),
-            hpa(r.ascent.el),
+            hpa(r.lfc),
+            hpa(r.el),
             r.cape_j_per_kg,
             r.cin_j_per_kg
         )?;

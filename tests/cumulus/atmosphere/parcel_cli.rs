@@ -48,9 +48,19 @@ fn json_has_the_documented_keys_and_values() {
     let last = levels.last().unwrap();
     assert!((last["p_hpa"].as_f64().unwrap() - 100.0).abs() < 1e-9);
     assert_eq!(last["z_m"].as_f64().unwrap(), 16_410.0 - 345.0);
+    // By default the forecasters' pseudo-adiabatic parcel: its condensate
+    // falls out, and the output says so.
+    assert_eq!(v["thermo"], "standard");
+    assert_eq!(v["lfc_choice"], "most_cape");
+    assert_eq!(last["ql_gkg"].as_f64().unwrap(), 0.0, "pseudo-adiabatic");
+    let model = cli::run(["parcel", "--sounding", OUN_2011, "--json", "--thermo", "model"]);
+    model.expect_success();
+    let m: serde_json::Value = serde_json::from_slice(&model.output.stdout).unwrap();
+    assert_eq!(m["thermo"], "model");
+    let last = m["levels"].as_array().unwrap().last().unwrap().clone();
     assert!(
         last["ql_gkg"].as_f64().unwrap() > 10.0,
-        "the reversible parcel keeps its water"
+        "the model's reversible parcel keeps its water"
     );
 }
 

@@ -130,7 +130,7 @@ fn rejects_dewpoint_above_temperature_beyond_rounding() {
     // Within the 0.05 K rounding tolerance the row is kept, Td clamped to T.
     let text = table(&row(&["850.0", "1454", "6.00", "6.04"]));
     let s = Sounding::parse(&text, Path::new("ok.txt")).unwrap();
-    assert_eq!(s.levels[2].td_k, s.levels[2].t_k);
+    assert_eq!(s.levels[2].td_k, Some(s.levels[2].t_k));
 }
 
 #[test]
