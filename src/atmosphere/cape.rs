@@ -260,7 +260,16 @@ fn mixed_layer(env: &Environment) -> Result<(ParcelStart, Environment)> {
         qv_kg_per_kg: qv,
         pressure_pa: Some(ps),
     }];
-    levels.extend(env.levels().iter().copied().filter(|l| l.z_m > z_top));
+    // Strictly above by pressure, as MetPy (`pressure < p_start − depth`):
+    // a level exactly at the layer top belongs to the layer, and the
+    // bisected z_top can fall a rounding error below it. 1e-9 relative is
+    // far above that error and far below any two distinct levels.
+    levels.extend(
+        env.levels()
+            .iter()
+            .copied()
+            .filter(|l| env.pressure_pa(l.z_m) < p_top * (1.0 - 1e-9)),
+    );
     if levels.len() < 2 {
         levels.push(EnvLevel {
             z_m: env.top_m(),
