@@ -5,6 +5,7 @@
 
 pub mod cape;
 pub mod environment;
+pub mod indices;
 pub mod lifting;
 pub mod sounding;
 mod spec;

@@ -10,8 +10,14 @@ use std::path::PathBuf;
 use anyhow::Context as _;
 use cumulus::atmosphere::Sounding;
 use cumulus::atmosphere::cape::{self, ParcelKind, ParcelReport};
-use cumulus::atmosphere::lifting::{self, LevelMark, LfcChoice, LiftOptions, ParcelAscent};
+use cumulus::atmosphere::lifting::{self, LfcChoice, LiftOptions, ParcelAscent};
+use cumulus::atmosphere::indices;
 use cumulus::atmosphere::thermo::Thermo;
+
+use super::parcel_report::{
+    dynamic_json, index_rows, indices_json, report_json, summary_lines, to_json, write_dynamic,
+    write_table,
+};
 use cumulus::physics::PhysicsConfig;
 use cumulus::physics::single::{self, SingleRelease, SingleRun};
 use cumulus::plots::skewt::{SkewT, write_skew_t_png};
@@ -290,6 +296,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     } else {
         None
     };
+    let idx = indices::indices(&env, &reports[0].ascent.levels);
+    let thermo_and_lfc = format!("thermo {}, LFC {}", thermo.key(), opts.lfc.key());
     if let Some(path) = &args.plot {
         let dynamic_path: Option<Vec<(f64, f64)>> = dynamic.as_ref().map(|run| {
             run.trajectory
@@ -323,7 +331,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 parcel_curve: &curve.levels,
                 dynamic_path: dynamic_path.as_deref(),
                 wind: env.wind(),
-                summary: &summary_lines(&env, &reports, kind),
+                summary: &summary_lines(&reports, kind, &thermo_and_lfc, &idx),
             },
             900 + cumulus::plots::skewt::SIDE_PANEL_PX,
             1000,
@@ -347,6 +355,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .humidity_top_m()
             .map(|z| env.pressure_pa(z) / 100.0)
             .into();
+        json["indices"] = indices_json(&idx);
         json["parcels"] = reports
             .iter()
             .map(|r| (r.kind.key().to_string(), report_json(r)))
@@ -372,12 +381,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 env.pressure_pa(z) / 100.0
             )?;
         }
+        writeln!(out)?;
+        for (name, value) in index_rows(&idx) {
+            writeln!(out, "{name:<26} {value}")?;
+        }
         match env.wind() {
             Some(w) => writeln!(
                 out,
-                "wind: {} levels from DRCT/SKNT, 0–6 km bulk shear {:.1} m/s; it drives the parcels' drag unless a scene sets [wind]",
+                "wind: {} levels from DRCT/SKNT; it drives the parcels' drag unless a scene sets [wind]",
                 w.levels().len(),
-                w.bulk_shear_m_s(0.0, 6000.0)
             )?,
             None => writeln!(
                 out,
@@ -394,221 +406,3 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The side panel's lines: CAPE and CIN of each parcel (the drawn one
-/// marked) and the 0–6 km bulk shear.
-fn summary_lines(
-    env: &cumulus::atmosphere::Environment,
-    reports: &[ParcelReport],
-    kind: ParcelKind,
-) -> Vec<String> {
-    let mut lines: Vec<String> = reports
-        .iter()
-        .map(|r| {
-            format!(
-                "{} {}: CAPE {:.0} J/kg, CIN {:.0} J/kg",
-                if r.kind == kind { ">" } else { " " },
-                r.kind.key().to_uppercase(),
-                r.cape_j_per_kg,
-                r.cin_j_per_kg
-            )
-        })
-        .collect();
-    lines.push(match env.wind() {
-        Some(w) => format!("0–6 km bulk shear {:.0} m/s", w.bulk_shear_m_s(0.0, 6000.0)),
-        None => "no wind data".to_string(),
-    });
-    lines
-}
-
-/// One parcel of the JSON `parcels` object.
-fn report_json(r: &ParcelReport) -> serde_json::Value {
-    let hpa = |m: Option<LevelMark>| m.map(|m| m.p_pa / 100.0);
-    let z = |m: Option<LevelMark>| m.map(|m| m.z_m);
-    let a = &r.ascent;
-    serde_json::json!({
-        "start_hpa": r.start_p_pa / 100.0, "start_m": r.start.z_m,
-        "start_t_c": r.start.t_k - 273.15, "start_td_c": r.start.td_k - 273.15,
-        "lcl_hpa": hpa(a.lcl), "lcl_m": z(a.lcl),
-        "lfc_hpa": hpa(r.lfc), "lfc_m": z(r.lfc),
-        "el_hpa": hpa(r.el), "el_m": z(r.el),
-        "cape_j_per_kg": r.cape_j_per_kg, "cin_j_per_kg": r.cin_j_per_kg,
-    })
-}
-
-fn dynamic_json(run: &SingleRun) -> serde_json::Value {
-    serde_json::json!({
-        "max_altitude_m": run.max_altitude_m,
-        "equilibrium_altitude_m": run.equilibrium_altitude_m,
-        "period_s": run.period_s,
-        "ended_early": run.ended_early,
-        "trajectory": run.trajectory.iter().map(|p| serde_json::json!({
-            "time_s": p.time_s, "z_m": p.z_m, "t_k": p.t_k, "theta_k": p.theta_k,
-            "theta_v_k": p.theta_v_k, "env_t_k": p.env_t_k, "env_theta_k": p.env_theta_k,
-            "env_theta_v_k": p.env_theta_v_k, "qv_gkg": p.qv_kg_per_kg * 1000.0,
-            "ql_gkg": p.ql_kg_per_kg * 1000.0, "radius_m": p.radius_m, "mass_kg": p.mass_kg,
-        })).collect::<Vec<_>>(),
-    })
-}
-
-fn write_dynamic(
-    out: &mut impl std::io::Write,
-    args: &Args,
-    run: &SingleRun,
-) -> std::io::Result<()> {
-    writeln!(out)?;
-    writeln!(
-        out,
-        "released parcel ({} K excess, radius {} m, mixing {}), followed {} s:",
-        args.temp_excess,
-        args.radius,
-        if args.mixing { "on" } else { "off" },
-        run.trajectory.last().map(|p| p.time_s).unwrap_or(0.0)
-    )?;
-    writeln!(out, "  maximum altitude      {:8.0} m", run.max_altitude_m)?;
-    writeln!(
-        out,
-        "  equilibrium altitude  {:8.0} m (mean of the last third)",
-        run.equilibrium_altitude_m
-    )?;
-    match run.period_s {
-        Some(p) => writeln!(out, "  oscillation period    {p:8.0} s")?,
-        None => writeln!(
-            out,
-            "  oscillation period        none (fewer than 3 crossings of the equilibrium)"
-        )?,
-    }
-    if run.ended_early {
-        writeln!(out, "  the parcel died or left the domain before the end")?;
-    }
-    writeln!(out)?;
-    writeln!(
-        out,
-        "  time(s)    z(m)  T(°C)   θ(K)  θv(K) envθv(K)  qv(g/kg) ql(g/kg)  r(m)   mass(kg)"
-    )?;
-    // About 40 rows; the CSV has every step.
-    let every = (run.trajectory.len() / 40).max(1);
-    for p in run.trajectory.iter().step_by(every) {
-        writeln!(
-            out,
-            "{:9.0} {:7.0} {:6.1} {:6.1} {:6.1} {:8.1} {:9.2} {:8.2} {:5.0} {:10.3e}",
-            p.time_s,
-            p.z_m,
-            p.t_k - 273.15,
-            p.theta_k,
-            p.theta_v_k,
-            p.env_theta_v_k,
-            p.qv_kg_per_kg * 1000.0,
-            p.ql_kg_per_kg * 1000.0,
-            p.radius_m,
-            p.mass_kg
-        )?;
-    }
-    if let Some(path) = &args.csv {
-        writeln!(out, "trajectory written to {}", path.display())?;
-    }
-    Ok(())
-}
-
-fn to_json(a: &ParcelAscent) -> serde_json::Value {
-    let hpa = |m: Option<LevelMark>| m.map(|m| m.p_pa / 100.0);
-    let z = |m: Option<LevelMark>| m.map(|m| m.z_m);
-    serde_json::json!({
-        "lcl_hpa": hpa(a.lcl), "lcl_m": z(a.lcl),
-        "lfc_hpa": hpa(a.lfc), "lfc_m": z(a.lfc),
-        "el_hpa": hpa(a.el), "el_m": z(a.el),
-        "levels": a.levels.iter().map(|l| serde_json::json!({
-            "p_hpa": l.p_pa / 100.0,
-            "z_m": l.z_m,
-            "t_k": l.t_k,
-            "tv_k": l.tv_k,
-            "env_t_k": l.env_t_k,
-            "env_tv_k": l.env_tv_k,
-            "qv_gkg": l.qv * 1000.0,
-            "ql_gkg": l.ql * 1000.0,
-        })).collect::<Vec<_>>(),
-    })
-}
-
-fn write_table(
-    out: &mut impl std::io::Write,
-    s: &Sounding,
-    a: &ParcelAscent,
-    reports: &[ParcelReport],
-    kind: ParcelKind,
-) -> std::io::Result<()> {
-    if let Some(st) = &s.station {
-        writeln!(out, "{st}")?;
-    }
-    writeln!(
-        out,
-        "{:<38} {:>6} {:>7} {:>6} {:>8} {:>8} {:>8} {:>10} {:>9}",
-        "parcel", "hPa", "T(°C)", "Td(°C)", "LCL hPa", "LFC hPa", "EL hPa", "CAPE J/kg", "CIN J/kg"
-    )?;
-    let hpa = |m: Option<LevelMark>| match m {
-        Some(m) => format!("{:8.1}", m.p_pa / 100.0),
-        None => format!("{:>8}", "none"),
-    };
-    for r in reports {
-        writeln!(
-            out,
-            "{:<38} {:6.1} {:7.1} {:6.1} {} {} {} {:10.0} {:9.0}",
-            r.kind.name(),
-            r.start_p_pa / 100.0,
-            r.start.t_k - 273.15,
-            r.start.td_k - 273.15,
-            hpa(r.ascent.lcl),
-            hpa(r.lfc),
-            hpa(r.el),
-            r.cape_j_per_kg,
-            r.cin_j_per_kg
-        )?;
-    }
-    writeln!(out)?;
-    let first = &a.levels[0];
-    writeln!(
-        out,
-        "{} parcel: {:.1} hPa, T {:.1} °C, q_v {:.2} g/kg (station {:.0} m MSL)",
-        kind.name(),
-        first.p_pa / 100.0,
-        first.t_k - 273.15,
-        first.qv * 1000.0,
-        s.surface_msl_m()
-    )?;
-    for (name, m, none) in [
-        ("LCL", a.lcl, "none (the parcel never saturates)"),
-        ("LFC", a.lfc, "none (never buoyant above the LCL)"),
-        ("EL", a.el, "none (no LFC, or still buoyant at the top)"),
-    ] {
-        match m {
-            Some(m) => writeln!(
-                out,
-                "{name:>4}: {:7.1} hPa  {:7.0} m above the surface",
-                m.p_pa / 100.0,
-                m.z_m
-            )?,
-            None => writeln!(out, "{name:>4}: {none}")?,
-        }
-    }
-    writeln!(out)?;
-    writeln!(
-        out,
-        "  p(hPa)    z(m)  T(°C)  Tv(°C)  envT(°C) envTv(°C)  qv(g/kg) ql(g/kg)  buoyancy"
-    )?;
-    for l in &a.levels {
-        let b = l.tv_k - l.env_tv_k;
-        writeln!(
-            out,
-            "{:8.1} {:7.0} {:6.1} {:7.1} {:9.1} {:9.1} {:9.2} {:8.2}  {:+6.1} K",
-            l.p_pa / 100.0,
-            l.z_m,
-            l.t_k - 273.15,
-            l.tv_k - 273.15,
-            l.env_t_k - 273.15,
-            l.env_tv_k - 273.15,
-            l.qv * 1000.0,
-            l.ql * 1000.0,
-            b
-        )?;
-    }
-    Ok(())
-}
