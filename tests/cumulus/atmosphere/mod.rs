@@ -3,6 +3,7 @@
 
 mod cape;
 mod diagnostics;
+mod indices;
 mod lifting;
 mod metpy;
 mod parcel_cli;

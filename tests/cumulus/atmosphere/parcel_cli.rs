@@ -278,3 +278,36 @@ fn bad_wind_fails_and_missing_wind_is_reported() {
     let text = out.stdout();
     assert!(text.contains("wind: none in the sounding"), "{text}");
 }
+
+#[test]
+fn blank_upper_dewpoints_and_no_wind_are_said_not_zeroed() {
+    let tropical = "tests/data/soundings/constructed-tropical.txt";
+    let out = cli::run(["parcel", "--sounding", tropical, "--json"]);
+    out.expect_success();
+    let v: serde_json::Value = serde_json::from_slice(&out.output.stdout).unwrap();
+    // 1e-6 hPa: exp(ln p) of the observed pressure, rounding only.
+    let top = v["humidity_top_hpa"].as_f64().unwrap();
+    assert!((top - 400.0).abs() < 1e-6, "{top}");
+    let idx = &v["indices"];
+    assert!(idx["wind"].is_null(), "{idx}");
+    assert_eq!(idx["wind_note"], "no wind data");
+    assert!(idx["precipitable_water_mm"].as_f64().unwrap() > 40.0, "{idx}");
+    // The parcel reaches the tropopause, far above the last dewpoint.
+    assert!(v["el_hpa"].as_f64().unwrap() < 200.0);
+    let text = cli::run(["parcel", "--sounding", tropical]).expect_success();
+    for needle in [
+        "humidity: no dewpoint above 400 hPa",
+        "missing, not zero",
+        "wind indices               no wind data",
+        "thermodynamics: standard",
+    ] {
+        assert!(text.contains(needle), "{needle:?} not in\n{text}");
+    }
+    // Winds that end below 6 km: the 0-6 km indices say why they are missing.
+    let nov11 = cli::run(["parcel", "--sounding", "tests/data/soundings/metpy-nov11.txt"]);
+    let text = nov11.expect_success();
+    assert!(
+        text.contains("bulk shear 0-6 km          n/a (wind data end at"),
+        "{text}"
+    );
+}
