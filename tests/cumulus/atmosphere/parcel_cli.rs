@@ -294,7 +294,9 @@ fn blank_upper_dewpoints_and_no_wind_are_said_not_zeroed() {
     assert!(idx["precipitable_water_mm"].as_f64().unwrap() > 40.0, "{idx}");
     // The parcel reaches the tropopause, far above the last dewpoint.
     assert!(v["el_hpa"].as_f64().unwrap() < 200.0);
-    let text = cli::run(["parcel", "--sounding", tropical]).expect_success();
+    let run = cli::run(["parcel", "--sounding", tropical]);
+    run.expect_success();
+    let text = run.stdout();
     for needle in [
         "humidity: no dewpoint above 400 hPa",
         "missing, not zero",
@@ -305,7 +307,8 @@ fn blank_upper_dewpoints_and_no_wind_are_said_not_zeroed() {
     }
     // Winds that end below 6 km: the 0-6 km indices say why they are missing.
     let nov11 = cli::run(["parcel", "--sounding", "tests/data/soundings/metpy-nov11.txt"]);
-    let text = nov11.expect_success();
+    nov11.expect_success();
+    let text = nov11.stdout();
     assert!(
         text.contains("bulk shear 0-6 km          n/a (wind data end at"),
         "{text}"
