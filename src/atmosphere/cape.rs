@@ -25,15 +25,18 @@
 //! The LFC is the base of one of the parcel's buoyant layers, chosen by
 //! [`LiftOptions::lfc`] with MetPy's `which_lfc` names: the lowest
 //! (`bottom`, MetPy's `cape_cin` default), the highest (`top`) or, the
-//! default here, the one whose CAPE is largest (`most_cape`). The EL is the
-//! top of the highest buoyant layer (MetPy's `which_el="top"`), or the top
-//! of the data for a parcel still buoyant there. CAPE is the *net* area from
-//! LFC to EL, as MetPy's: with `most_cape` a cap between two buoyant layers
-//! is never subtracted from the upper one, because that layer's own base is
-//! then the LFC. CIN is all the *negative* area from the parcel's start to
-//! the LFC, the forecasters' definition: a buoyant superadiabatic surface
-//! layer under a cap does not cancel the cap (MetPy nets the two and clips
-//! at 0, so it differs by that layer's positive area).
+//! default here, the base of the layer with the most CAPE (`most_cape`).
+//! With `bottom` and `top` the EL is the top of the highest buoyant layer
+//! (MetPy's `which_el="top"`), or the top of the data for a parcel still
+//! buoyant there; with `most_cape` it is the top of the same layer or of a
+//! higher one, whichever pair encloses the largest net area (see
+//! `choose_lfc_el`). CAPE is the *net* area from LFC to EL, as MetPy's: a
+//! cap between two buoyant layers is never subtracted from the upper one
+//! under `most_cape`, because that layer's own base is then the LFC. CIN is
+//! all the *negative* area from the parcel's start to the LFC, the
+//! forecasters' definition: a buoyant superadiabatic surface layer under a
+//! cap does not cancel the cap (MetPy nets the two and clips at 0, so it
+//! differs by that layer's positive area).
 //!
 //! The integrals are trapezoids over the ascent's own ≤ 10 m steps, cut at
 //! the LFC and EL. Without an LFC both are 0.
@@ -131,46 +134,57 @@ pub fn parcel_report(
         .map(|i| (start.z_m + i as f64 * lifting::MAX_STEP_M).min(top))
         .collect();
     let ascent = lifting::lift_from(env, opts, &start, &heights)?;
-    let lfc = choose_lfc(&ascent, opts.lfc, top);
-    let (cape, cin) = match lfc {
+    let chosen = choose_lfc_el(&ascent, opts.lfc, top);
+    let (cape, cin) = match chosen {
         None => (0.0, 0.0),
-        Some(lfc) => {
-            let el = ascent.el.map_or(top, |m| m.z_m);
-            (
-                buoyancy_integral(&ascent, lfc.z_m, el, Area::Net).max(0.0),
-                buoyancy_integral(&ascent, start.z_m, lfc.z_m, Area::Negative),
-            )
-        }
+        Some((lfc, el)) => (
+            buoyancy_integral(&ascent, lfc.z_m, el.map_or(top, |m| m.z_m), Area::Net).max(0.0),
+            buoyancy_integral(&ascent, start.z_m, lfc.z_m, Area::Negative),
+        ),
     };
     Ok(ParcelReport {
         kind,
         start,
         start_p_pa: env.pressure_pa(start.z_m),
-        lfc,
-        el: lfc.and(ascent.el),
+        lfc: chosen.map(|c| c.0),
+        el: chosen.and_then(|c| c.1),
         ascent,
         cape_j_per_kg: cape,
         cin_j_per_kg: cin,
     })
 }
 
-/// The LFC `choice` picks among the bases of the ascent's buoyant layers
-/// (the lowest on ties). units: m
-fn choose_lfc(a: &ParcelAscent, choice: LfcChoice, top: f64) -> Option<LevelMark> {
-    let bases = a.layers.iter().map(|l| l.lfc);
+/// The LFC and EL `choice` picks among the ascent's buoyant layers (the EL
+/// None where the parcel is still buoyant at the top). `bottom` and `top`
+/// take the lowest or highest layer's base with the highest layer's top
+/// (MetPy's `which_el="top"`); `most_cape` the base of one layer and the
+/// top of the same or a higher one whose net area between is largest (the
+/// lowest on ties). Letting the EL be chosen too keeps a layer cut off at
+/// the top of the data above a cap from lowering CAPE: with the EL fixed at
+/// the top, a moister surface that makes that thin layer buoyant would move
+/// the LFC above the cap and cut CAPE from the layer below it to the thin
+/// one's.
+fn choose_lfc_el(
+    a: &ParcelAscent,
+    choice: LfcChoice,
+    top: f64,
+) -> Option<(LevelMark, Option<LevelMark>)> {
+    let (first, last) = (a.layers.first()?, a.layers.last()?);
     match choice {
-        LfcChoice::Bottom => a.layers.first().map(|l| l.lfc),
-        LfcChoice::Top => a.layers.last().map(|l| l.lfc),
+        LfcChoice::Bottom => Some((first.lfc, last.el)),
+        LfcChoice::Top => Some((last.lfc, last.el)),
         LfcChoice::MostCape => {
-            let el = a.el.map_or(top, |m| m.z_m);
-            let mut best: Option<(f64, LevelMark)> = None;
-            for lfc in bases {
-                let cape = buoyancy_integral(a, lfc.z_m, el, Area::Net);
-                if best.is_none_or(|(b, _)| cape > b) {
-                    best = Some((cape, lfc));
+            let mut best: Option<(f64, (LevelMark, Option<LevelMark>))> = None;
+            for (i, base) in a.layers.iter().enumerate() {
+                for upper in &a.layers[i..] {
+                    let el = upper.el.map_or(top, |m| m.z_m);
+                    let cape = buoyancy_integral(a, base.lfc.z_m, el, Area::Net);
+                    if best.is_none_or(|(b, _)| cape > b) {
+                        best = Some((cape, (base.lfc, upper.el)));
+                    }
                 }
             }
-            best.map(|(_, m)| m)
+            best.map(|(_, pair)| pair)
         }
     }
 }

@@ -1,7 +1,13 @@
-//! Parcel theory: lift the surface parcel kinematically through an
-//! [`Environment`] with the same thermodynamics as the simulation, and find
-//! its lifting condensation level (LCL), level of free convection (LFC) and
-//! equilibrium level (EL).
+//! Parcel theory: lift a parcel kinematically through an [`Environment`]
+//! and find its lifting condensation level (LCL), its buoyant layers (the
+//! level of free convection, LFC, at the base of each, the equilibrium
+//! level, EL, at the top) and its state along the way.
+//!
+//! Two thermodynamics ([`LiftOptions::thermo`]): the simulation's own
+//! ([`Thermo::Model`], the default here, described below) and the
+//! forecasters' ([`Thermo::Standard`]: dry adiabat with κ = 2/7 to the LCL,
+//! then MetPy's pseudo-adiabat, see [`super::standard`]), which `cumulus
+//! parcel` reports by default.
 //!
 //! The parcel carries θ, q_v and q_l. Each step of at most [`MAX_STEP_M`] it
 //! rises to a new height, takes the environment pressure there, converts θ to

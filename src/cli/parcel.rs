@@ -29,10 +29,17 @@ use cumulus::plots::skewt::{SkewT, write_skew_t_png};
 300 hPa) parcels of a radiosonde sounding and report their lifting condensation level (LCL), \
 level of free convection (LFC), equilibrium level (EL), CAPE and CIN (J/kg, virtual-temperature \
 corrected as MetPy's cape_cin).\n\n\
-The parcel conserves potential temperature and total water and is brought to saturation \
-equilibrium at every height with the same saturation adjustment the cloud simulation uses \
-(latent-heat factor 1); LFC and EL are where the parcel's virtual temperature crosses the \
-environment's (without the condensate's weight unless --condensate-loading). Heights are above the sounding's first usable level.",
+By default (--thermo standard) the parcels are lifted as forecasters and MetPy 1.7 lift them: \
+dry adiabatically to the LCL, then along the pseudo-adiabat (condensate falls out), with Ambaum's \
+saturation vapour pressure; --thermo model lifts them with the cloud simulation's own reversible \
+saturation adjustment (Tetens, latent-heat factor 1). LFC and EL are where the parcel's virtual \
+temperature crosses the environment's (without the condensate's weight unless \
+--condensate-loading); with several buoyant layers --lfc picks the LFC (most-cape by default), \
+and CIN is all the negative area from the start to it. Rows without a dewpoint keep their \
+temperature; above the last dewpoint the relative humidity of that level is held, and the output \
+says so. Also reported: lifted index, K-index, precipitable water, lapse rates, bulk shear, \
+Bunkers storm motion and storm-relative helicity ('no wind data' without wind). Heights are \
+above the sounding's first usable level.",
     after_help = "Examples:\n  cumulus parcel --sounding profiles/soundings/oun-2011-05-22-12z.txt\n  \
 cumulus parcel --sounding profiles/soundings/oun-1999-05-04-00z.txt --json\n  \
 cumulus parcel --sounding profiles/soundings/oun-2011-05-22-12z.txt --parcel mu --plot mu.png\n  \
