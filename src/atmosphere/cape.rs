@@ -225,7 +225,7 @@ fn buoyancy_integral(a: &ParcelAscent, z_lo: f64, z_hi: f64, area: Area) -> f64 
         } else {
             // The negative triangle of a step that changes sign.
             let neg = ba.min(bb);
-            0.5 * neg * neg / (ba - bb).abs() * (xa - xb) * -1.0
+            -(0.5 * neg * neg / (ba - bb).abs() * (xa - xb))
         };
     }
     thermo::R_DRY * sum

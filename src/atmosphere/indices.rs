@@ -70,9 +70,8 @@ pub fn indices(env: &Environment, sb_levels: &[ParcelLevel]) -> Indices {
     let at = |p_hpa: f64| env.height_at_pressure_m(p_hpa * 100.0);
     let t = |z: f64| env.temperature_k(z);
     let td = |z: f64| env.dewpoint_k(z);
-    let lifted_index_k = at(500.0).and_then(|_| {
-        parcel_t_at(sb_levels, 50_000.0).map(|tp| t(at(500.0).unwrap()) - tp)
-    });
+    let lifted_index_k =
+        at(500.0).and_then(|z5| parcel_t_at(sb_levels, 50_000.0).map(|tp| t(z5) - tp));
     let k_index_c = match (at(850.0), at(700.0), at(500.0)) {
         (Some(z8), Some(z7), Some(z5)) => {
             Some((t(z8) - t(z5)) + (td(z8) - 273.15) - (t(z7) - td(z7)))

@@ -450,7 +450,8 @@ impl Parcel {
             Thermo::Model => {
                 let (theta_s, qt) = (self.start.2, self.start.3);
                 let pi1 = thermo::exner(p1);
-                let adj = thermo::saturation_adjust(self.theta * pi1, self.qv, self.ql, p1, self.alpha);
+                let adj =
+                    thermo::saturation_adjust(self.theta * pi1, self.qv, self.ql, p1, self.alpha);
                 let lcl = (!self.saturated && adj.condensed > 0.0).then(|| {
                     // q_v = ωs along the dry adiabat somewhere between z and z1.
                     lcl_height_m(env, theta_s, qt, z, z1).unwrap_or(z1)
@@ -468,9 +469,9 @@ impl Parcel {
                     self.qv = standard::saturation_mixing_ratio(self.t, p1);
                     return None;
                 }
-                let lcl = self.saturation_height(env, z1, z1).and_then(|_| {
-                    self.saturation_height(env, z, z1)
-                });
+                let lcl = self
+                    .saturation_height(env, z1, z1)
+                    .and_then(|_| self.saturation_height(env, z, z1));
                 match lcl {
                     None => self.t = standard::dry_adiabat_k(t0, p0, p1),
                     Some(zl) => {

@@ -280,7 +280,9 @@ impl Sounding {
             let td_k = td_c.map(|td| (td + 273.15).min(t_k));
             // The environment accepts q_v ≤ 0.1 kg/kg and θ ≤ 2000 K; check
             // here so that the message can point at the row.
-            let qv = td_k.map_or(0.0, |td| thermo::mixing_ratio_from_dewpoint(td, p_hpa * 100.0));
+            let qv = td_k.map_or(0.0, |td| {
+                thermo::mixing_ratio_from_dewpoint(td, p_hpa * 100.0)
+            });
             if qv > 0.1 {
                 return Err(Error::parse(
                     path,

@@ -18,7 +18,7 @@
 /// Gas constant of dry air (MetPy's R/M_d). units: J kg⁻¹ K⁻¹
 pub const R_DRY: f64 = 287.047_490_977_184_57;
 /// Specific heat of dry air at constant pressure, 7/2 R_d. units: J kg⁻¹ K⁻¹
-pub const CP_DRY: f64 = 1004.666_218_420_146_2;
+pub const CP_DRY: f64 = 1_004.666_218_420_146_2;
 /// κ = R_d / c_pd = 2/7. units: 1
 pub const KAPPA: f64 = R_DRY / CP_DRY;
 /// ε = M_w / M_d. units: 1
@@ -30,7 +30,7 @@ const R_VAPOUR: f64 = 461.523_115_726_060_84;
 /// Specific heat of liquid water. units: J kg⁻¹ K⁻¹
 const CP_LIQUID: f64 = 4219.4;
 /// Specific heat of water vapour at constant pressure (γ = 1.33). units: J kg⁻¹ K⁻¹
-const CP_VAPOUR: f64 = 1860.078_011_865_639;
+const CP_VAPOUR: f64 = 1_860.078_011_865_639;
 /// Triple point of water. units: K
 const T_TRIPLE_K: f64 = 273.16;
 /// Saturation vapour pressure at the triple point. units: Pa

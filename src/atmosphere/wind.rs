@@ -126,7 +126,10 @@ mod tests {
             let (back, speed) = direction_from_components(u, v);
             // 1e-9: rounding of sin/cos/atan2 only.
             let d = (back - from + 180.0).rem_euclid(360.0) - 180.0;
-            assert!(d.abs() < 1e-9 && (speed - 7.0).abs() < 1e-9, "{from} -> {back}");
+            assert!(
+                d.abs() < 1e-9 && (speed - 7.0).abs() < 1e-9,
+                "{from} -> {back}"
+            );
         }
     }
 

@@ -10,8 +10,8 @@ use std::path::PathBuf;
 use anyhow::Context as _;
 use cumulus::atmosphere::Sounding;
 use cumulus::atmosphere::cape::{self, ParcelKind, ParcelReport};
-use cumulus::atmosphere::lifting::{self, LfcChoice, LiftOptions, ParcelAscent};
 use cumulus::atmosphere::indices;
+use cumulus::atmosphere::lifting::{self, LfcChoice, LiftOptions, ParcelAscent};
 use cumulus::atmosphere::thermo::Thermo;
 
 use super::parcel_report::{
@@ -412,4 +412,3 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     Ok(())
 }
-

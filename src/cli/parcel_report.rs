@@ -33,7 +33,11 @@ pub(super) fn summary_lines(
         })
         .collect();
     lines.push(thermo_and_lfc.to_string());
-    lines.extend(index_rows(idx).into_iter().map(|(k, v)| format!("{k}: {v}")));
+    lines.extend(
+        index_rows(idx)
+            .into_iter()
+            .map(|(k, v)| format!("{k}: {v}")),
+    );
     lines
 }
 
@@ -47,20 +51,39 @@ pub(super) fn index_rows(idx: &Indices) -> Vec<(&'static str, String)> {
     let mut rows = vec![
         (
             "lifted index",
-            or(idx.lifted_index_k, &|v| format!("{v:+.1} K"), "data end below 500 hPa"),
+            or(
+                idx.lifted_index_k,
+                &|v| format!("{v:+.1} K"),
+                "data end below 500 hPa",
+            ),
         ),
         (
             "K-index",
-            or(idx.k_index_c, &|v| format!("{v:.1} °C"), "needs 850-500 hPa"),
+            or(
+                idx.k_index_c,
+                &|v| format!("{v:.1} °C"),
+                "needs 850-500 hPa",
+            ),
         ),
-        ("precipitable water", format!("{:.1} mm", idx.precipitable_water_mm)),
+        (
+            "precipitable water",
+            format!("{:.1} mm", idx.precipitable_water_mm),
+        ),
         (
             "lapse rate 0-3 km",
-            or(idx.lapse_0_3km_k_per_km, &|v| format!("{v:.1} K/km"), "data end below 3 km"),
+            or(
+                idx.lapse_0_3km_k_per_km,
+                &|v| format!("{v:.1} K/km"),
+                "data end below 3 km",
+            ),
         ),
         (
             "lapse rate 700-500 hPa",
-            or(idx.lapse_700_500_k_per_km, &|v| format!("{v:.1} K/km"), "needs 700-500 hPa"),
+            or(
+                idx.lapse_700_500_k_per_km,
+                &|v| format!("{v:.1} K/km"),
+                "needs 700-500 hPa",
+            ),
         ),
     ];
     let Some(w) = &idx.wind else {
@@ -80,8 +103,14 @@ pub(super) fn index_rows(idx: &Indices) -> Vec<(&'static str, String)> {
         ("bulk shear 0-6 km", or(w.shear_0_6km_m_s, &ms, &why)),
         ("Bunkers right mover", or_motion(w.bunkers_right_m_s)),
         ("Bunkers left mover", or_motion(w.bunkers_left_m_s)),
-        ("SRH 0-1 km (right mover)", or(w.srh_0_1km_m2_s2, &srh, &why)),
-        ("SRH 0-3 km (right mover)", or(w.srh_0_3km_m2_s2, &srh, &why)),
+        (
+            "SRH 0-1 km (right mover)",
+            or(w.srh_0_1km_m2_s2, &srh, &why),
+        ),
+        (
+            "SRH 0-3 km (right mover)",
+            or(w.srh_0_3km_m2_s2, &srh, &why),
+        ),
     ]);
     rows
 }

@@ -77,7 +77,10 @@ fn cape_and_cin_of_three_parcels_match_metpy_on_seven_soundings() {
                 .filter(|_| cin < -25.0)
             {
                 let ours = r.lfc.expect("MetPy finds an LFC").p_pa / 100.0;
-                assert!((ours - lfc).abs() < 10.0, "{rel} {key}: LFC {ours:.1} vs {lfc:.1} hPa");
+                assert!(
+                    (ours - lfc).abs() < 10.0,
+                    "{rel} {key}: LFC {ours:.1} vs {lfc:.1} hPa"
+                );
             }
         }
     }
@@ -107,7 +110,10 @@ fn capped_sounding_cin_runs_to_the_lfc_above_the_cap() {
     assert_eq!(most.lfc, top.lfc);
     let lfc_hpa = most.lfc.unwrap().p_pa / 100.0;
     let metpy_lfc = reference.value(CAPPED, "sb.lfc_hpa");
-    assert!((lfc_hpa - metpy_lfc).abs() < 2.0, "LFC {lfc_hpa:.1} vs MetPy {metpy_lfc:.1} hPa");
+    assert!(
+        (lfc_hpa - metpy_lfc).abs() < 2.0,
+        "LFC {lfc_hpa:.1} vs MetPy {metpy_lfc:.1} hPa"
+    );
     // By hand (negative area of MetPy's parcel to MetPy's most_cape LFC,
     // diagnostics_reference.py): 10 %, the bound.
     let hand = reference.value(CAPPED, "sb.cin_negative");
@@ -121,7 +127,10 @@ fn capped_sounding_cin_runs_to_the_lfc_above_the_cap() {
     // hand − MetPy. Ours is the same up to the 10 % above.
     let metpy = reference.value(CAPPED, "sb.cin");
     let buoyant_below = metpy - hand;
-    assert!(buoyant_below > 10.0, "the buoyant layer under the cap: {buoyant_below:.1} J/kg");
+    assert!(
+        buoyant_below > 10.0,
+        "the buoyant layer under the cap: {buoyant_below:.1} J/kg"
+    );
     assert!(
         close(most.cin_j_per_kg + buoyant_below, metpy, 0.10, 0.0),
         "CIN {:.1} + {buoyant_below:.1} vs MetPy {metpy:.1} J/kg",
@@ -161,7 +170,12 @@ fn rows_without_a_dewpoint_keep_their_temperature_and_hold_relative_humidity() {
     assert!((0.3..0.7).contains(&rh_top), "{rh_top}");
     for l in env.levels().iter().filter(|l| l.z_m > z_top) {
         // 1e-9: only the rounding of the ratio's two evaluations.
-        assert!((rh(l.z_m) - rh_top).abs() < 1e-9, "z {}: RH {}", l.z_m, rh(l.z_m));
+        assert!(
+            (rh(l.z_m) - rh_top).abs() < 1e-9,
+            "z {}: RH {}",
+            l.z_m,
+            rh(l.z_m)
+        );
     }
     // The parcel is lifted to the top of the data: its EL is near the
     // tropopause, far above the last dewpoint.
@@ -169,7 +183,12 @@ fn rows_without_a_dewpoint_keep_their_temperature_and_hold_relative_humidity() {
     let el = r.el.expect("an EL below the 100 hPa top").p_pa / 100.0;
     assert!(el < 200.0, "EL {el:.0} hPa");
     // The most unstable parcel is sought only where humidity was measured.
-    let mu = parcel_report(&env, ParcelKind::MostUnstable, &standard(LfcChoice::MostCape)).unwrap();
+    let mu = parcel_report(
+        &env,
+        ParcelKind::MostUnstable,
+        &standard(LfcChoice::MostCape),
+    )
+    .unwrap();
     assert!(mu.start.z_m <= z_top);
 }
 
@@ -192,5 +211,11 @@ fn a_gap_in_the_dewpoints_interpolates_relative_humidity_in_height() {
         env.qv(l.z_msl_m - 100.0) / Thermo::Standard.saturation_mixing_ratio(l.t_k, l.p_pa)
     };
     // 1e-12: the interpolation is exact at the halfway point up to rounding.
-    assert!((rh(1) - 0.5 * (rh(0) + rh(2))).abs() < 1e-12, "{} {} {}", rh(0), rh(1), rh(2));
+    assert!(
+        (rh(1) - 0.5 * (rh(0) + rh(2))).abs() < 1e-12,
+        "{} {} {}",
+        rh(0),
+        rh(1),
+        rh(2)
+    );
 }

@@ -41,7 +41,10 @@ const TOLERANCES: [(&str, f64); 5] = [
 fn check(what: &str, ours: Option<f64>, reference: Option<f64>, tol: f64) -> f64 {
     match (ours, reference) {
         (Some(o), Some(r)) => {
-            assert!((o - r).abs() <= tol, "{what}: {o:.3} vs MetPy {r:.3} (±{tol})");
+            assert!(
+                (o - r).abs() <= tol,
+                "{what}: {o:.3} vs MetPy {r:.3} (±{tol})"
+            );
             (o - r).abs()
         }
         (None, None) => 0.0,
@@ -101,8 +104,16 @@ fn indices_match_metpy_on_seven_soundings() {
             ("srh_0_1km_m2_s2", w.srh_0_1km_m2_s2),
             ("srh_0_3km_m2_s2", w.srh_0_3km_m2_s2),
         ] {
-            worst[2] = worst[2].max(check(&format!("{rel} {key}"), o, reference.get(rel, key), 1.0));
+            worst[2] = worst[2].max(check(
+                &format!("{rel} {key}"),
+                o,
+                reference.get(rel, key),
+                1.0,
+            ));
         }
-        eprintln!("{rel}: worst |Δ| shear {:.2}, Bunkers {:.2} m/s, SRH {:.3} m²/s²", worst[0], worst[1], worst[2]);
+        eprintln!(
+            "{rel}: worst |Δ| shear {:.2}, Bunkers {:.2} m/s, SRH {:.3} m²/s²",
+            worst[0], worst[1], worst[2]
+        );
     }
 }

@@ -264,10 +264,16 @@ fn check_standard(file: &str, lcl_ref_hpa: f64, profile: &[(f64, f64)]) {
     let lcl_hpa = ascent.lcl.unwrap().p_pa / 100.0;
     // 0.5 hPa: MetPy's LCL is Romps' (2017) formula with moist heat
     // capacities, ours the crossing of the dry adiabat with saturation.
-    assert!((lcl_hpa - lcl_ref_hpa).abs() < 0.5, "{file}: LCL {lcl_hpa:.2} vs {lcl_ref_hpa:.2}");
+    assert!(
+        (lcl_hpa - lcl_ref_hpa).abs() < 0.5,
+        "{file}: LCL {lcl_hpa:.2} vs {lcl_ref_hpa:.2}"
+    );
     let mut worst = 0.0_f64;
     for (lvl, &(p_hpa, t_ref)) in ascent.levels.iter().zip(profile) {
-        assert!((lvl.p_pa / 100.0 - p_hpa).abs() < 1e-6, "{file}: level order");
+        assert!(
+            (lvl.p_pa / 100.0 - p_hpa).abs() < 1e-6,
+            "{file}: level order"
+        );
         worst = worst.max((lvl.t_k - t_ref).abs());
     }
     eprintln!("{file}: standard LCL {lcl_hpa:.2} vs {lcl_ref_hpa:.2} hPa, worst |ΔT| {worst:.4} K");

@@ -53,7 +53,14 @@ fn json_has_the_documented_keys_and_values() {
     assert_eq!(v["thermo"], "standard");
     assert_eq!(v["lfc_choice"], "most_cape");
     assert_eq!(last["ql_gkg"].as_f64().unwrap(), 0.0, "pseudo-adiabatic");
-    let model = cli::run(["parcel", "--sounding", OUN_2011, "--json", "--thermo", "model"]);
+    let model = cli::run([
+        "parcel",
+        "--sounding",
+        OUN_2011,
+        "--json",
+        "--thermo",
+        "model",
+    ]);
     model.expect_success();
     let m: serde_json::Value = serde_json::from_slice(&model.output.stdout).unwrap();
     assert_eq!(m["thermo"], "model");
@@ -291,7 +298,10 @@ fn blank_upper_dewpoints_and_no_wind_are_said_not_zeroed() {
     let idx = &v["indices"];
     assert!(idx["wind"].is_null(), "{idx}");
     assert_eq!(idx["wind_note"], "no wind data");
-    assert!(idx["precipitable_water_mm"].as_f64().unwrap() > 40.0, "{idx}");
+    assert!(
+        idx["precipitable_water_mm"].as_f64().unwrap() > 40.0,
+        "{idx}"
+    );
     // The parcel reaches the tropopause, far above the last dewpoint.
     assert!(v["el_hpa"].as_f64().unwrap() < 200.0);
     let run = cli::run(["parcel", "--sounding", tropical]);
@@ -306,7 +316,11 @@ fn blank_upper_dewpoints_and_no_wind_are_said_not_zeroed() {
         assert!(text.contains(needle), "{needle:?} not in\n{text}");
     }
     // Winds that end below 6 km: the 0-6 km indices say why they are missing.
-    let nov11 = cli::run(["parcel", "--sounding", "tests/data/soundings/metpy-nov11.txt"]);
+    let nov11 = cli::run([
+        "parcel",
+        "--sounding",
+        "tests/data/soundings/metpy-nov11.txt",
+    ]);
     nov11.expect_success();
     let text = nov11.stdout();
     assert!(

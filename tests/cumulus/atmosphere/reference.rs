@@ -37,9 +37,8 @@ pub struct Reference(HashMap<(String, String), f64>);
 
 impl Reference {
     pub fn load() -> Self {
-        let text =
-            std::fs::read_to_string(path("tests/reference/metpy/diagnostics_reference.txt"))
-                .unwrap();
+        let text = std::fs::read_to_string(path("tests/reference/metpy/diagnostics_reference.txt"))
+            .unwrap();
         let map = text
             .lines()
             .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
