@@ -1,5 +1,5 @@
 //! `cumulus parcel`'s CAPE and CIN with the forecasters' thermodynamics
-//! against MetPy 1.7.1 on seven soundings (see atmosphere::reference), the
+//! against MetPy 1.7.1 on seven soundings (listed in atmosphere::reference), the
 //! LFC choice on a capped sounding, and soundings whose upper rows have no
 //! dewpoint.
 //!
@@ -20,7 +20,7 @@ use cumulus::atmosphere::cape::{ParcelKind, parcel_report};
 use cumulus::atmosphere::lifting::{LfcChoice, LiftOptions};
 use cumulus::atmosphere::thermo::Thermo;
 
-use super::reference::{Reference, SOUNDINGS, standard_env};
+use super::reference::{Reference, standard_env};
 
 fn standard(lfc: LfcChoice) -> LiftOptions {
     LiftOptions {
@@ -39,7 +39,7 @@ fn close(ours: f64, reference: f64, rel: f64, floor: f64) -> bool {
 fn cape_and_cin_of_three_parcels_match_metpy_on_seven_soundings() {
     let reference = Reference::load();
     let mut worst_cape = 0.0_f64;
-    for rel in SOUNDINGS {
+    for rel in reference.soundings.iter().map(String::as_str) {
         let (_, env) = standard_env(rel);
         for kind in ParcelKind::ALL {
             let r = parcel_report(&env, kind, &standard(LfcChoice::MostCape)).unwrap();

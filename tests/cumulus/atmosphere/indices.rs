@@ -20,7 +20,7 @@ use cumulus::atmosphere::indices::indices;
 use cumulus::atmosphere::lifting::LiftOptions;
 use cumulus::atmosphere::thermo::Thermo;
 
-use super::reference::{Reference, SOUNDINGS, standard_env};
+use super::reference::{Reference, standard_env};
 
 /// (reference key, tolerance) of the thermodynamic indices.
 const TOLERANCES: [(&str, f64); 5] = [
@@ -59,7 +59,7 @@ fn indices_match_metpy_on_seven_soundings() {
         thermo: Thermo::Standard,
         ..Default::default()
     };
-    for rel in SOUNDINGS {
+    for rel in reference.soundings.iter().map(String::as_str) {
         let (_, env) = standard_env(rel);
         let sb = parcel_report(&env, ParcelKind::Surface, &opts).unwrap();
         let idx = indices(&env, &sb.ascent.levels);

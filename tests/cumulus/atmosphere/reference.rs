@@ -8,19 +8,6 @@ use std::path::{Path, PathBuf};
 use cumulus::atmosphere::thermo::Thermo;
 use cumulus::atmosphere::{Environment, Sounding};
 
-/// The test soundings: the two shipped ones, MetPy's jan20 and nov11 test
-/// soundings, and the constructed high-plains (surface 842 hPa), tropical
-/// (no dewpoints above 400 hPa, no wind) and capped ones.
-pub const SOUNDINGS: [&str; 7] = [
-    "profiles/soundings/oun-2011-05-22-12z.txt",
-    "profiles/soundings/oun-1999-05-04-00z.txt",
-    "tests/data/soundings/metpy-jan20.txt",
-    "tests/data/soundings/metpy-nov11.txt",
-    "tests/data/soundings/constructed-high-plains.txt",
-    "tests/data/soundings/constructed-tropical.txt",
-    "tests/data/soundings/constructed-capped.txt",
-];
-
 pub fn path(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
 }
@@ -33,13 +20,25 @@ pub fn standard_env(rel: &str) -> (Sounding, Environment) {
 }
 
 /// MetPy's values by (sounding file name, key); NaN where MetPy has none.
-pub struct Reference(HashMap<(String, String), f64>);
+/// The soundings are those the file's `# sounding PATH` lines name: the
+/// two shipped ones, MetPy's jan20 and nov11 test soundings, and the
+/// constructed high-plains (surface 842 hPa), tropical (no dewpoints above
+/// 400 hPa, no wind) and capped ones.
+pub struct Reference {
+    values: HashMap<(String, String), f64>,
+    pub soundings: Vec<String>,
+}
 
 impl Reference {
     pub fn load() -> Self {
         let text = std::fs::read_to_string(path("tests/reference/metpy/diagnostics_reference.txt"))
             .unwrap();
-        let map = text
+        let soundings = text
+            .lines()
+            .filter_map(|l| l.strip_prefix("# sounding "))
+            .map(str::to_string)
+            .collect();
+        let values = text
             .lines()
             .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
             .map(|l| {
@@ -48,13 +47,13 @@ impl Reference {
                 ((f[0].to_string(), f[1].to_string()), f[2].parse().unwrap())
             })
             .collect();
-        Reference(map)
+        Reference { values, soundings }
     }
 
     /// The value of `key` on the sounding at `rel`, if MetPy gave one.
     pub fn get(&self, rel: &str, key: &str) -> Option<f64> {
         let name = Path::new(rel).file_name().unwrap().to_string_lossy();
-        self.0
+        self.values
             .get(&(name.into_owned(), key.to_string()))
             .copied()
             .filter(|v| v.is_finite())

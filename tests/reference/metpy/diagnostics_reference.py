@@ -1,7 +1,8 @@
 """Reference diagnostics for tests/cumulus/atmosphere/diagnostics.rs and
 indices.rs, computed with MetPy 1.7.1 on the six test soundings and the
 constructed capped one, written to diagnostics_reference.txt beside it
-(one `sounding key value` line each; `nan` where MetPy has no value).
+(`# sounding PATH` lines naming them, the list the Rust tests use, then
+one `sounding key value` line each; `nan` where MetPy has no value).
 
 Parcels as MetPy's `surface_based_cape_cin`, `mixed_layer_cape_cin` and
 `most_unstable_cape_cin` build them, passed to `cape_cin` with
@@ -106,6 +107,8 @@ def out(name, key, value):
 def main():
     warnings.simplefilter("ignore")
     print(f"# MetPy {metpy.__version__}, numpy {np.__version__}")
+    for rel in SOUNDINGS:
+        print(f"# sounding {rel}")
     for rel in SOUNDINGS:
         name = pathlib.Path(rel).name
         ph, z, tc, tdc, wdir, wkn = read(ROOT / rel)
