@@ -194,6 +194,34 @@ fn rejects_fewer_than_two_usable_levels() {
     assert!(msg.contains("0 usable level"), "{msg}");
 }
 
+#[test]
+fn a_surface_row_without_a_dewpoint_is_an_error_naming_it() {
+    // Higher rows may leave DWPT blank (their humidity is then filled, see
+    // atmosphere::diagnostics); the surface may not: every parcel and the
+    // fill start from its dewpoint. Line 6, the TEMP column (15-21).
+    let text = format!(
+        "{HEADER}{}{}{}",
+        row(&["1000.0", "36"]),
+        row(&["966.0", "345", "22.2"]),
+        row(&["900.0", "950", "18.0", "10.0"])
+    );
+    let msg = error_at(&text, 6, 18);
+    assert!(
+        msg.contains("no DWPT") && msg.contains("surface needs a dewpoint"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn rows_with_a_temperature_but_no_dewpoint_are_kept() {
+    let text = table(&row(&["850.0", "1450", "15.0"]));
+    let s = Sounding::parse(&text, Path::new("t.txt")).unwrap();
+    assert_eq!(s.levels.len(), 4, "966, 900, 850 and 700 hPa");
+    assert_eq!(s.levels[2].td_k, None);
+    assert!((s.levels[2].t_k - 288.15).abs() < 1e-9);
+    assert_eq!(s.humidity_top_msl_m(), None, "700 hPa has a dewpoint again");
+}
+
 fn shipped_text() -> String {
     std::fs::read_to_string(
         Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles/soundings/oun-2011-05-22-12z.txt"),
