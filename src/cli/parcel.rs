@@ -11,7 +11,7 @@ use anyhow::Context as _;
 use cumulus::atmosphere::Sounding;
 use cumulus::atmosphere::cape::{self, ParcelKind, ParcelReport};
 use cumulus::atmosphere::indices;
-use cumulus::atmosphere::lifting::{self, LfcChoice, LiftOptions, ParcelAscent};
+use cumulus::atmosphere::lifting::{self, LfcChoice, LiftOptions, ParcelAscent, ParcelStart};
 use cumulus::atmosphere::thermo::Thermo;
 
 use super::parcel_report::{
@@ -179,18 +179,21 @@ fn positive_seconds(s: &str) -> Result<f64, String> {
 }
 
 /// Releases the surface parcel with the full dynamics (`--dynamic`).
+/// The parcel starts from `start`'s temperature and dewpoint, its vapour
+/// from the dewpoint by the simulation's own saturation formula (the
+/// environment `env` is the simulation's too), whatever `--thermo`.
 fn release_dynamic(
     args: &Args,
     env: &cumulus::atmosphere::Environment,
-    ascent: &ParcelAscent,
+    start: &ParcelStart,
 ) -> anyhow::Result<SingleRun> {
-    let surface = &ascent.levels[0];
+    let p0 = env.pressure_pa(start.z_m);
     let run = single::release(
         env.clone(),
         &PhysicsConfig::default(),
         SingleRelease {
-            surface_t_k: surface.t_k + args.temp_excess,
-            surface_qv: surface.qv + surface.ql,
+            surface_t_k: start.t_k + args.temp_excess,
+            surface_qv: Thermo::Model.mixing_ratio_from_dewpoint(start.td_k, p0),
             radius_m: args.radius,
             mixing: args.mixing,
             duration_s: args.duration,
@@ -299,7 +302,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let dynamic = if args.dynamic {
         // The simulation runs on its own thermodynamics' environment.
         let sim_env = sounding.to_environment()?;
-        Some(release_dynamic(&args, &sim_env, &ascent)?)
+        Some(release_dynamic(&args, &sim_env, &chosen.start)?)
     } else {
         None
     };
