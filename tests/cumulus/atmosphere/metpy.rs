@@ -159,7 +159,7 @@ const MODEL: Bounds = Bounds {
 /// keeps a margin yet fails for Tetens instead of Ambaum (0.1–0.3 K), a
 /// reversible ascent (≥ 0.3 K aloft) or the model's c_p (~0.1 K). LCL
 /// 0.5 hPa: MetPy's is Romps' (2017) formula with moist heat capacities,
-/// ours the crossing of the dry adiabat with saturation (0.17 hPa apart).
+/// ours the crossing of the dry adiabat with saturation (0.18 hPa apart).
 const STANDARD: Bounds = Bounds {
     thermo: Thermo::Standard,
     lcl_hpa: 0.5,
