@@ -9,8 +9,9 @@
 //! remains is how each reads the sounding between its levels (we hold θ
 //! and q_v linear in height and integrate 10 m steps, MetPy takes T and Td
 //! linear in ln p and integrates trapezoids over the levels), which moves
-//! CAPE by 0.1–2.8 % (4.5 %, 14 J/kg, on nov11's small sb CAPE). The absolute floor of 25 J/kg is for parcels with
-//! next to no CAPE or CIN, where a percentage of nothing means nothing.
+//! CAPE by 0.1–2.8 % (4.5 %, 14 J/kg, on nov11's small sb CAPE). The
+//! absolute floor of 25 J/kg is for parcels with next to no CAPE or CIN,
+//! where a percentage of nothing means nothing.
 //! CIN is compared with MetPy's own parcel and LFC but as forecasters define
 //! it: the negative area only (the reference's `cin_negative`, computed by
 //! hand from MetPy's profiles); MetPy's `cape_cin` nets a buoyant layer
