@@ -13,25 +13,36 @@
 //!   potential temperature θ_e in the lowest [`MOST_UNSTABLE_DEPTH_PA`],
 //!   started there.
 //!
-//! Each is lifted with [`lifting::lift_from`] (the simulation's
-//! thermodynamics) and compared in virtual temperature, the vapour's
-//! correction included in both parcel and environment, as MetPy's
-//! `cape_cin` does:
+//! Each is lifted with [`lifting::lift_from`] (the thermodynamics of
+//! [`LiftOptions::thermo`]: the forecasters' standard for `cumulus parcel`,
+//! the simulation's own for the window's curve) and compared in virtual
+//! temperature, the vapour's correction included in both parcel and
+//! environment, as MetPy's `cape_cin` does:
 //!
-//!   CAPE = R_d ∫_{EL}^{LFC} max(T_v,parcel − T_v,env, 0) d ln p,
-//!   CIN  = R_d ∫_{LFC}^{p_start} (T_v,parcel − T_v,env) d ln p, set to 0 if positive.
+//!   CAPE = R_d ∫_{EL}^{LFC} (T_v,parcel − T_v,env) d ln p, 0 if negative,
+//!   CIN  = R_d ∫_{LFC}^{p_start} min(T_v,parcel − T_v,env, 0) d ln p.
 //!
-//! The integrals are trapezoids over the ascent's own ≤ 10 m steps, cut at the
-//! LFC and EL. Without an LFC both are 0; a parcel still buoyant at the top
-//! integrates CAPE to the top of the data (MetPy uses the last level).
-//! CAPE counts the buoyant area only (SHARPpy's positive area): MetPy's net
-//! area between LFC and EL is the same on soundings whose parcel stays
-//! buoyant there (both shipped ones), but on a profile that ends while the
-//! parcel is buoyant again above a capping inversion it subtracts the whole
-//! cap and can go negative, so a moister surface would *lower* CAPE.
+//! The LFC is the base of one of the parcel's buoyant layers, chosen by
+//! [`LiftOptions::lfc`] with MetPy's `which_lfc` names: the lowest
+//! (`bottom`, MetPy's `cape_cin` default), the highest (`top`) or, the
+//! default here, the base of the layer with the most CAPE (`most_cape`).
+//! With `bottom` and `top` the EL is the top of the highest buoyant layer
+//! (MetPy's `which_el="top"`), or the top of the data for a parcel still
+//! buoyant there; with `most_cape` it is the top of the same layer or of a
+//! higher one, whichever pair encloses the largest net area (see
+//! `choose_lfc_el`). CAPE is the *net* area from LFC to EL, as MetPy's: a
+//! cap between two buoyant layers is never subtracted from the upper one
+//! under `most_cape`, because that layer's own base is then the LFC. CIN is
+//! all the *negative* area from the parcel's start to the LFC, the
+//! forecasters' definition: a buoyant superadiabatic surface layer under a
+//! cap does not cancel the cap (MetPy nets the two and clips at 0, so it
+//! differs by that layer's positive area).
+//!
+//! The integrals are trapezoids over the ascent's own ≤ 10 m steps, cut at
+//! the LFC and EL. Without an LFC both are 0.
 
 use super::environment::{EnvLevel, Environment};
-use super::lifting::{self, LevelMark, LiftOptions, ParcelAscent, ParcelStart};
+use super::lifting::{self, LevelMark, LfcChoice, LiftOptions, ParcelAscent, ParcelStart};
 use super::thermo;
 use crate::error::{Error, Result};
 
@@ -86,8 +97,15 @@ pub struct ParcelReport {
     pub start: ParcelStart,
     /// Pressure at the start. units: Pa
     pub start_p_pa: f64,
-    /// LCL, LFC, EL and the parcel at every ≤ 10 m step from the start.
+    /// LCL, the buoyant layers and the parcel at every ≤ 10 m step from
+    /// the start.
     pub ascent: ParcelAscent,
+    /// The LFC the energies use (chosen by [`LiftOptions::lfc`]); None if
+    /// the parcel is never buoyant above its LCL.
+    pub lfc: Option<LevelMark>,
+    /// The EL the energies use; None without an LFC or if the parcel is
+    /// still buoyant at the top.
+    pub el: Option<LevelMark>,
     /// units: J/kg (≥ 0)
     pub cape_j_per_kg: f64,
     /// units: J/kg (≤ 0)
@@ -116,34 +134,75 @@ pub fn parcel_report(
         .map(|i| (start.z_m + i as f64 * lifting::MAX_STEP_M).min(top))
         .collect();
     let ascent = lifting::lift_from(env, opts, &start, &heights)?;
-    let (cape, cin) = cape_cin(&ascent, start.z_m, top);
+    let chosen = choose_lfc_el(&ascent, opts.lfc, top);
+    let (cape, cin) = match chosen {
+        None => (0.0, 0.0),
+        Some((lfc, el)) => (
+            buoyancy_integral(&ascent, lfc.z_m, el.map_or(top, |m| m.z_m), Area::Net).max(0.0),
+            buoyancy_integral(&ascent, start.z_m, lfc.z_m, Area::Negative),
+        ),
+    };
     Ok(ParcelReport {
         kind,
         start,
         start_p_pa: env.pressure_pa(start.z_m),
+        lfc: chosen.map(|c| c.0),
+        el: chosen.and_then(|c| c.1),
         ascent,
         cape_j_per_kg: cape,
         cin_j_per_kg: cin,
     })
 }
 
-/// CAPE and CIN of an ascent recorded at fine steps from `z_start` up to
-/// `top`. units: J/kg
-fn cape_cin(a: &ParcelAscent, z_start: f64, top: f64) -> (f64, f64) {
-    let Some(lfc) = a.lfc.map(|m: LevelMark| m.z_m) else {
-        return (0.0, 0.0);
-    };
-    let el = a.el.map(|m| m.z_m).unwrap_or(top);
-    let cape = buoyancy_integral(a, lfc, el, true);
-    let cin = buoyancy_integral(a, z_start, lfc, false).min(0.0);
-    (cape, cin)
+/// The LFC and EL `choice` picks among the ascent's buoyant layers (the EL
+/// None where the parcel is still buoyant at the top). `bottom` and `top`
+/// take the lowest or highest layer's base with the highest layer's top
+/// (MetPy's `which_el="top"`); `most_cape` the base of one layer and the
+/// top of the same or a higher one whose net area between is largest (the
+/// lowest on ties). Letting the EL be chosen too keeps a layer cut off at
+/// the top of the data above a cap from lowering CAPE: with the EL fixed at
+/// the top, a moister surface that makes that thin layer buoyant would move
+/// the LFC above the cap and cut CAPE from the layer below it to the thin
+/// one's.
+fn choose_lfc_el(
+    a: &ParcelAscent,
+    choice: LfcChoice,
+    top: f64,
+) -> Option<(LevelMark, Option<LevelMark>)> {
+    let (first, last) = (a.layers.first()?, a.layers.last()?);
+    match choice {
+        LfcChoice::Bottom => Some((first.lfc, last.el)),
+        LfcChoice::Top => Some((last.lfc, last.el)),
+        LfcChoice::MostCape => {
+            let mut best: Option<(f64, (LevelMark, Option<LevelMark>))> = None;
+            for (i, base) in a.layers.iter().enumerate() {
+                for upper in &a.layers[i..] {
+                    let el = upper.el.map_or(top, |m| m.z_m);
+                    let cape = buoyancy_integral(a, base.lfc.z_m, el, Area::Net);
+                    if best.is_none_or(|(b, _)| cape > b) {
+                        best = Some((cape, (base.lfc, upper.el)));
+                    }
+                }
+            }
+            best.map(|(_, pair)| pair)
+        }
+    }
+}
+
+/// Which part of the area between the parcel and environment curves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Area {
+    /// Positive and negative parts summed.
+    Net,
+    /// Only where the parcel is colder (CIN).
+    Negative,
 }
 
 /// R_d ∫ (T_v,parcel − T_v,env) d(−ln p) over heights [z_lo, z_hi]:
 /// trapezoids over the recorded steps, the end segments cut by linear
-/// interpolation in z; with `positive_only` just the area where the parcel
-/// is buoyant (the buoyancy linear within each step). units: J/kg
-fn buoyancy_integral(a: &ParcelAscent, z_lo: f64, z_hi: f64, positive_only: bool) -> f64 {
+/// interpolation in z; with [`Area::Negative`] just the area where the
+/// parcel is colder (the buoyancy linear within each step). units: J/kg
+fn buoyancy_integral(a: &ParcelAscent, z_lo: f64, z_hi: f64, area: Area) -> f64 {
     let mut sum = 0.0;
     for w in a.levels.windows(2) {
         let (l0, l1) = (&w[0], &w[1]);
@@ -159,14 +218,14 @@ fn buoyancy_integral(a: &ParcelAscent, z_lo: f64, z_hi: f64, positive_only: bool
             (b0 + (b1 - b0) * f, lnp)
         };
         let ((ba, xa), (bb, xb)) = (at(za), at(zb));
-        sum += if !positive_only || (ba >= 0.0 && bb >= 0.0) {
+        sum += if area == Area::Net || (ba <= 0.0 && bb <= 0.0) {
             0.5 * (ba + bb) * (xa - xb)
-        } else if ba <= 0.0 && bb <= 0.0 {
+        } else if ba >= 0.0 && bb >= 0.0 {
             0.0
         } else {
-            // The buoyant triangle of a step that changes sign.
-            let pos = ba.max(bb);
-            0.5 * pos * pos / (ba - bb).abs() * (xa - xb)
+            // The negative triangle of a step that changes sign.
+            let neg = ba.min(bb);
+            -(0.5 * neg * neg / (ba - bb).abs() * (xa - xb))
         };
     }
     thermo::R_DRY * sum
@@ -215,26 +274,37 @@ fn mixed_layer(env: &Environment) -> Result<(ParcelStart, Environment)> {
         qv_kg_per_kg: qv,
         pressure_pa: Some(ps),
     }];
-    levels.extend(env.levels().iter().copied().filter(|l| l.z_m > z_top));
+    // Strictly above by pressure, as MetPy (`pressure < p_start − depth`):
+    // a level exactly at the layer top belongs to the layer, and the
+    // bisected z_top can fall a rounding error below it. 1e-9 relative is
+    // far above that error and far below any two distinct levels.
+    levels.extend(
+        env.levels()
+            .iter()
+            .copied()
+            .filter(|l| env.pressure_pa(l.z_m) < p_top * (1.0 - 1e-9)),
+    );
     if levels.len() < 2 {
         levels.push(EnvLevel {
             z_m: env.top_m(),
             ..*env.levels().last().expect("an environment has ≥ 2 levels")
         });
     }
-    let mixed = Environment::new(levels, ps, env.pressure_model())?;
+    let mixed = Environment::new(levels, ps, env.pressure_model())?
+        .with_thermo(env.thermo())
+        .with_humidity_top(env.humidity_top_m());
     Ok((start, mixed))
 }
 
 /// The environment level of highest θ_e within the lowest
 /// [`MOST_UNSTABLE_DEPTH_PA`] (the lowest such level on ties, as numpy's
-/// `argmax`).
+/// `argmax`), among levels with a measured humidity.
 fn most_unstable_start(env: &Environment) -> ParcelStart {
     let p_min = env.surface_pressure_pa() - MOST_UNSTABLE_DEPTH_PA;
     let mut best = (f64::NEG_INFINITY, 0.0);
     for l in env.levels() {
         let p = env.pressure_pa(l.z_m);
-        if p < p_min || l.z_m >= env.top_m() {
+        if p < p_min || l.z_m >= env.top_m() || env.humidity_top_m().is_some_and(|z| l.z_m > z) {
             break;
         }
         let theta_e = thermo::equivalent_potential_temperature_k(

@@ -67,6 +67,13 @@ pub struct Environment {
     pressure_table: Vec<(f64, f64)>,
     /// Wind profile (a sounding's DRCT/SKNT), if the source has one.
     wind: Option<WindProfile>,
+    /// The saturation formula that turned observed dewpoints into q_v (and
+    /// turns q_v back into dewpoints).
+    thermo: thermo::Thermo,
+    /// Height of the highest level with a measured humidity, when levels
+    /// above it have none (their q_v is filled, see
+    /// [`Environment::with_humidity_top`]). units: m
+    humidity_top_m: Option<f64>,
 }
 
 impl Environment {
@@ -152,6 +159,8 @@ impl Environment {
             exner_table: Vec::new(),
             pressure_table: Vec::new(),
             wind: None,
+            thermo: thermo::Thermo::Model,
+            humidity_top_m: None,
         };
         if model == PressureModel::Hydrostatic {
             env.exner_table = env.integrate_exner()?;
@@ -212,6 +221,34 @@ impl Environment {
     pub fn with_wind(mut self, wind: Option<WindProfile>) -> Self {
         self.wind = wind;
         self
+    }
+
+    /// The same environment, its q_v derived from dewpoints with `thermo`.
+    pub fn with_thermo(mut self, thermo: thermo::Thermo) -> Self {
+        self.thermo = thermo;
+        self
+    }
+
+    /// The saturation formula of its q_v (the model's unless a sounding was
+    /// read for the standard one).
+    pub fn thermo(&self) -> thermo::Thermo {
+        self.thermo
+    }
+
+    /// The same environment, marked as having measured humidity only up to
+    /// `z_m` (None: everywhere). Above it the q_v of the levels is a fill
+    /// (a sounding holds the last measured relative humidity), which
+    /// diagnostics that need a measured humidity (the most-unstable parcel,
+    /// precipitable water) leave out.
+    pub fn with_humidity_top(mut self, z_m: Option<f64>) -> Self {
+        self.humidity_top_m = z_m;
+        self
+    }
+
+    /// Height of the highest measured humidity, when levels above it have
+    /// none. units: m
+    pub fn humidity_top_m(&self) -> Option<f64> {
+        self.humidity_top_m
     }
 
     /// The wind profile, if the source gave one.
@@ -356,7 +393,8 @@ impl Environment {
 
     /// Environment dewpoint. units: m → K
     pub fn dewpoint_k(&self, z_m: f64) -> f64 {
-        thermo::dewpoint_from_mixing_ratio_k(self.qv(z_m), self.pressure_pa(z_m))
+        self.thermo
+            .dewpoint_from_mixing_ratio_k(self.qv(z_m), self.pressure_pa(z_m))
     }
 
     /// Height at which the environment pressure equals `p_pa` (bisection on

@@ -1,7 +1,13 @@
-//! Parcel theory: lift the surface parcel kinematically through an
-//! [`Environment`] with the same thermodynamics as the simulation, and find
-//! its lifting condensation level (LCL), level of free convection (LFC) and
-//! equilibrium level (EL).
+//! Parcel theory: lift a parcel kinematically through an [`Environment`]
+//! and find its lifting condensation level (LCL), its buoyant layers (the
+//! level of free convection, LFC, at the base of each, the equilibrium
+//! level, EL, at the top) and its state along the way.
+//!
+//! Two thermodynamics ([`LiftOptions::thermo`]): the simulation's own
+//! ([`Thermo::Model`], the default here, described below) and the
+//! forecasters' ([`Thermo::Standard`]: dry adiabat with κ = 2/7 to the LCL,
+//! then MetPy's pseudo-adiabat, see [`super::standard`]), which `cumulus
+//! parcel` reports by default.
 //!
 //! The parcel carries θ, q_v and q_l. Each step of at most [`MAX_STEP_M`] it
 //! rises to a new height, takes the environment pressure there, converts θ to
@@ -32,7 +38,8 @@
 //! in T_v, so its EL is lower.
 
 use super::environment::Environment;
-use super::thermo;
+use super::standard;
+use super::thermo::{self, Thermo};
 use crate::error::{Error, Result};
 
 /// Largest height step of the ascent. 10 m keeps the first-order error of
@@ -53,6 +60,46 @@ pub struct LiftOptions {
     /// Count the liquid water's weight in the parcel's virtual temperature
     /// (the simulation's `condensate_loading`; off by default as there).
     pub condensate_loading: bool,
+    /// Which thermodynamics lift the parcel: the simulation's (default here,
+    /// so curves drawn over a simulation match it) or the forecasters'.
+    pub thermo: Thermo,
+    /// Which level of free convection CAPE and CIN use when the parcel has
+    /// more than one buoyant layer.
+    pub lfc: LfcChoice,
+}
+
+/// Which level of free convection (LFC) counts when the parcel becomes
+/// buoyant more than once (MetPy's `which_lfc` names).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum LfcChoice {
+    /// The lowest: the base of the first buoyant layer above the LCL.
+    Bottom,
+    /// The highest: the base of the last buoyant layer.
+    Top,
+    /// The base of the buoyant layer whose CAPE (net area from it to the
+    /// EL) is largest: above a strong cap, the layer above the cap.
+    #[default]
+    MostCape,
+}
+
+impl LfcChoice {
+    /// MetPy's name: "bottom", "top" or "most_cape".
+    pub fn key(self) -> &'static str {
+        match self {
+            LfcChoice::Bottom => "bottom",
+            LfcChoice::Top => "top",
+            LfcChoice::MostCape => "most_cape",
+        }
+    }
+}
+
+/// One layer in which the lifted parcel is buoyant (above its LCL).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BuoyantLayer {
+    /// Where it becomes buoyant (a candidate LFC; the LCL if it is buoyant there).
+    pub lfc: LevelMark,
+    /// Where it stops being buoyant; None if it is still buoyant at the top.
+    pub el: Option<LevelMark>,
 }
 
 impl Default for LiftOptions {
@@ -62,6 +109,8 @@ impl Default for LiftOptions {
             surface_t_k: None,
             surface_td_k: None,
             condensate_loading: false,
+            thermo: Thermo::Model,
+            lfc: LfcChoice::MostCape,
         }
     }
 }
@@ -111,6 +160,9 @@ pub struct ParcelAscent {
     pub lfc: Option<LevelMark>,
     /// Equilibrium level, None without LFC or if still buoyant at the top.
     pub el: Option<LevelMark>,
+    /// Every buoyant layer above the LCL, lowest first: `lfc` is the first's
+    /// base, `el` the last's top.
+    pub layers: Vec<BuoyantLayer>,
     /// Parcel and environment at the requested heights, lowest first.
     pub levels: Vec<ParcelLevel>,
 }
@@ -242,13 +294,12 @@ pub fn lift_from(
             ),
         ));
     }
-    let qt = thermo::mixing_ratio_from_dewpoint(td0, p0);
+    let qt = opts.thermo.mixing_ratio_from_dewpoint(td0, p0);
     let theta_s = thermo::potential_temperature_k(t0, p0);
 
     let loading = opts.condensate_loading;
-    let record = |z: f64, theta: f64, qv: f64, ql: f64| {
+    let record = |z: f64, t: f64, qv: f64, ql: f64| {
         let p = env.pressure_pa(z);
-        let t = theta * thermo::exner(p);
         let env_t = env.temperature_k(z);
         ParcelLevel {
             p_pa: p,
@@ -259,24 +310,33 @@ pub fn lift_from(
             env_tv_k: thermo::virtual_temperature_k(env_t, env.qv(z), 0.0),
             qv,
             ql,
-            theta_k: theta,
+            theta_k: t / thermo::exner(p),
         }
     };
 
-    let (mut theta, mut qv, mut ql) = (theta_s, qt, 0.0);
+    let mut parcel = Parcel {
+        thermo: opts.thermo,
+        alpha: opts.alpha,
+        start: (t0, p0, theta_s, qt),
+        t: t0,
+        theta: theta_s,
+        qv: qt,
+        ql: 0.0,
+        saturated: false,
+    };
     let mut z = z_start;
-    let mut lcl = lcl_height_m(env, theta_s, qt, z_start, z_start);
+    let mut lcl = parcel.saturation_height(env, z_start, z_start);
+    parcel.saturated = lcl.is_some();
     let mut out = Vec::with_capacity(heights.len());
     let mut next = heights.partition_point(|&h| h < z_start);
-    let first = record(z_start, theta, qv, ql);
+    let first = record(z_start, t0, qt, 0.0);
     let mut prev_b = first.tv_k - first.env_tv_k;
-    let mut lfc: Option<f64> = None;
-    let mut el: Option<f64> = None;
+    let mut layers: Vec<(f64, Option<f64>)> = Vec::new();
     // Crossings are only sought at or above the LCL: a superadiabatic surface
     // layer makes the dry parcel buoyant, but that is not free convection.
     let mut buoyant_above_lcl = lcl.is_some() && prev_b > 0.0;
     if buoyant_above_lcl {
-        lfc = Some(z_start);
+        layers.push((z_start, None));
     }
     while next < heights.len() && heights[next] <= z_start {
         out.push(first);
@@ -289,33 +349,27 @@ pub fn lift_from(
             top
         };
         let z1 = (z + MAX_STEP_M).min(target.max(z + 1e-9)).min(top);
-        let p1 = env.pressure_pa(z1);
-        let adj = thermo::saturation_adjust(theta * thermo::exner(p1), qv, ql, p1, opts.alpha);
-        if lcl.is_none() && adj.condensed > 0.0 {
-            // q_v = ωs along the dry adiabat somewhere between z and z1.
-            lcl = Some(lcl_height_m(env, theta_s, qt, z, z1).unwrap_or(z1));
+        if let Some(zl) = parcel.advance(env, z, z1) {
+            lcl.get_or_insert(zl);
         }
-        theta = adj.t_k / thermo::exner(p1);
-        qv = adj.qv;
-        ql = adj.ql;
-        let lvl = record(z1, theta, qv, ql);
+        let lvl = record(z1, parcel.t, parcel.qv, parcel.ql);
         let b = lvl.tv_k - lvl.env_tv_k;
         if let Some(zl) = lcl {
             // Linear interpolation of buoyancy within one ≤10 m step.
             let cross = || z + (z1 - z) * prev_b / (prev_b - b);
             if !buoyant_above_lcl && b > 0.0 {
                 buoyant_above_lcl = true;
-                if lfc.is_none() {
-                    lfc = Some(if prev_b < 0.0 {
-                        cross().max(zl)
-                    } else {
-                        zl.max(z)
-                    });
-                }
-                el = None;
+                let base = if prev_b < 0.0 {
+                    cross().max(zl)
+                } else {
+                    zl.max(z)
+                };
+                layers.push((base, None));
             } else if buoyant_above_lcl && b <= 0.0 {
                 buoyant_above_lcl = false;
-                el = Some(cross());
+                if let Some(layer) = layers.last_mut() {
+                    layer.1 = Some(cross());
+                }
             }
         }
         prev_b = b;
@@ -325,20 +379,130 @@ pub fn lift_from(
             next += 1;
         }
     }
-    // A parcel still buoyant at the top has no equilibrium level in the data.
-    if buoyant_above_lcl {
-        el = None;
-    }
     let mark = |z: f64| LevelMark {
         p_pa: env.pressure_pa(z),
         z_m: z,
     };
+    let layers: Vec<BuoyantLayer> = layers
+        .into_iter()
+        .map(|(lfc, el)| BuoyantLayer {
+            lfc: mark(lfc),
+            el: el.map(mark),
+        })
+        .collect();
     Ok(ParcelAscent {
         lcl: lcl.map(mark),
-        lfc: lfc.map(mark),
-        el: el.map(mark),
+        lfc: layers.first().map(|l| l.lfc),
+        // A parcel still buoyant at the top has no equilibrium level in the data.
+        el: layers.last().and_then(|l| l.el),
+        layers,
         levels: out,
     })
+}
+
+/// A lifted parcel between steps.
+struct Parcel {
+    thermo: Thermo,
+    /// Latent-heat factor of the model's saturation adjustment.
+    alpha: f64,
+    /// At the start: T (K), p (Pa), θ (K), total water (kg/kg).
+    start: (f64, f64, f64, f64),
+    /// Temperature. units: K
+    t: f64,
+    /// Potential temperature (the model's state variable). units: K
+    theta: f64,
+    /// Vapour and liquid mixing ratios. units: kg/kg
+    qv: f64,
+    ql: f64,
+    /// Whether it has reached its LCL.
+    saturated: bool,
+}
+
+impl Parcel {
+    /// Height in [lo, hi] at which the parcel, lifted dry from its start,
+    /// saturates (`Some(lo)` if it already is there, None if not by `hi`).
+    fn saturation_height(&self, env: &Environment, lo: f64, hi: f64) -> Option<f64> {
+        let (t0, p0, theta_s, qt) = self.start;
+        match self.thermo {
+            Thermo::Model => lcl_height_m(env, theta_s, qt, lo, hi),
+            Thermo::Standard => {
+                let excess = |z: f64| {
+                    let p = env.pressure_pa(z);
+                    standard::saturation_mixing_ratio(standard::dry_adiabat_k(t0, p0, p), p) - qt
+                };
+                if !(excess(lo) > 0.0) {
+                    Some(lo)
+                } else if excess(hi) > 0.0 {
+                    None
+                } else {
+                    // 60 halvings: far below a millimetre.
+                    Some(bisect(lo, hi, 60, excess))
+                }
+            }
+        }
+    }
+
+    /// Lifts the parcel from `z` to `z1`; returns the LCL if it saturated
+    /// on the way.
+    fn advance(&mut self, env: &Environment, z: f64, z1: f64) -> Option<f64> {
+        let p1 = env.pressure_pa(z1);
+        match self.thermo {
+            Thermo::Model => {
+                let (theta_s, qt) = (self.start.2, self.start.3);
+                let pi1 = thermo::exner(p1);
+                let adj =
+                    thermo::saturation_adjust(self.theta * pi1, self.qv, self.ql, p1, self.alpha);
+                let lcl = (!self.saturated && adj.condensed > 0.0).then(|| {
+                    // q_v = ωs along the dry adiabat somewhere between z and z1.
+                    lcl_height_m(env, theta_s, qt, z, z1).unwrap_or(z1)
+                });
+                self.saturated |= lcl.is_some();
+                self.theta = adj.t_k / pi1;
+                (self.t, self.qv, self.ql) = (adj.t_k, adj.qv, adj.ql);
+                lcl
+            }
+            Thermo::Standard => {
+                let (t0, p0, _, _) = self.start;
+                if self.saturated {
+                    let p = env.pressure_pa(z);
+                    self.t = standard::pseudo_adiabat_k(self.t, p, p1);
+                    self.qv = standard::saturation_mixing_ratio(self.t, p1);
+                    return None;
+                }
+                let lcl = self
+                    .saturation_height(env, z1, z1)
+                    .and_then(|_| self.saturation_height(env, z, z1));
+                match lcl {
+                    None => self.t = standard::dry_adiabat_k(t0, p0, p1),
+                    Some(zl) => {
+                        // Dry to the LCL, then along the pseudo-adiabat; the
+                        // condensate falls out.
+                        let pl = env.pressure_pa(zl);
+                        let tl = standard::dry_adiabat_k(t0, p0, pl);
+                        self.t = standard::pseudo_adiabat_k(tl, pl, p1);
+                        self.qv = standard::saturation_mixing_ratio(self.t, p1);
+                        self.saturated = true;
+                    }
+                }
+                lcl
+            }
+        }
+    }
+}
+
+/// Bisection for the root of a decreasing `excess` inside [lo, hi]
+/// (positive at lo): `n` halvings.
+fn bisect(lo: f64, hi: f64, n: u32, excess: impl Fn(f64) -> f64) -> f64 {
+    let (mut lo, mut hi) = (lo, hi);
+    for _ in 0..n {
+        let mid = 0.5 * (lo + hi);
+        if excess(mid) > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
 }
 
 /// Height at which air of liquid-water potential temperature `theta_l_k` and
@@ -373,14 +537,5 @@ pub fn saturation_level_between(
     hi: f64,
     n: u32,
 ) -> f64 {
-    let (mut lo, mut hi) = (lo, hi);
-    for _ in 0..n {
-        let mid = 0.5 * (lo + hi);
-        if saturation_excess(env, theta_l_k, qt, mid) > 0.0 {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
+    bisect(lo, hi, n, |z| saturation_excess(env, theta_l_k, qt, z))
 }

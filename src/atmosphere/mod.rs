@@ -5,9 +5,11 @@
 
 pub mod cape;
 pub mod environment;
+pub mod indices;
 pub mod lifting;
 pub mod sounding;
 mod spec;
+pub mod standard;
 pub mod thermo;
 pub mod wind;
 

@@ -5,9 +5,12 @@
 //! The table has fixed 7-character, right-aligned columns. Around it may be a
 //! station header line, dashed rulers, the column-name line and a units line;
 //! a file may repeat the header block. Rows whose temperature and dewpoint
-//! are blank (levels below the ground, or above the top of the humidity
-//! sensor) are skipped; anything else that is not a clean number where a
-//! number belongs is an error naming the file, line and column.
+//! are both blank (levels below the ground) are skipped; rows with a
+//! temperature but no dewpoint (above the top of the humidity sensor, or a
+//! gap in it) keep their temperature, their humidity *missing* (see
+//! [`Sounding::to_environment`] for what the environment holds there);
+//! anything else that is not a clean number where a number belongs is an
+//! error naming the file, line and column.
 
 use std::path::Path;
 
@@ -50,8 +53,9 @@ pub struct SoundingLevel {
     pub z_msl_m: f64,
     /// Temperature. units: K
     pub t_k: f64,
-    /// Dewpoint (never above `t_k`). units: K
-    pub td_k: f64,
+    /// Dewpoint (never above `t_k`); None where the row has none
+    /// (humidity missing, not zero). units: K
+    pub td_k: Option<f64>,
     /// Direction the wind blows from, clockwise from north, if given. units: degrees
     pub wind_dir_deg: Option<f64>,
     /// Wind speed, if given. units: m s⁻¹
@@ -61,7 +65,8 @@ pub struct SoundingLevel {
 /// A sounding: usable levels from the ground up, and the station line if any.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sounding {
-    /// Levels with pressure, height, temperature and dewpoint, lowest first.
+    /// Levels with pressure, height and temperature (and mostly a
+    /// dewpoint), lowest first; the first has a dewpoint.
     pub levels: Vec<SoundingLevel>,
     /// The station header line (e.g. "72357 OUN Norman Observations at 12Z 22 May 2011").
     pub station: Option<String>,
@@ -226,10 +231,9 @@ impl Sounding {
             prev = Some((lineno, p_hpa, z));
             check_wind(f, path, lineno, &col_of)?;
             let (t_c, td_c) = match (f[2], f[3]) {
-                (Some(t), Some(td)) => (t, td),
-                // Below-ground levels (and levels above the humidity sensor's
-                // range) carry no temperature/dewpoint pair: not usable, skipped.
-                (None, None) | (Some(_), None) => continue,
+                (Some(t), td) => (t, td),
+                // Below-ground levels carry no temperature: not usable, skipped.
+                (None, None) => continue,
                 (None, Some(_)) => {
                     return Err(Error::parse(
                         path,
@@ -239,7 +243,16 @@ impl Sounding {
                     ));
                 }
             };
-            for (k, v) in [(2, t_c), (3, td_c)] {
+            if levels.is_empty() && td_c.is_none() {
+                return Err(Error::parse(
+                    path,
+                    lineno,
+                    col_of(2),
+                    "the lowest row with a TEMP (the surface) has no DWPT: the surface needs a dewpoint (higher rows may leave it blank)",
+                ));
+            }
+            for (k, v) in [(2, Some(t_c)), (3, td_c)] {
+                let Some(v) = v else { continue };
                 if !(T_RANGE_C.0..=T_RANGE_C.1).contains(&v) {
                     return Err(Error::parse(
                         path,
@@ -252,28 +265,31 @@ impl Sounding {
                     ));
                 }
             }
-            if td_c > t_c + DEWPOINT_ABOVE_TEMPERATURE_TOLERANCE_K {
+            let td_c_or_t = td_c.unwrap_or(t_c);
+            if td_c_or_t > t_c + DEWPOINT_ABOVE_TEMPERATURE_TOLERANCE_K {
                 return Err(Error::parse(
                     path,
                     lineno,
                     col_of(3),
                     format!(
-                        "dewpoint {td_c} °C above temperature {t_c} °C: allowed is DWPT ≤ TEMP (+{DEWPOINT_ABOVE_TEMPERATURE_TOLERANCE_K} K rounding tolerance)"
+                        "dewpoint {td_c_or_t} °C above temperature {t_c} °C: allowed is DWPT ≤ TEMP (+{DEWPOINT_ABOVE_TEMPERATURE_TOLERANCE_K} K rounding tolerance)"
                     ),
                 ));
             }
             let t_k = t_c + 273.15;
-            let td_k = (td_c + 273.15).min(t_k);
+            let td_k = td_c.map(|td| (td + 273.15).min(t_k));
             // The environment accepts q_v ≤ 0.1 kg/kg and θ ≤ 2000 K; check
             // here so that the message can point at the row.
-            let qv = thermo::mixing_ratio_from_dewpoint(td_k, p_hpa * 100.0);
+            let qv = td_k.map_or(0.0, |td| {
+                thermo::mixing_ratio_from_dewpoint(td, p_hpa * 100.0)
+            });
             if qv > 0.1 {
                 return Err(Error::parse(
                     path,
                     lineno,
                     col_of(3),
                     format!(
-                        "dewpoint {td_c} °C at {p_hpa} hPa means {:.0} g/kg of vapour: allowed is at most 100 g/kg",
+                        "dewpoint {td_c_or_t} °C at {p_hpa} hPa means {:.0} g/kg of vapour: allowed is at most 100 g/kg",
                         qv * 1000.0
                     ),
                 ));
@@ -304,7 +320,7 @@ impl Sounding {
                 0,
                 0,
                 format!(
-                    "{} usable level(s) (rows with PRES, HGHT, TEMP and DWPT): at least 2 are needed",
+                    "{} usable level(s) (rows with PRES, HGHT and TEMP, the lowest with DWPT): at least 2 are needed",
                     levels.len()
                 ),
             ));
@@ -335,25 +351,86 @@ impl Sounding {
         WindProfile::new(levels).map(Some)
     }
 
-    /// The environment this sounding describes: θ and q_v at every usable
-    /// level, observed pressures, heights above the first usable level (the
-    /// surface), and the wind of [`Sounding::wind_profile`].
+    /// The environment this sounding describes, with the simulation's
+    /// saturation formula: see [`Sounding::to_environment_with`].
     pub fn to_environment(&self) -> Result<Environment> {
+        self.to_environment_with(thermo::Thermo::Model)
+    }
+
+    /// The environment this sounding describes: θ and q_v at every usable
+    /// level (q_v from the dewpoint with `thermo`'s saturation formula),
+    /// observed pressures, heights above the first usable level (the
+    /// surface), and the wind of [`Sounding::wind_profile`].
+    ///
+    /// A level without a dewpoint takes the relative humidity of its
+    /// measured neighbours, linear in height between them, and above the
+    /// last measured level that level's relative humidity, held: air aloft
+    /// stays as far from saturation as the sonde last saw it, where holding
+    /// q_v would saturate it as it cools and zero would dry it absolutely.
+    /// The environment is told where measured humidity ends
+    /// ([`Environment::humidity_top_m`]).
+    pub fn to_environment_with(&self, thermo: thermo::Thermo) -> Result<Environment> {
         let ground = self.levels[0].z_msl_m;
+        let rh = self.relative_humidities(thermo);
         let levels = self
             .levels
             .iter()
-            .map(|l| EnvLevel {
+            .zip(&rh)
+            .map(|(l, &rh)| EnvLevel {
                 z_m: l.z_msl_m - ground,
                 theta_k: thermo::potential_temperature_k(l.t_k, l.p_pa),
-                qv_kg_per_kg: thermo::mixing_ratio_from_dewpoint(l.td_k, l.p_pa),
+                qv_kg_per_kg: match l.td_k {
+                    Some(td) => thermo.mixing_ratio_from_dewpoint(td, l.p_pa),
+                    None => rh * thermo.saturation_mixing_ratio(l.t_k, l.p_pa),
+                },
                 pressure_pa: Some(l.p_pa),
             })
             .collect();
         Ok(
             Environment::new(levels, self.levels[0].p_pa, PressureModel::Observed)?
-                .with_wind(self.wind_profile()?),
+                .with_wind(self.wind_profile()?)
+                .with_thermo(thermo)
+                .with_humidity_top(self.humidity_top_msl_m().map(|z| z - ground)),
         )
+    }
+
+    /// Height above sea level of the highest level with a dewpoint, when a
+    /// level above it has none (None: humidity measured at every level). units: m
+    pub fn humidity_top_msl_m(&self) -> Option<f64> {
+        let last = self.levels.iter().rposition(|l| l.td_k.is_some())?;
+        (last + 1 < self.levels.len()).then(|| self.levels[last].z_msl_m)
+    }
+
+    /// Relative humidity (mixing ratio over its saturation value) of every
+    /// level: measured where there is a dewpoint, else interpolated in
+    /// height between the measured levels around it or, above the last,
+    /// held. units: 1
+    fn relative_humidities(&self, thermo: thermo::Thermo) -> Vec<f64> {
+        let measured: Vec<(f64, f64)> = self
+            .levels
+            .iter()
+            .filter_map(|l| {
+                let td = l.td_k?;
+                let rh = thermo.mixing_ratio_from_dewpoint(td, l.p_pa)
+                    / thermo.saturation_mixing_ratio(l.t_k, l.p_pa);
+                Some((l.z_msl_m, rh))
+            })
+            .collect();
+        self.levels
+            .iter()
+            .map(|l| {
+                let i = measured.partition_point(|m| m.0 <= l.z_msl_m);
+                // The parser guarantees a measured surface: i ≥ 1.
+                let below = measured[i.max(1) - 1];
+                match measured.get(i) {
+                    Some(&above) => {
+                        let f = (l.z_msl_m - below.0) / (above.0 - below.0);
+                        below.1 + (above.1 - below.1) * f
+                    }
+                    _ => below.1,
+                }
+            })
+            .collect()
     }
 
     /// Height of the surface (the first usable level) above mean sea level. units: m

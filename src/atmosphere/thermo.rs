@@ -38,6 +38,61 @@ pub const T_MIN_SATURATION_K: f64 = 100.0;
 /// boils and the mixing ratio has no bound). units: 1
 pub const ES_MAX_FRACTION_OF_P: f64 = 0.5;
 
+/// Which thermodynamics a parcel diagnostic uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Thermo {
+    /// The forecasters' (MetPy's): Ambaum saturation pressure, a
+    /// pseudo-adiabatic ascent, MetPy's constants ([`super::standard`]).
+    Standard,
+    /// The simulation's own: Tetens (paper eq. 3) and the reversible
+    /// saturation adjustment of this module.
+    #[default]
+    Model,
+}
+
+impl Thermo {
+    /// Short name for reports: "standard" or "model".
+    pub fn key(self) -> &'static str {
+        match self {
+            Thermo::Standard => "standard",
+            Thermo::Model => "model",
+        }
+    }
+
+    /// One line saying what it is, for reports.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Thermo::Standard => {
+                "standard (as MetPy 1.7: pseudo-adiabatic ascent, Ambaum 2020 saturation pressure)"
+            }
+            Thermo::Model => {
+                "model (the simulation's: reversible ascent, Tetens saturation pressure, paper eq. 1-3)"
+            }
+        }
+    }
+
+    /// Saturation mixing ratio. units: K, Pa → kg/kg
+    pub fn saturation_mixing_ratio(self, t_k: f64, p_pa: f64) -> f64 {
+        match self {
+            Thermo::Standard => super::standard::saturation_mixing_ratio(t_k, p_pa),
+            Thermo::Model => saturation_mixing_ratio(t_k, p_pa),
+        }
+    }
+
+    /// Mixing ratio of air with dewpoint `td_k` at `p_pa`. units: K, Pa → kg/kg
+    pub fn mixing_ratio_from_dewpoint(self, td_k: f64, p_pa: f64) -> f64 {
+        self.saturation_mixing_ratio(td_k, p_pa)
+    }
+
+    /// Dewpoint of air with mixing ratio `qv` at `p_pa`. units: kg/kg, Pa → K
+    pub fn dewpoint_from_mixing_ratio_k(self, qv: f64, p_pa: f64) -> f64 {
+        match self {
+            Thermo::Standard => super::standard::dewpoint_k(vapour_pressure_pa(qv, p_pa)),
+            Thermo::Model => dewpoint_from_mixing_ratio_k(qv, p_pa),
+        }
+    }
+}
+
 /// Saturation vapour pressure over liquid water (Tetens, paper eq. 3).
 /// units: T in K, result in Pa. Zero below [`T_MIN_SATURATION_K`].
 pub fn saturation_vapour_pressure_pa(t_k: f64) -> f64 {

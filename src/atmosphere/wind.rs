@@ -28,6 +28,14 @@ pub fn components_from_direction(from_deg: f64, speed_m_s: f64) -> [f64; 2] {
     [-s * speed_m_s, -c * speed_m_s]
 }
 
+/// The direction a wind (u, v) blows from, clockwise from north in
+/// [0, 360), and its speed: the inverse of [`components_from_direction`].
+/// units: m s⁻¹ → (deg, m s⁻¹)
+pub fn direction_from_components(u_m_s: f64, v_m_s: f64) -> (f64, f64) {
+    let from = (-u_m_s).atan2(-v_m_s).to_degrees().rem_euclid(360.0);
+    (from, u_m_s.hypot(v_m_s))
+}
+
 /// Piecewise-linear wind profile, at least one level, heights increasing.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WindProfile {
@@ -113,6 +121,16 @@ mod tests {
         // A west wind (from 270°) blows east: u > 0.
         let [u, v] = components_from_direction(270.0, 10.0);
         assert!((u - 10.0).abs() < 1e-12 && v.abs() < 1e-12);
+        for from in [0.0, 45.0, 180.0, 270.0, 359.0] {
+            let [u, v] = components_from_direction(from, 7.0);
+            let (back, speed) = direction_from_components(u, v);
+            // 1e-9: rounding of sin/cos/atan2 only.
+            let d = (back - from + 180.0).rem_euclid(360.0) - 180.0;
+            assert!(
+                d.abs() < 1e-9 && (speed - 7.0).abs() < 1e-9,
+                "{from} -> {back}"
+            );
+        }
     }
 
     #[test]

@@ -5,6 +5,7 @@ pub mod atlas;
 pub mod bench;
 pub mod export;
 pub mod parcel;
+mod parcel_report;
 pub mod render;
 pub mod simulate;
 pub mod stability;

@@ -10,7 +10,14 @@ use std::path::PathBuf;
 use anyhow::Context as _;
 use cumulus::atmosphere::Sounding;
 use cumulus::atmosphere::cape::{self, ParcelKind, ParcelReport};
-use cumulus::atmosphere::lifting::{self, LevelMark, LiftOptions, ParcelAscent};
+use cumulus::atmosphere::indices;
+use cumulus::atmosphere::lifting::{self, LfcChoice, LiftOptions, ParcelAscent, ParcelStart};
+use cumulus::atmosphere::thermo::Thermo;
+
+use super::parcel_report::{
+    dynamic_json, index_rows, indices_json, report_json, summary_lines, to_json, write_dynamic,
+    write_table,
+};
 use cumulus::physics::PhysicsConfig;
 use cumulus::physics::single::{self, SingleRelease, SingleRun};
 use cumulus::plots::skewt::{SkewT, write_skew_t_png};
@@ -22,10 +29,17 @@ use cumulus::plots::skewt::{SkewT, write_skew_t_png};
 300 hPa) parcels of a radiosonde sounding and report their lifting condensation level (LCL), \
 level of free convection (LFC), equilibrium level (EL), CAPE and CIN (J/kg, virtual-temperature \
 corrected as MetPy's cape_cin).\n\n\
-The parcel conserves potential temperature and total water and is brought to saturation \
-equilibrium at every height with the same saturation adjustment the cloud simulation uses \
-(latent-heat factor 1); LFC and EL are where the parcel's virtual temperature crosses the \
-environment's (without the condensate's weight unless --condensate-loading). Heights are above the sounding's first usable level.",
+By default (--thermo standard) the parcels are lifted as forecasters and MetPy 1.7 lift them: \
+dry adiabatically to the LCL, then along the pseudo-adiabat (condensate falls out), with Ambaum's \
+saturation vapour pressure; --thermo model lifts them with the cloud simulation's own reversible \
+saturation adjustment (Tetens, latent-heat factor 1). LFC and EL are where the parcel's virtual \
+temperature crosses the environment's (without the condensate's weight unless \
+--condensate-loading); with several buoyant layers --lfc picks the LFC (most-cape by default), \
+and CIN is all the negative area from the start to it. Rows without a dewpoint keep their \
+temperature; above the last dewpoint the relative humidity of that level is held, and the output \
+says so. Also reported: lifted index, K-index, precipitable water, lapse rates, bulk shear, \
+Bunkers storm motion and storm-relative helicity ('no wind data' without wind). Heights are \
+above the sounding's first usable level.",
     after_help = "Examples:\n  cumulus parcel --sounding profiles/soundings/oun-2011-05-22-12z.txt\n  \
 cumulus parcel --sounding profiles/soundings/oun-1999-05-04-00z.txt --json\n  \
 cumulus parcel --sounding profiles/soundings/oun-2011-05-22-12z.txt --parcel mu --plot mu.png\n  \
@@ -42,6 +56,18 @@ pub struct Args {
     /// Surface parcel dewpoint instead of the sounding's, in °C (at most the temperature).
     #[arg(long, value_name = "C", allow_negative_numbers = true)]
     pub surface_dewpoint: Option<f64>,
+    /// Parcel thermodynamics: standard (the forecasters', as MetPy 1.7:
+    /// pseudo-adiabatic ascent, Ambaum 2020 saturation pressure) or model
+    /// (the cloud simulation's own: reversible ascent with Tetens, paper
+    /// eq. 1-3). The output says which was used.
+    #[arg(long, value_enum, default_value_t = ThermoChoice::Standard)]
+    pub thermo: ThermoChoice,
+    /// Which level of free convection CAPE and CIN use when the parcel is
+    /// buoyant in more than one layer (MetPy's which_lfc): bottom (the
+    /// lowest), top (the highest) or most-cape (the base of the layer with
+    /// the most CAPE, so a strong cap counts as CIN).
+    #[arg(long, value_enum, default_value_t = LfcArg::MostCape)]
+    pub lfc: LfcArg,
     /// Count the condensed water's weight in the parcel's virtual temperature
     /// (lowers the EL; the simulation's `condensate_loading`, off by default there too).
     #[arg(long)]
@@ -100,6 +126,26 @@ pub struct Args {
     pub csv: Option<PathBuf>,
 }
 
+/// The `--thermo` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ThermoChoice {
+    /// The forecasters' (MetPy's): pseudo-adiabatic, Ambaum saturation pressure.
+    Standard,
+    /// The cloud simulation's: reversible, Tetens saturation pressure.
+    Model,
+}
+
+/// The `--lfc` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum LfcArg {
+    /// The lowest LFC.
+    Bottom,
+    /// The highest LFC.
+    Top,
+    /// The base of the buoyant layer with the most CAPE.
+    MostCape,
+}
+
 /// The `--parcel` values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum ParcelChoice {
@@ -133,18 +179,21 @@ fn positive_seconds(s: &str) -> Result<f64, String> {
 }
 
 /// Releases the surface parcel with the full dynamics (`--dynamic`).
+/// The parcel starts from `start`'s temperature and dewpoint, its vapour
+/// from the dewpoint by the simulation's own saturation formula (the
+/// environment `env` is the simulation's too), whatever `--thermo`.
 fn release_dynamic(
     args: &Args,
     env: &cumulus::atmosphere::Environment,
-    ascent: &ParcelAscent,
+    start: &ParcelStart,
 ) -> anyhow::Result<SingleRun> {
-    let surface = &ascent.levels[0];
+    let p0 = env.pressure_pa(start.z_m);
     let run = single::release(
         env.clone(),
         &PhysicsConfig::default(),
         SingleRelease {
-            surface_t_k: surface.t_k + args.temp_excess,
-            surface_qv: surface.qv + surface.ql,
+            surface_t_k: start.t_k + args.temp_excess,
+            surface_qv: Thermo::Model.mixing_ratio_from_dewpoint(start.td_k, p0),
             radius_m: args.radius,
             mixing: args.mixing,
             duration_s: args.duration,
@@ -205,14 +254,24 @@ fn write_trajectory_csv(path: &std::path::Path, run: &SingleRun) -> anyhow::Resu
 /// Runs `cumulus parcel`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     let sounding = Sounding::load(&args.sounding)?;
+    let thermo = match args.thermo {
+        ThermoChoice::Standard => Thermo::Standard,
+        ThermoChoice::Model => Thermo::Model,
+    };
     let env = sounding
-        .to_environment()
+        .to_environment_with(thermo)
         .with_context(|| format!("building the environment of {}", args.sounding.display()))?;
     let opts = LiftOptions {
         alpha: 1.0,
         surface_t_k: args.surface_temp.map(|c| c + 273.15),
         surface_td_k: args.surface_dewpoint.map(|c| c + 273.15),
         condensate_loading: args.condensate_loading,
+        thermo,
+        lfc: match args.lfc {
+            LfcArg::Bottom => LfcChoice::Bottom,
+            LfcArg::Top => LfcChoice::Top,
+            LfcArg::MostCape => LfcChoice::MostCape,
+        },
     };
     let reports = ParcelKind::ALL
         .iter()
@@ -236,13 +295,19 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let levels = lifting::lift_from(&env, &opts, &chosen.start, &heights)?.levels;
     let ascent = ParcelAscent {
         levels,
+        lfc: chosen.lfc,
+        el: chosen.el,
         ..chosen.ascent.clone()
     };
     let dynamic = if args.dynamic {
-        Some(release_dynamic(&args, &env, &ascent)?)
+        // The simulation runs on its own thermodynamics' environment.
+        let sim_env = sounding.to_environment()?;
+        Some(release_dynamic(&args, &sim_env, &chosen.start)?)
     } else {
         None
     };
+    let idx = indices::indices(&env, &reports[0].ascent.levels);
+    let thermo_and_lfc = format!("thermo {}, LFC {}", thermo.key(), opts.lfc.key());
     if let Some(path) = &args.plot {
         let dynamic_path: Option<Vec<(f64, f64)>> = dynamic.as_ref().map(|run| {
             run.trajectory
@@ -276,7 +341,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 parcel_curve: &curve.levels,
                 dynamic_path: dynamic_path.as_deref(),
                 wind: env.wind(),
-                summary: &summary_lines(&env, &reports, kind),
+                summary: &summary_lines(&reports, kind, &thermo_and_lfc, &idx),
             },
             900 + cumulus::plots::skewt::SIDE_PANEL_PX,
             1000,
@@ -289,15 +354,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         json["cape_j_per_kg"] = sb.cape_j_per_kg.into();
         json["cin_j_per_kg"] = sb.cin_j_per_kg.into();
         // The top level is the surface parcel (the --surface-* options apply).
-        for (key, m) in [
-            ("lcl", sb.ascent.lcl),
-            ("lfc", sb.ascent.lfc),
-            ("el", sb.ascent.el),
-        ] {
+        for (key, m) in [("lcl", sb.ascent.lcl), ("lfc", sb.lfc), ("el", sb.el)] {
             json[format!("{key}_hpa")] = m.map(|m| m.p_pa / 100.0).into();
             json[format!("{key}_m")] = m.map(|m| m.z_m).into();
         }
         json["lifted_parcel"] = kind.key().into();
+        json["thermo"] = thermo.key().into();
+        json["lfc_choice"] = opts.lfc.key().into();
+        json["humidity_top_hpa"] = env
+            .humidity_top_m()
+            .map(|z| env.pressure_pa(z) / 100.0)
+            .into();
+        json["indices"] = indices_json(&idx);
         json["parcels"] = reports
             .iter()
             .map(|r| (r.kind.key().to_string(), report_json(r)))
@@ -310,12 +378,28 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         writeln!(out)?;
     } else {
         write_table(&mut out, &sounding, &ascent, &reports, kind)?;
+        writeln!(
+            out,
+            "thermodynamics: {}; LFC: {}",
+            thermo.describe(),
+            opts.lfc.key()
+        )?;
+        if let Some(z) = env.humidity_top_m() {
+            writeln!(
+                out,
+                "humidity: no dewpoint above {:.0} hPa ({z:.0} m): missing, not zero; the environment holds that level's relative humidity above it",
+                env.pressure_pa(z) / 100.0
+            )?;
+        }
+        writeln!(out)?;
+        for (name, value) in index_rows(&idx) {
+            writeln!(out, "{name:<26} {value}")?;
+        }
         match env.wind() {
             Some(w) => writeln!(
                 out,
-                "wind: {} levels from DRCT/SKNT, 0–6 km bulk shear {:.1} m/s; it drives the parcels' drag unless a scene sets [wind]",
+                "wind: {} levels from DRCT/SKNT; it drives the parcels' drag unless a scene sets [wind]",
                 w.levels().len(),
-                w.bulk_shear_m_s(0.0, 6000.0)
             )?,
             None => writeln!(
                 out,
@@ -328,225 +412,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         if let Some(path) = &args.plot {
             writeln!(out, "Skew-T diagram written to {}", path.display())?;
         }
-    }
-    Ok(())
-}
-
-/// The side panel's lines: CAPE and CIN of each parcel (the drawn one
-/// marked) and the 0–6 km bulk shear.
-fn summary_lines(
-    env: &cumulus::atmosphere::Environment,
-    reports: &[ParcelReport],
-    kind: ParcelKind,
-) -> Vec<String> {
-    let mut lines: Vec<String> = reports
-        .iter()
-        .map(|r| {
-            format!(
-                "{} {}: CAPE {:.0} J/kg, CIN {:.0} J/kg",
-                if r.kind == kind { ">" } else { " " },
-                r.kind.key().to_uppercase(),
-                r.cape_j_per_kg,
-                r.cin_j_per_kg
-            )
-        })
-        .collect();
-    lines.push(match env.wind() {
-        Some(w) => format!("0–6 km bulk shear {:.0} m/s", w.bulk_shear_m_s(0.0, 6000.0)),
-        None => "no wind data".to_string(),
-    });
-    lines
-}
-
-/// One parcel of the JSON `parcels` object.
-fn report_json(r: &ParcelReport) -> serde_json::Value {
-    let hpa = |m: Option<LevelMark>| m.map(|m| m.p_pa / 100.0);
-    let z = |m: Option<LevelMark>| m.map(|m| m.z_m);
-    let a = &r.ascent;
-    serde_json::json!({
-        "start_hpa": r.start_p_pa / 100.0, "start_m": r.start.z_m,
-        "start_t_c": r.start.t_k - 273.15, "start_td_c": r.start.td_k - 273.15,
-        "lcl_hpa": hpa(a.lcl), "lcl_m": z(a.lcl),
-        "lfc_hpa": hpa(a.lfc), "lfc_m": z(a.lfc),
-        "el_hpa": hpa(a.el), "el_m": z(a.el),
-        "cape_j_per_kg": r.cape_j_per_kg, "cin_j_per_kg": r.cin_j_per_kg,
-    })
-}
-
-fn dynamic_json(run: &SingleRun) -> serde_json::Value {
-    serde_json::json!({
-        "max_altitude_m": run.max_altitude_m,
-        "equilibrium_altitude_m": run.equilibrium_altitude_m,
-        "period_s": run.period_s,
-        "ended_early": run.ended_early,
-        "trajectory": run.trajectory.iter().map(|p| serde_json::json!({
-            "time_s": p.time_s, "z_m": p.z_m, "t_k": p.t_k, "theta_k": p.theta_k,
-            "theta_v_k": p.theta_v_k, "env_t_k": p.env_t_k, "env_theta_k": p.env_theta_k,
-            "env_theta_v_k": p.env_theta_v_k, "qv_gkg": p.qv_kg_per_kg * 1000.0,
-            "ql_gkg": p.ql_kg_per_kg * 1000.0, "radius_m": p.radius_m, "mass_kg": p.mass_kg,
-        })).collect::<Vec<_>>(),
-    })
-}
-
-fn write_dynamic(
-    out: &mut impl std::io::Write,
-    args: &Args,
-    run: &SingleRun,
-) -> std::io::Result<()> {
-    writeln!(out)?;
-    writeln!(
-        out,
-        "released parcel ({} K excess, radius {} m, mixing {}), followed {} s:",
-        args.temp_excess,
-        args.radius,
-        if args.mixing { "on" } else { "off" },
-        run.trajectory.last().map(|p| p.time_s).unwrap_or(0.0)
-    )?;
-    writeln!(out, "  maximum altitude      {:8.0} m", run.max_altitude_m)?;
-    writeln!(
-        out,
-        "  equilibrium altitude  {:8.0} m (mean of the last third)",
-        run.equilibrium_altitude_m
-    )?;
-    match run.period_s {
-        Some(p) => writeln!(out, "  oscillation period    {p:8.0} s")?,
-        None => writeln!(
-            out,
-            "  oscillation period        none (fewer than 3 crossings of the equilibrium)"
-        )?,
-    }
-    if run.ended_early {
-        writeln!(out, "  the parcel died or left the domain before the end")?;
-    }
-    writeln!(out)?;
-    writeln!(
-        out,
-        "  time(s)    z(m)  T(°C)   θ(K)  θv(K) envθv(K)  qv(g/kg) ql(g/kg)  r(m)   mass(kg)"
-    )?;
-    // About 40 rows; the CSV has every step.
-    let every = (run.trajectory.len() / 40).max(1);
-    for p in run.trajectory.iter().step_by(every) {
-        writeln!(
-            out,
-            "{:9.0} {:7.0} {:6.1} {:6.1} {:6.1} {:8.1} {:9.2} {:8.2} {:5.0} {:10.3e}",
-            p.time_s,
-            p.z_m,
-            p.t_k - 273.15,
-            p.theta_k,
-            p.theta_v_k,
-            p.env_theta_v_k,
-            p.qv_kg_per_kg * 1000.0,
-            p.ql_kg_per_kg * 1000.0,
-            p.radius_m,
-            p.mass_kg
-        )?;
-    }
-    if let Some(path) = &args.csv {
-        writeln!(out, "trajectory written to {}", path.display())?;
-    }
-    Ok(())
-}
-
-fn to_json(a: &ParcelAscent) -> serde_json::Value {
-    let hpa = |m: Option<LevelMark>| m.map(|m| m.p_pa / 100.0);
-    let z = |m: Option<LevelMark>| m.map(|m| m.z_m);
-    serde_json::json!({
-        "lcl_hpa": hpa(a.lcl), "lcl_m": z(a.lcl),
-        "lfc_hpa": hpa(a.lfc), "lfc_m": z(a.lfc),
-        "el_hpa": hpa(a.el), "el_m": z(a.el),
-        "levels": a.levels.iter().map(|l| serde_json::json!({
-            "p_hpa": l.p_pa / 100.0,
-            "z_m": l.z_m,
-            "t_k": l.t_k,
-            "tv_k": l.tv_k,
-            "env_t_k": l.env_t_k,
-            "env_tv_k": l.env_tv_k,
-            "qv_gkg": l.qv * 1000.0,
-            "ql_gkg": l.ql * 1000.0,
-        })).collect::<Vec<_>>(),
-    })
-}
-
-fn write_table(
-    out: &mut impl std::io::Write,
-    s: &Sounding,
-    a: &ParcelAscent,
-    reports: &[ParcelReport],
-    kind: ParcelKind,
-) -> std::io::Result<()> {
-    if let Some(st) = &s.station {
-        writeln!(out, "{st}")?;
-    }
-    writeln!(
-        out,
-        "{:<38} {:>6} {:>7} {:>6} {:>8} {:>8} {:>8} {:>10} {:>9}",
-        "parcel", "hPa", "T(°C)", "Td(°C)", "LCL hPa", "LFC hPa", "EL hPa", "CAPE J/kg", "CIN J/kg"
-    )?;
-    let hpa = |m: Option<LevelMark>| match m {
-        Some(m) => format!("{:8.1}", m.p_pa / 100.0),
-        None => format!("{:>8}", "none"),
-    };
-    for r in reports {
-        writeln!(
-            out,
-            "{:<38} {:6.1} {:7.1} {:6.1} {} {} {} {:10.0} {:9.0}",
-            r.kind.name(),
-            r.start_p_pa / 100.0,
-            r.start.t_k - 273.15,
-            r.start.td_k - 273.15,
-            hpa(r.ascent.lcl),
-            hpa(r.ascent.lfc),
-            hpa(r.ascent.el),
-            r.cape_j_per_kg,
-            r.cin_j_per_kg
-        )?;
-    }
-    writeln!(out)?;
-    let first = &a.levels[0];
-    writeln!(
-        out,
-        "{} parcel: {:.1} hPa, T {:.1} °C, q_v {:.2} g/kg (station {:.0} m MSL)",
-        kind.name(),
-        first.p_pa / 100.0,
-        first.t_k - 273.15,
-        first.qv * 1000.0,
-        s.surface_msl_m()
-    )?;
-    for (name, m, none) in [
-        ("LCL", a.lcl, "none (the parcel never saturates)"),
-        ("LFC", a.lfc, "none (never buoyant above the LCL)"),
-        ("EL", a.el, "none (no LFC, or still buoyant at the top)"),
-    ] {
-        match m {
-            Some(m) => writeln!(
-                out,
-                "{name:>4}: {:7.1} hPa  {:7.0} m above the surface",
-                m.p_pa / 100.0,
-                m.z_m
-            )?,
-            None => writeln!(out, "{name:>4}: {none}")?,
-        }
-    }
-    writeln!(out)?;
-    writeln!(
-        out,
-        "  p(hPa)    z(m)  T(°C)  Tv(°C)  envT(°C) envTv(°C)  qv(g/kg) ql(g/kg)  buoyancy"
-    )?;
-    for l in &a.levels {
-        let b = l.tv_k - l.env_tv_k;
-        writeln!(
-            out,
-            "{:8.1} {:7.0} {:6.1} {:7.1} {:9.1} {:9.1} {:9.2} {:8.2}  {:+6.1} K",
-            l.p_pa / 100.0,
-            l.z_m,
-            l.t_k - 273.15,
-            l.tv_k - 273.15,
-            l.env_t_k - 273.15,
-            l.env_tv_k - 273.15,
-            l.qv * 1000.0,
-            l.ql * 1000.0,
-            b
-        )?;
     }
     Ok(())
 }

@@ -48,9 +48,26 @@ fn json_has_the_documented_keys_and_values() {
     let last = levels.last().unwrap();
     assert!((last["p_hpa"].as_f64().unwrap() - 100.0).abs() < 1e-9);
     assert_eq!(last["z_m"].as_f64().unwrap(), 16_410.0 - 345.0);
+    // By default the forecasters' pseudo-adiabatic parcel: its condensate
+    // falls out, and the output says so.
+    assert_eq!(v["thermo"], "standard");
+    assert_eq!(v["lfc_choice"], "most_cape");
+    assert_eq!(last["ql_gkg"].as_f64().unwrap(), 0.0, "pseudo-adiabatic");
+    let model = cli::run([
+        "parcel",
+        "--sounding",
+        OUN_2011,
+        "--json",
+        "--thermo",
+        "model",
+    ]);
+    model.expect_success();
+    let m: serde_json::Value = serde_json::from_slice(&model.output.stdout).unwrap();
+    assert_eq!(m["thermo"], "model");
+    let last = m["levels"].as_array().unwrap().last().unwrap().clone();
     assert!(
         last["ql_gkg"].as_f64().unwrap() > 10.0,
-        "the reversible parcel keeps its water"
+        "the model's reversible parcel keeps its water"
     );
 }
 
@@ -267,4 +284,47 @@ fn bad_wind_fails_and_missing_wind_is_reported() {
     out.expect_success();
     let text = out.stdout();
     assert!(text.contains("wind: none in the sounding"), "{text}");
+}
+
+#[test]
+fn blank_upper_dewpoints_and_no_wind_are_said_not_zeroed() {
+    let tropical = "tests/data/soundings/constructed-tropical.txt";
+    let out = cli::run(["parcel", "--sounding", tropical, "--json"]);
+    out.expect_success();
+    let v: serde_json::Value = serde_json::from_slice(&out.output.stdout).unwrap();
+    // 1e-6 hPa: exp(ln p) of the observed pressure, rounding only.
+    let top = v["humidity_top_hpa"].as_f64().unwrap();
+    assert!((top - 400.0).abs() < 1e-6, "{top}");
+    let idx = &v["indices"];
+    assert!(idx["wind"].is_null(), "{idx}");
+    assert_eq!(idx["wind_note"], "no wind data");
+    assert!(
+        idx["precipitable_water_mm"].as_f64().unwrap() > 40.0,
+        "{idx}"
+    );
+    // The parcel reaches the tropopause, far above the last dewpoint.
+    assert!(v["el_hpa"].as_f64().unwrap() < 200.0);
+    let run = cli::run(["parcel", "--sounding", tropical]);
+    run.expect_success();
+    let text = run.stdout();
+    for needle in [
+        "humidity: no dewpoint above 400 hPa",
+        "missing, not zero",
+        "wind indices               no wind data",
+        "thermodynamics: standard",
+    ] {
+        assert!(text.contains(needle), "{needle:?} not in\n{text}");
+    }
+    // Winds that end below 6 km: the 0-6 km indices say why they are missing.
+    let nov11 = cli::run([
+        "parcel",
+        "--sounding",
+        "tests/data/soundings/metpy-nov11.txt",
+    ]);
+    nov11.expect_success();
+    let text = nov11.stdout();
+    assert!(
+        text.contains("bulk shear 0-6 km          n/a (wind data end at"),
+        "{text}"
+    );
 }

@@ -130,7 +130,7 @@ fn rejects_dewpoint_above_temperature_beyond_rounding() {
     // Within the 0.05 K rounding tolerance the row is kept, Td clamped to T.
     let text = table(&row(&["850.0", "1454", "6.00", "6.04"]));
     let s = Sounding::parse(&text, Path::new("ok.txt")).unwrap();
-    assert_eq!(s.levels[2].td_k, s.levels[2].t_k);
+    assert_eq!(s.levels[2].td_k, Some(s.levels[2].t_k));
 }
 
 #[test]
@@ -192,6 +192,34 @@ fn rejects_fewer_than_two_usable_levels() {
     );
     let msg = error_at(HEADER, 0, 0);
     assert!(msg.contains("0 usable level"), "{msg}");
+}
+
+#[test]
+fn a_surface_row_without_a_dewpoint_is_an_error_naming_it() {
+    // Higher rows may leave DWPT blank (their humidity is then filled, see
+    // atmosphere::diagnostics); the surface may not: every parcel and the
+    // fill start from its dewpoint. Line 6, the TEMP column (15-21).
+    let text = format!(
+        "{HEADER}{}{}{}",
+        row(&["1000.0", "36"]),
+        row(&["966.0", "345", "22.2"]),
+        row(&["900.0", "950", "18.0", "10.0"])
+    );
+    let msg = error_at(&text, 6, 18);
+    assert!(
+        msg.contains("no DWPT") && msg.contains("surface needs a dewpoint"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn rows_with_a_temperature_but_no_dewpoint_are_kept() {
+    let text = table(&row(&["850.0", "1450", "15.0"]));
+    let s = Sounding::parse(&text, Path::new("t.txt")).unwrap();
+    assert_eq!(s.levels.len(), 4, "966, 900, 850 and 700 hPa");
+    assert_eq!(s.levels[2].td_k, None);
+    assert!((s.levels[2].t_k - 288.15).abs() < 1e-9);
+    assert_eq!(s.humidity_top_msl_m(), None, "700 hPa has a dewpoint again");
 }
 
 fn shipped_text() -> String {
