@@ -16,6 +16,7 @@ use std::path::Path;
 
 use crate::atmosphere::cape::{self, ParcelKind};
 use crate::atmosphere::lifting::{self, LiftOptions, ParcelAscent};
+use crate::atmosphere::thermo::Thermo;
 use crate::atmosphere::{AtmospherePoint, AtmosphereSpec, Environment, WindProfile, thermo};
 use crate::error::{Error, Result};
 
@@ -215,6 +216,10 @@ impl ProfileEditor {
     }
 }
 
+/// The thermodynamics of the panel's CAPE and CIN: MetPy's standard, so
+/// they read as a forecaster's tools give them (docs/aerology.md).
+pub const ENERGY_THERMO: Thermo = Thermo::Standard;
+
 /// What [`build`] makes of a profile: the environment of its inline points
 /// (with `wind`), the surface parcel's ascent and the three (CAPE, CIN)
 /// pairs.
@@ -229,11 +234,17 @@ fn build(spec: &AtmosphereSpec, lift: &LiftOptions, wind: Option<WindProfile>) -
 }
 
 /// CAPE and CIN of the surface-based, mixed-layer and most-unstable
-/// parcels, in `ParcelKind::ALL` order. units: J/kg
+/// parcels, in `ParcelKind::ALL` order, with the forecasters' standard
+/// thermodynamics ([`ENERGY_THERMO`], as `cumulus parcel` by default; the
+/// drawn ascent keeps `lift`'s, the simulation's). units: J/kg
 fn parcel_energies(env: &Environment, lift: &LiftOptions) -> Result<[(f64, f64); 3]> {
+    let lift = LiftOptions {
+        thermo: ENERGY_THERMO,
+        ..*lift
+    };
     let mut out = [(0.0, 0.0); 3];
     for (o, kind) in out.iter_mut().zip(ParcelKind::ALL) {
-        let r = cape::parcel_report(env, kind, lift)?;
+        let r = cape::parcel_report(env, kind, &lift)?;
         *o = (r.cape_j_per_kg, r.cin_j_per_kg);
     }
     Ok(out)

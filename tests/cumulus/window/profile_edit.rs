@@ -277,6 +277,15 @@ fn saved_scene_loads_back_with_the_edits() {
     assert_eq!(loaded.editor.points(), &before[..]);
 }
 
+/// `cumulus parcel`'s default lift: the forecasters' standard
+/// thermodynamics, which the panel's CAPE and CIN use too.
+fn standard() -> cumulus::atmosphere::lifting::LiftOptions {
+    cumulus::atmosphere::lifting::LiftOptions {
+        thermo: cumulus::atmosphere::thermo::Thermo::Standard,
+        ..Default::default()
+    }
+}
+
 #[test]
 fn mixed_layer_and_most_unstable_energies_follow_every_edit() {
     // The panel lists sb, ml and mu: each must be `cumulus parcel`'s value
@@ -285,7 +294,7 @@ fn mixed_layer_and_most_unstable_energies_follow_every_edit() {
     use cumulus::atmosphere::cape::{ParcelKind, parcel_report};
     let fresh = |ed: &ProfileEditor| {
         ParcelKind::ALL.map(|k| {
-            let r = parcel_report(ed.environment(), k, &Default::default()).unwrap();
+            let r = parcel_report(ed.environment(), k, &standard()).unwrap();
             (k, r.cape_j_per_kg, r.cin_j_per_kg)
         })
     };
@@ -317,7 +326,7 @@ fn cape_and_cin_follow_every_edit() {
         let r = cumulus::atmosphere::cape::parcel_report(
             ed.environment(),
             cumulus::atmosphere::cape::ParcelKind::Surface,
-            &Default::default(),
+            &standard(),
         )
         .unwrap();
         (r.cape_j_per_kg, r.cin_j_per_kg)
