@@ -61,9 +61,9 @@ pub struct Case {
     pub seed: u64,
     /// Clamp kinds (names of `ClampCounts::kinds`) this case is expected to
     /// hit, each for a reason given where the case is made: any other
-    /// kind that is hit fails the case. (`opaque` is never a failure: the
-    /// filling ratio shows 1 for a parcel holding more liquid than the
-    /// opaque content, and the physics keeps all the water.)
+    /// kind that is hit fails the case. A case that declares `speed` is
+    /// also run with the speed cap off (see `run`), and fails if that run
+    /// blows up.
     pub declared_clamps: Vec<&'static str>,
 }
 
