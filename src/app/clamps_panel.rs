@@ -41,10 +41,7 @@ pub fn clamp_text(d: &Diagnostics) -> ClampText {
         .map(|(k, n)| format!("{k} {n}"))
         .collect();
     let notes = vec![
-        format!(
-            "emissions refused at max_parcels: {}",
-            d.fates.suppressed
-        ),
+        format!("emissions refused at max_parcels: {}", d.fates.suppressed),
         format!(
             "fill shown saturated (display, not a clamp): {} parcel-frames",
             d.opaque_parcel_frames
@@ -63,7 +60,11 @@ pub fn show(ui: &mut egui::Ui, d: &Diagnostics) {
     let t = clamp_text(d);
     let tint = |s: &str| {
         let r = RichText::new(s).monospace();
-        if t.attention { r.color(ATTENTION_COLOR) } else { r }
+        if t.attention {
+            r.color(ATTENTION_COLOR)
+        } else {
+            r
+        }
     };
     ui.label(tint(&t.heading).strong());
     for k in &t.kinds {

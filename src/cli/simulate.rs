@@ -91,9 +91,8 @@ fn opt(v: Option<f64>) -> String {
 /// The header and the row of one step.
 fn header_and_row(d: &Diagnostics, r: &StepReport, cover: f64) -> (String, String) {
     let c = columns(d, r, cover);
-    let join = |f: &dyn Fn(&(String, String)) -> String| {
-        c.iter().map(f).collect::<Vec<_>>().join(",")
-    };
+    let join =
+        |f: &dyn Fn(&(String, String)) -> String| c.iter().map(f).collect::<Vec<_>>().join(",");
     (join(&|(n, _)| n.to_string()), join(&|(_, v)| v.clone()))
 }
 

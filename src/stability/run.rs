@@ -154,7 +154,10 @@ impl Uncapped {
             f.push("without the speed cap: did not complete".into());
         }
         if self.non_finite > 0 {
-            f.push(format!("without the speed cap: {} NaN/Inf", self.non_finite));
+            f.push(format!(
+                "without the speed cap: {} NaN/Inf",
+                self.non_finite
+            ));
         }
         if !(self.ke_ratio <= KE_RATIO_BOUND) {
             f.push(format!(

@@ -102,14 +102,27 @@ fn simulate_reports_clamps_by_kind_and_suppressed_emissions() {
     let mut rdr = csv::Reader::from_path(&out).unwrap();
     let headers = rdr.headers().unwrap().clone();
     let names: Vec<&str> = headers.iter().collect();
-    for kind in cumulus::physics::ClampCounts::default().kinds().map(|(k, _)| k) {
-        assert!(names.contains(&format!("clamp_{kind}").as_str()), "{kind}: {names:?}");
+    for kind in cumulus::physics::ClampCounts::default()
+        .kinds()
+        .map(|(k, _)| k)
+    {
+        assert!(
+            names.contains(&format!("clamp_{kind}").as_str()),
+            "{kind}: {names:?}"
+        );
     }
     assert!(!names.contains(&"clamps_total"), "{names:?}");
-    assert!(!names.contains(&"clamp_opaque"), "opaque is not a clamp: {names:?}");
+    assert!(
+        !names.contains(&"clamp_opaque"),
+        "opaque is not a clamp: {names:?}"
+    );
     assert!(names.contains(&"opaque_parcel_frames") && names.contains(&"suppressed"));
     let last = rdr.records().map(Result::unwrap).last().unwrap();
-    let col = |n: &str| -> u64 { last[names.iter().position(|h| *h == n).unwrap()].parse().unwrap() };
+    let col = |n: &str| -> u64 {
+        last[names.iter().position(|h| *h == n).unwrap()]
+            .parse()
+            .unwrap()
+    };
     let (speed, suppressed) = (col("clamp_speed"), col("suppressed"));
     assert!(speed > 0, "a 0.5 m/s cap must clamp");
     assert!(suppressed > 0, "3 parcels at most must refuse emissions");

@@ -28,7 +28,8 @@ fn fractional_rate(model: EntrainmentModel, r_m: f64) -> f64 {
     };
     let turbulence = physics.turbulence_m_s;
     let mut w = world(neutral(), physics, false, 1);
-    let s = ParcelSpec::from_environment(w.environment(), DVec3::new(0.0, 0.0, 2000.0), 0.0, 0.0, r_m);
+    let s =
+        ParcelSpec::from_environment(w.environment(), DVec3::new(0.0, 0.0, 2000.0), 0.0, 0.0, r_m);
     w.spawn_parcel(s).unwrap();
     w.step(0.1);
     let p = &w.parcels()[0];
@@ -48,13 +49,26 @@ fn close(a: f64, b: f64) -> bool {
 #[test]
 fn each_entrainment_model_gives_its_fractional_rate() {
     let d = PhysicsConfig::default();
-    assert_eq!(d.entrainment_model, EntrainmentModel::Paper, "the paper's stays the default");
+    assert_eq!(
+        d.entrainment_model,
+        EntrainmentModel::Paper,
+        "the paper's stays the default"
+    );
     for r in [100.0, 300.0] {
         let paper = fractional_rate(EntrainmentModel::Paper, r);
-        assert!(close(paper, 3.0 * d.entrainment_rate_per_m), "paper, R = {r}: {paper}");
+        assert!(
+            close(paper, 3.0 * d.entrainment_rate_per_m),
+            "paper, R = {r}: {paper}"
+        );
         let plume = fractional_rate(EntrainmentModel::Plume, r);
-        assert!(close(plume, d.entrainment_plume_coefficient / r), "plume, R = {r}: {plume}");
+        assert!(
+            close(plume, d.entrainment_plume_coefficient / r),
+            "plume, R = {r}: {plume}"
+        );
         let observed = fractional_rate(EntrainmentModel::Observed, r);
-        assert!(close(observed, d.entrainment_observed_per_m), "observed, R = {r}: {observed}");
+        assert!(
+            close(observed, d.entrainment_observed_per_m),
+            "observed, R = {r}: {observed}"
+        );
     }
 }

@@ -12,11 +12,20 @@ fn bomex(z_m: f64) -> (f64, f64) {
     let (theta, q_gkg) = if z_m <= 520.0 {
         (298.7, lin(0.0, 520.0, 17.0, 16.3))
     } else if z_m <= 1480.0 {
-        (lin(520.0, 1480.0, 298.7, 302.4), lin(520.0, 1480.0, 16.3, 10.7))
+        (
+            lin(520.0, 1480.0, 298.7, 302.4),
+            lin(520.0, 1480.0, 16.3, 10.7),
+        )
     } else if z_m <= 2000.0 {
-        (lin(1480.0, 2000.0, 302.4, 308.2), lin(1480.0, 2000.0, 10.7, 4.2))
+        (
+            lin(1480.0, 2000.0, 302.4, 308.2),
+            lin(1480.0, 2000.0, 10.7, 4.2),
+        )
     } else {
-        (308.2 + 3.65e-3 * (z_m - 2000.0), 4.2 - 1.2e-3 * (z_m - 2000.0))
+        (
+            308.2 + 3.65e-3 * (z_m - 2000.0),
+            4.2 - 1.2e-3 * (z_m - 2000.0),
+        )
     };
     (theta, q_gkg * 1e-3)
 }
@@ -33,8 +42,16 @@ fn the_bomex_scene_has_the_published_profiles_and_fluxes() {
         // 0.02 K and 0.5 %: the points are written to 4 decimals of a
         // degree, and the dewpoint's rounding moves q by ~0.03 %; a wrong
         // corner or gradient is off by tenths of a kelvin or more.
-        assert!((env.theta_k(z) - theta).abs() < 0.02, "θ at {z} m: {} vs {theta}", env.theta_k(z));
-        assert!((env.qv(z) / r - 1.0).abs() < 5e-3, "q_v at {z} m: {} vs {r}", env.qv(z));
+        assert!(
+            (env.theta_k(z) - theta).abs() < 0.02,
+            "θ at {z} m: {} vs {theta}",
+            env.theta_k(z)
+        );
+        assert!(
+            (env.qv(z) / r - 1.0).abs() < 5e-3,
+            "q_v at {z} m: {} vs {r}",
+            env.qv(z)
+        );
     }
     // The surface fluxes as emission: rate × V × excess (docs/les.md).
     let cfg = scene.world_config(&source.base_dir()).unwrap();
@@ -44,7 +61,10 @@ fn the_bomex_scene_has_the_published_profiles_and_fluxes() {
     let moisture = rate_per_m2_s * v * cfg.ground.moisture_excess_kg_per_kg;
     // 1 %: the rate is written to three figures.
     assert!((heat / 8e-3 - 1.0).abs() < 0.01, "w'θ' {heat} K m/s");
-    assert!((moisture / 5.2e-5 - 1.0).abs() < 0.01, "w'q' {moisture} m/s");
+    assert!(
+        (moisture / 5.2e-5 - 1.0).abs() < 0.01,
+        "w'q' {moisture} m/s"
+    );
 }
 
 /// One simulated hour of the BOMEX scene (the LES's spin-up; the model is
@@ -93,5 +113,8 @@ fn bomex_cloud_base_and_cover_are_the_les_order_and_plume_entrainment_lowers_the
     let (_, plume_top, _) = bomex_hour(EntrainmentModel::Plume);
     eprintln!("plume: top {plume_top:.0} m");
     // Lower by more than 300 m (measured: 2.6 km → 2.0 km over hours 3–6).
-    assert!(plume_top < top - 300.0, "plume {plume_top} m vs paper {top} m");
+    assert!(
+        plume_top < top - 300.0,
+        "plume {plume_top} m vs paper {top} m"
+    );
 }

@@ -297,7 +297,10 @@ fn the_uncapped_rerun_fails_a_case_the_cap_would_pass() {
         declared_clamps: ClampCounts::default().kinds().map(|(k, _)| k).to_vec(),
     };
     let r = stability::run_case(&case, |_| {});
-    let u = r.uncapped.clone().expect("a case declaring `speed` is rerun uncapped");
+    let u = r
+        .uncapped
+        .clone()
+        .expect("a case declaring `speed` is rerun uncapped");
     eprintln!(
         "capped: KE ratio {:.3e}, max speed {:.1} m/s, clamps {}; uncapped: {u:?}; failures {:?}",
         r.ke_ratio,
@@ -312,10 +315,15 @@ fn the_uncapped_rerun_fails_a_case_the_cap_would_pass() {
         "the capped run alone must pass, or this does not show what the gate adds: {:?}",
         capped_only.failures()
     );
-    assert!(!u.failures().is_empty(), "the uncapped run must blow up: {u:?}");
+    assert!(
+        !u.failures().is_empty(),
+        "the uncapped run must blow up: {u:?}"
+    );
     assert!(!r.passed());
     assert!(
-        r.failures().iter().all(|f| f.starts_with("without the speed cap")),
+        r.failures()
+            .iter()
+            .all(|f| f.starts_with("without the speed cap")),
         "{:?}",
         r.failures()
     );

@@ -28,8 +28,8 @@ fn render_simulates_and_writes_a_png() {
     // It prints the clamps and suppressed emissions of the simulation it
     // ran: the same as `simulate` prints for the same scene, seed, frame
     // step and duration (both step 2 s frames with seed 1).
-    let sim = cli::run_command(cli::command().args(["simulate", "--duration", "600"]))
-        .expect_success();
+    let sim =
+        cli::run_command(cli::command().args(["simulate", "--duration", "600"])).expect_success();
     let line = |text: &str, start: &str| {
         text.lines()
             .map(|l| l.trim_start_matches("simulation to t = 600 s: "))

@@ -326,7 +326,10 @@ fn the_panel_shows_clamps_by_kind_since_the_reset() {
     // A fresh world (the harness's frames may have pre-simulated a little).
     h.m.reset().unwrap();
     let t = clamp_text(&h.m.world.diagnostics());
-    assert!(!t.attention && t.heading.ends_with("none") && t.kinds.is_empty(), "{t:?}");
+    assert!(
+        !t.attention && t.heading.ends_with("none") && t.kinds.is_empty(),
+        "{t:?}"
+    );
 
     let mut cfg = h.m.world_cfg.clone();
     cfg.physics.max_speed_m_s = 0.5;
@@ -347,13 +350,25 @@ fn the_panel_shows_clamps_by_kind_since_the_reset() {
     assert!(d.clamps.speed > 0, "{}", d.clamps);
     let t = clamp_text(&d);
     assert!(t.attention, "{t:?}");
-    assert_eq!(t.heading, format!("clamps since reset: {}", d.clamps.total()));
-    assert!(t.kinds.contains(&format!("speed {}", d.clamps.speed)), "{t:?}");
-    assert!(t.notes.iter().any(|n| n.contains("display, not a clamp")), "{t:?}");
+    assert_eq!(
+        t.heading,
+        format!("clamps since reset: {}", d.clamps.total())
+    );
+    assert!(
+        t.kinds.contains(&format!("speed {}", d.clamps.speed)),
+        "{t:?}"
+    );
+    assert!(
+        t.notes.iter().any(|n| n.contains("display, not a clamp")),
+        "{t:?}"
+    );
     // The section draws it without trouble.
     h.frame(vec![]);
 
     h.m.reset().unwrap();
     let t = clamp_text(&h.m.world.diagnostics());
-    assert!(!t.attention && t.kinds.is_empty(), "a reset starts the count again: {t:?}");
+    assert!(
+        !t.attention && t.kinds.is_empty(),
+        "a reset starts the count again: {t:?}"
+    );
 }
