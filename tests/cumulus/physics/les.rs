@@ -118,3 +118,57 @@ fn bomex_cloud_base_and_cover_are_the_les_order_and_plume_entrainment_lowers_the
         "plume {plume_top} m vs paper {top} m"
     );
 }
+
+/// `ParcelWorld::cloud_cover`, the LES's "columns with cloud" for parcels:
+/// a cloudy parcel wholly above its condensation plane covers its disk
+/// πr², and a second one straight above it (a taller cloud, not a wider
+/// one) adds nothing; one beside it adds its own disk.
+#[test]
+fn cloud_cover_is_the_area_of_the_union_of_cloudy_disks() {
+    use cumulus::physics::{ParcelSpec, ParcelWorld, PhysicsConfig, WorldConfig};
+    use glam::DVec3;
+    let physics = PhysicsConfig {
+        sph: false,
+        viscosity: false,
+        atmospheric_pressure: false,
+        mixing: false,
+        exchange: false,
+        condensation: false,
+        buoyancy: false,
+        drag: false,
+        ..PhysicsConfig::default()
+    };
+    let mut cfg = WorldConfig {
+        physics,
+        ..WorldConfig::default()
+    };
+    cfg.emission.enabled = false;
+    let area = cfg.ground.size_m[0] * cfg.ground.size_m[1];
+    let env = cumulus::atmosphere::AtmosphereSpec::default()
+        .build(Path::new("."))
+        .unwrap();
+    let cover_of = |centres: &[DVec3]| {
+        let mut w = ParcelWorld::new(env.clone(), cfg.clone(), 1).unwrap();
+        for &c in centres {
+            let mut s = ParcelSpec::from_environment(w.environment(), c, 0.0, 0.0, 150.0);
+            // Far past saturation: the parcel's own condensation level lies
+            // kilometres below it, so all of its sphere is cloud.
+            s.ql_kg_per_kg = 5e-3;
+            w.spawn_parcel(s).unwrap();
+        }
+        w.step(1.0);
+        assert!(w.parcels().iter().all(|p| p.cond_plane_z_m < p.position_m.z - p.radius_m));
+        w.cloud_cover()
+    };
+    let r = 150.0_f64;
+    let disk = std::f64::consts::PI * r * r / area;
+    let one = cover_of(&[DVec3::new(0.0, 0.0, 3000.0)]);
+    // 3 %: 25 m cells counted by their centres miss or add at most half a
+    // cell along the rim (2πr × 12.5 m is 17 % of πr² at worst), but the
+    // misses and additions cancel to a few per cent for a disk.
+    assert!((one / disk - 1.0).abs() < 0.03, "{one} vs {disk}");
+    let stacked = cover_of(&[DVec3::new(0.0, 0.0, 3000.0), DVec3::new(0.0, 0.0, 3400.0)]);
+    assert_eq!(stacked, one, "a parcel straight above another covers nothing new");
+    let beside = cover_of(&[DVec3::new(0.0, 0.0, 3000.0), DVec3::new(1000.0, 0.0, 3000.0)]);
+    assert!((beside / (2.0 * disk) - 1.0).abs() < 0.03, "{beside}");
+}
