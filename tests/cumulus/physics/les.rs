@@ -157,7 +157,11 @@ fn cloud_cover_is_the_area_of_the_union_of_cloudy_disks() {
             w.spawn_parcel(s).unwrap();
         }
         w.step(1.0);
-        assert!(w.parcels().iter().all(|p| p.cond_plane_z_m < p.position_m.z - p.radius_m));
+        assert!(
+            w.parcels()
+                .iter()
+                .all(|p| p.cond_plane_z_m < p.position_m.z - p.radius_m)
+        );
         w.cloud_cover()
     };
     let r = 150.0_f64;
@@ -168,7 +172,13 @@ fn cloud_cover_is_the_area_of_the_union_of_cloudy_disks() {
     // misses and additions cancel to a few per cent for a disk.
     assert!((one / disk - 1.0).abs() < 0.03, "{one} vs {disk}");
     let stacked = cover_of(&[DVec3::new(0.0, 0.0, 3000.0), DVec3::new(0.0, 0.0, 3400.0)]);
-    assert_eq!(stacked, one, "a parcel straight above another covers nothing new");
-    let beside = cover_of(&[DVec3::new(0.0, 0.0, 3000.0), DVec3::new(1000.0, 0.0, 3000.0)]);
+    assert_eq!(
+        stacked, one,
+        "a parcel straight above another covers nothing new"
+    );
+    let beside = cover_of(&[
+        DVec3::new(0.0, 0.0, 3000.0),
+        DVec3::new(1000.0, 0.0, 3000.0),
+    ]);
     assert!((beside / (2.0 * disk) - 1.0).abs() < 0.03, "{beside}");
 }
