@@ -6,6 +6,7 @@
 //! - [`state`]: the model the panel edits (scene, editor, simulation,
 //!   playback, settings), free of window and GPU types;
 //! - [`panel`]: the egui side panel;
+//! - [`clamps_panel`]: the panel's clamp report (by kind, since the last reset);
 //! - [`slices_panel`]: the slices method's qualitative controls and the
 //!   authored ellipsoids' editor;
 //! - [`ellipsoid_mouse`]: picking, moving and resizing the ellipsoids with
@@ -17,6 +18,7 @@
 //! - `draw`: what one window frame records (3D view, panel, read-back).
 
 pub mod camera;
+pub mod clamps_panel;
 mod draw;
 pub mod ellipsoid_mouse;
 pub mod panel;

@@ -451,6 +451,7 @@ fn simulation_section(ui: &mut egui::Ui, m: &mut Model) {
         show(d.cloud_top_m),
         d.escaped
     ));
+    super::clamps_panel::show(ui, &d);
 }
 
 /// Returns whether a render setting changed.

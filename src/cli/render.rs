@@ -204,6 +204,17 @@ impl Clouds {
         }
         Ok(())
     }
+
+    /// What the simulation held back so far (clamps by kind, emissions
+    /// suppressed, the opaque display count); None without a simulation.
+    pub(crate) fn held_back(&self) -> Option<String> {
+        match self {
+            Clouds::World { world, .. } => {
+                Some(crate::cli::simulate::held_back(&world.diagnostics()))
+            }
+            _ => None,
+        }
+    }
 }
 
 /// "N cloud parcels, radius a–b m, fill a–b, planes a–b m".
@@ -410,6 +421,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     if let Some(b) = bar {
         b.finish();
+    }
+    if let Some(held) = clouds.held_back() {
+        let end = time + args.every * (args.frames - 1) as f64;
+        eprintln!("simulation to t = {end:.0} s: {held}");
     }
     Ok(())
 }

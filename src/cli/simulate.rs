@@ -36,9 +36,13 @@ pub struct Args {
 const MAX_FRAMES: f64 = 1.0e7;
 
 /// One CSV row: each column's name beside its value, so the header and
-/// the rows cannot disagree.
-fn columns(d: &Diagnostics, r: &StepReport) -> [(&'static str, String); 16] {
-    [
+/// the rows cannot disagree. Clamps are cumulative, one `clamp_<kind>`
+/// column per kind of `ClampCounts`; `suppressed` counts emissions refused
+/// at `max_parcels`; `opaque_parcel_frames` is the display count of parcels
+/// shown fully opaque (not a clamp); `cloud_cover` is
+/// `ParcelWorld::cloud_cover`.
+fn columns(d: &Diagnostics, r: &StepReport, cover: f64) -> Vec<(String, String)> {
+    let fixed = [
         ("time_s", format!("{:.3}", d.time_s)),
         ("parcels", d.parcels.to_string()),
         ("condensed_parcels", d.condensed_parcels.to_string()),
@@ -54,8 +58,30 @@ fn columns(d: &Diagnostics, r: &StepReport) -> [(&'static str, String); 16] {
         ("evaporated", d.fates.evaporated.to_string()),
         ("grounded", d.fates.grounded.to_string()),
         ("aged", d.fates.aged.to_string()),
-        ("clamps_total", d.clamps.total().to_string()),
-    ]
+        ("suppressed", d.fates.suppressed.to_string()),
+        ("opaque_parcel_frames", d.opaque_parcel_frames.to_string()),
+        ("cloud_cover", format!("{cover:.5}")),
+    ];
+    let clamps = d
+        .clamps
+        .kinds()
+        .into_iter()
+        .map(|(k, n)| (format!("clamp_{k}"), n.to_string()));
+    fixed
+        .into_iter()
+        .map(|(k, v)| (k.to_string(), v))
+        .chain(clamps)
+        .collect()
+}
+
+/// The summary's lines on what was held back: the clamps by kind, then
+/// the emissions refused at `max_parcels` and the opaque display count
+/// (shared by `simulate` and `render`).
+pub(crate) fn held_back(d: &Diagnostics) -> String {
+    format!(
+        "clamps: {}\nsuppressed: {} emissions refused at max_parcels; opaque (display, not a clamp): {} parcel-frames",
+        d.clamps, d.fates.suppressed, d.opaque_parcel_frames
+    )
 }
 
 fn opt(v: Option<f64>) -> String {
@@ -63,11 +89,10 @@ fn opt(v: Option<f64>) -> String {
 }
 
 /// The header and the row of one step.
-fn header_and_row(d: &Diagnostics, r: &StepReport) -> (String, String) {
-    let c = columns(d, r);
-    let join = |f: &dyn Fn(&(&'static str, String)) -> String| {
-        c.iter().map(f).collect::<Vec<_>>().join(",")
-    };
+fn header_and_row(d: &Diagnostics, r: &StepReport, cover: f64) -> (String, String) {
+    let c = columns(d, r, cover);
+    let join =
+        |f: &dyn Fn(&(String, String)) -> String| c.iter().map(f).collect::<Vec<_>>().join(",");
     (join(&|(n, _)| n.to_string()), join(&|(_, v)| v.clone()))
 }
 
@@ -163,7 +188,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             );
         }
         if args.out.is_some() {
-            let (header, row) = header_and_row(&d, &report);
+            let (header, row) = header_and_row(&d, &report, world.cloud_cover());
             if lines.is_empty() {
                 lines.push(header);
             }
@@ -194,14 +219,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let d = world.diagnostics();
     let c = world.counters();
     eprintln!(
-        "{written}; {} parcels, {} condensed, cloud base {} m, top {} m; {} sub-steps; clamps: {}",
+        "{written}; {} parcels, {} condensed, cloud base {} m, top {} m; {} sub-steps",
         d.parcels,
         d.condensed_parcels,
         opt(d.cloud_base_m),
         opt(d.cloud_top_m),
         c.substeps,
-        d.clamps
     );
+    eprintln!("{}", held_back(&d));
     eprintln!(
         "first condensed parcel at t = {}; peak {} condensed parcels at t = {:.0} s; {:.1} s of wall time",
         first_cloud_s.map_or("never".to_string(), |t| format!("{t:.0} s")),

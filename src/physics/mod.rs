@@ -52,7 +52,9 @@ pub mod sph;
 pub mod tessellation;
 pub mod world;
 
-pub use config::{EmissionConfig, GroundConfig, PhysicsConfig, WindConfig, WorldConfig};
+pub use config::{
+    EmissionConfig, EntrainmentModel, GroundConfig, PhysicsConfig, WindConfig, WorldConfig,
+};
 pub use parcel::{Parcel, ParcelSpec};
 pub use world::{
     ClampCounts, Counters, Diagnostics, Fates, ParcelWorld, StepReport, condensation_level_m,

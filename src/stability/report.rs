@@ -17,6 +17,18 @@ pub fn clamp_summary(c: &ClampCounts) -> String {
     }
 }
 
+/// "0.123 / 95.0 m/s" (and the NaN/Inf count) of the uncapped rerun, or "–".
+fn uncapped_cell(r: &CaseResult) -> String {
+    match &r.uncapped {
+        None => "–".into(),
+        Some(u) if u.non_finite > 0 => format!(
+            "{:.3} / {:.1} m/s, {} NaN/Inf",
+            u.ke_ratio, u.max_speed_m_s, u.non_finite
+        ),
+        Some(u) => format!("{:.3} / {:.1} m/s", u.ke_ratio, u.max_speed_m_s),
+    }
+}
+
 fn verdict(r: &CaseResult) -> String {
     let f = r.failures();
     if f.is_empty() {
@@ -53,22 +65,26 @@ pub fn to_markdown(results: &[CaseResult], title: &str) -> String {
          any fails the case. A panic fails it too (caught, not propagated).\n\
          - **escaped**: parcels that left through the sides / the top (of the domain or the profile).\n\
          - **clamps**: guards hit, by kind (see `physics::ClampCounts`); a kind the case does not \
-         declare (listed under Cases) fails it. `opaque` (fill shown as 1) is information only.\n\
+         declare (listed under Cases) fails it.\n\
+         - **uncapped**: a case that declares the `speed` clamp is run again with the 80 m/s cap \
+         off; its KE ratio and fastest parcel are shown, and a NaN/Inf, panic or KE ratio above \
+         the bound there fails the case whatever the capped run did (the cap alone bounds the \
+         kinetic energy; only this run shows the motion is bounded without it). – for other cases.\n\
          - **wall/sub-step**: wall-clock time in the physics stages per sub-step (the harness's \
          set-up and energy sums left out).\n"
     );
     let _ = writeln!(
         s,
-        "| case | dt (s) | frames | parcels start/peak | NaN/Inf | KE ratio | KE step | e_phys (J/kg) | W_atm share | max speed (m/s) | escaped sides/top | sub-steps | clamps | wall (s) | wall/sub-step (ms) | result |"
+        "| case | dt (s) | frames | parcels start/peak | NaN/Inf | KE ratio | KE step | e_phys (J/kg) | W_atm share | max speed (m/s) | escaped sides/top | sub-steps | clamps | uncapped KE ratio / max speed | wall (s) | wall/sub-step (ms) | result |"
     );
     let _ = writeln!(
         s,
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---|"
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|---:|---:|---|"
     );
     for r in results {
         let _ = writeln!(
             s,
-            "| {} | {} | {}/{} | {}/{} | {} | {:.3} | {:.3e} | {:.0} | {:.2} | {:.1} | {}/{} | {} | {} | {:.2} | {:.2} | {} |",
+            "| {} | {} | {}/{} | {}/{} | {} | {:.3} | {:.3e} | {:.0} | {:.2} | {:.1} | {}/{} | {} | {} | {} | {:.2} | {:.2} | {} |",
             r.name,
             r.frame_dt_s,
             r.frames_run,
@@ -85,6 +101,7 @@ pub fn to_markdown(results: &[CaseResult], title: &str) -> String {
             r.escaped_top,
             r.substeps,
             clamp_summary(&r.clamps),
+            uncapped_cell(r),
             r.wall_s,
             r.wall_per_substep_ms(),
             verdict(r)
@@ -114,6 +131,7 @@ pub fn to_csv(results: &[CaseResult]) -> String {
     for (k, _) in ClampCounts::default().kinds() {
         let _ = write!(s, ",clamp_{k}");
     }
+    s.push_str(",uncapped_completed,uncapped_non_finite,uncapped_ke_ratio,uncapped_max_speed_m_s");
     s.push_str(",wall_s,wall_ms_per_substep,passed,failures\n");
     let quote = |t: &str| format!("\"{}\"", t.replace('"', "\"\""));
     for r in results {
@@ -143,6 +161,17 @@ pub fn to_csv(results: &[CaseResult]) -> String {
         );
         for (_, n) in r.clamps.kinds() {
             let _ = write!(s, ",{n}");
+        }
+        // Empty for a case without the uncapped rerun.
+        match &r.uncapped {
+            Some(u) => {
+                let _ = write!(
+                    s,
+                    ",{},{},{:.6},{:.3}",
+                    u.completed, u.non_finite, u.ke_ratio, u.max_speed_m_s
+                );
+            }
+            None => s.push_str(",,,,"),
         }
         let _ = writeln!(
             s,

@@ -40,6 +40,18 @@
 //! the world's own emission ahead of each step (`ParcelWorld::emit_now`)
 //! and adds each frame's jump of E_sph at the births.
 //!
+//! # The speed cap cannot hide a blow-up
+//!
+//! The speed guard (`max_speed_m_s`, 80 m/s) bounds the kinetic energy by
+//! itself: ½M(80 m/s)² is under the energy bound of most cases, so a case
+//! whose integrator blew up would still pass on its capped run. Every case
+//! that declares the `speed` clamp is therefore run a second time with the
+//! cap off (`ParcelWorld::set_speed_cap(false)`), same seed and frames; if
+//! that run panics, stops early, produces a NaN/Inf or kinetic energy above
+//! the same bound, the case fails whatever the capped run did
+//! ([`Uncapped`]). What the capped run then shows is only that the cap
+//! trims a few fast parcels of a motion that is bounded on its own.
+//!
 //! The table also shows the per-frame **KE growth**: max_n KE(n+1)/max(KE(n),
 //! ½ M (1 m/s)²), informational (a real start-up from rest legitimately
 //! multiplies it by a lot in a long frame).
@@ -113,6 +125,48 @@ pub struct CaseResult {
     pub wall_s: f64,
     /// Wall-clock time inside the physics stages (the world's counters). units: s
     pub physics_s: f64,
+    /// The rerun with the speed cap off, for a case that declares `speed`.
+    pub uncapped: Option<Uncapped>,
+}
+
+/// What the rerun of a case with the speed cap off did (module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Uncapped {
+    /// All frames ran without a panic or setup error.
+    pub completed: bool,
+    /// The panic or setup error, if any.
+    pub error: Option<String>,
+    /// NaN/Inf seen (as [`CaseResult::non_finite`]).
+    pub non_finite: u64,
+    /// max_t KE(t) / E_avail(t), as [`CaseResult::ke_ratio`].
+    pub ke_ratio: f64,
+    /// Fastest parcel seen at a frame end. units: m s⁻¹
+    pub max_speed_m_s: f64,
+}
+
+impl Uncapped {
+    /// Why the uncapped run fails its case (empty when it held).
+    pub fn failures(&self) -> Vec<String> {
+        let mut f = Vec::new();
+        if let Some(e) = &self.error {
+            f.push(format!("without the speed cap: {e}"));
+        } else if !self.completed {
+            f.push("without the speed cap: did not complete".into());
+        }
+        if self.non_finite > 0 {
+            f.push(format!(
+                "without the speed cap: {} NaN/Inf",
+                self.non_finite
+            ));
+        }
+        if !(self.ke_ratio <= KE_RATIO_BOUND) {
+            f.push(format!(
+                "without the speed cap: KE ratio {:.3} > {KE_RATIO_BOUND}",
+                self.ke_ratio
+            ));
+        }
+        f
+    }
 }
 
 impl CaseResult {
@@ -145,7 +199,7 @@ impl CaseResult {
             .clamps
             .kinds()
             .iter()
-            .filter(|(k, n)| *n > 0 && *k != "opaque" && !self.declared_clamps.contains(k))
+            .filter(|(k, n)| *n > 0 && !self.declared_clamps.contains(k))
             .map(|(k, n)| format!("{k} {n}"))
             .collect();
         if !undeclared.is_empty() {
@@ -163,6 +217,9 @@ impl CaseResult {
                 "cap work {:.3} × its a-priori bound E_cap",
                 self.atm_work_share
             ));
+        }
+        if let Some(u) = &self.uncapped {
+            f.extend(u.failures());
         }
         f
     }
@@ -327,7 +384,25 @@ fn parcel_envelope(case: &Case, specs: &[ParcelSpec]) -> ((f64, f64), f64) {
 /// Runs one case; a panic is caught and reported in the result. The
 /// panic's own message is kept; the default hook's print is not silenced
 /// (set a quiet hook around the whole matrix for that, see [`run_matrix`](super::run_matrix)).
+/// A case that declares the `speed` clamp is run again with the cap off
+/// (module docs); `on_frame` sees the capped run's frames only.
 pub fn run_case(case: &Case, mut on_frame: impl FnMut(u32)) -> CaseResult {
+    let mut res = run_once(case, true, &mut on_frame);
+    if case.declared_clamps.contains(&"speed") {
+        let u = run_once(case, false, &mut |_| {});
+        res.uncapped = Some(Uncapped {
+            completed: u.completed,
+            error: u.panic.map(|p| format!("panicked: {p}")).or(u.error),
+            non_finite: u.non_finite,
+            ke_ratio: u.ke_ratio,
+            max_speed_m_s: u.max_speed_m_s,
+        });
+    }
+    res
+}
+
+/// One run of `case`, with or without the speed cap.
+fn run_once(case: &Case, speed_cap: bool, on_frame: &mut dyn FnMut(u32)) -> CaseResult {
     let t0 = Instant::now();
     let mut res = CaseResult {
         name: case.name.clone(),
@@ -356,8 +431,11 @@ pub fn run_case(case: &Case, mut on_frame: impl FnMut(u32)) -> CaseResult {
         declared_clamps: case.declared_clamps.clone(),
         wall_s: 0.0,
         physics_s: 0.0,
+        uncapped: None,
     };
-    let outcome = catch_unwind(AssertUnwindSafe(|| simulate(case, &mut res, &mut on_frame)));
+    let outcome = catch_unwind(AssertUnwindSafe(|| {
+        simulate(case, speed_cap, &mut res, on_frame)
+    }));
     match outcome {
         Ok(Ok(())) => res.completed = res.frames_run == case.frames,
         Ok(Err(e)) => res.error = Some(e.to_string()),
@@ -374,8 +452,14 @@ pub fn run_case(case: &Case, mut on_frame: impl FnMut(u32)) -> CaseResult {
     res
 }
 
-fn simulate(case: &Case, res: &mut CaseResult, on_frame: &mut dyn FnMut(u32)) -> crate::Result<()> {
+fn simulate(
+    case: &Case,
+    speed_cap: bool,
+    res: &mut CaseResult,
+    on_frame: &mut dyn FnMut(u32),
+) -> crate::Result<()> {
     let mut world = ParcelWorld::new(case.env.clone(), case.config.clone(), case.seed)?;
+    world.set_speed_cap(speed_cap);
     let mut e_births = 0.0;
     let specs = case
         .cluster

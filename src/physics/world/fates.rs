@@ -7,7 +7,7 @@ use rayon::prelude::*;
 use super::PAR_MIN;
 
 use super::moisture::{condensation_plane_m, fill_ratio};
-use super::{ClampCounts, Fates, ParcelWorld};
+use super::{Fates, ParcelWorld};
 use crate::physics::parcel::ParcelSpec;
 
 impl ParcelWorld {
@@ -60,8 +60,10 @@ impl ParcelWorld {
         }
     }
 
-    /// End of frame: condensation planes, fill, deaths and escapes.
-    pub(super) fn finish_frame(&mut self, fates: &mut Fates, clamps: &mut ClampCounts) {
+    /// End of frame: condensation planes, fill, deaths and escapes; returns
+    /// how many parcels show a saturated fill (f = 1 with more liquid than
+    /// the opaque content: a display count, not a clamp).
+    pub(super) fn finish_frame(&mut self, fates: &mut Fates) -> u64 {
         let half = [
             0.5 * self.cfg.ground.size_m[0],
             0.5 * self.cfg.ground.size_m[1],
@@ -109,11 +111,11 @@ impl ParcelWorld {
                 |(a, n), (b, m)| (Fates::sum(a, b), n + m),
             );
         fates.add(&counted);
-        clamps.opaque += opaque_count;
         let before = self.parcels.len();
         self.parcels.retain(|p| p.alive);
         if self.parcels.len() != before {
             self.forces_stale = true;
         }
+        opaque_count
     }
 }

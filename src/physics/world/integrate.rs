@@ -60,7 +60,11 @@ impl ParcelWorld {
         self.update(dt, clamps);
 
         let t0 = Instant::now();
-        let vmax = self.cfg.physics.max_speed_m_s;
+        let vmax = if self.speed_cap {
+            self.cfg.physics.max_speed_m_s
+        } else {
+            f64::INFINITY
+        };
         // The second kick, the speed guard, and whether any state became
         // non-finite (one pass; the removal below only runs when needed).
         let (speed, bad) = self

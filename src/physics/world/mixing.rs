@@ -129,9 +129,10 @@ impl ParcelWorld {
                     p.total_mass_kg(),
                     p.dry_mass_kg,
                 );
-                // eq 11: ε' = ε r; swept environment air through the exposed area.
+                // eq 11: ε' (= ε r in the paper; `EntrainmentModel`); swept
+                // environment air through the exposed area.
                 let mut ent = c.entrainment_surface_factor
-                    * (c.entrainment_rate_per_m * r)
+                    * c.entrainment_coefficient(r)
                     * area
                     * p.env_at_centre.1
                     * speed;

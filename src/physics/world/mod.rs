@@ -138,7 +138,11 @@ pub struct ParcelWorld {
     /// Where surface environment air saturates: the scene's condensation level. units: m
     env_condensation_level_m: f64,
     last_substeps: u32,
+    /// Whether the speed guard (`max_speed_m_s`) applies; see [`ParcelWorld::set_speed_cap`].
+    speed_cap: bool,
     clamps: ClampCounts,
+    /// Parcel-frames shown fully opaque (a display count, not a clamp).
+    opaque_parcel_frames: u64,
     fates: Fates,
     counters: Counters,
 }
@@ -166,7 +170,9 @@ impl ParcelWorld {
             fates_ahead: Fates::default(),
             env_condensation_level_m: 0.0,
             last_substeps: 0,
+            speed_cap: true,
             clamps: ClampCounts::default(),
+            opaque_parcel_frames: 0,
             fates: Fates::default(),
             counters: Counters::default(),
         };
@@ -204,6 +210,14 @@ impl ParcelWorld {
     /// through its whole oscillation.
     pub fn set_deaths(&mut self, on: bool) {
         self.deaths = on;
+    }
+
+    /// Turns the speed guard (`max_speed_m_s`, counted as `speed` clamps)
+    /// on or off. Off, nothing hides a blow-up of the integrator: the
+    /// stability matrix reruns every case that declares the speed clamp
+    /// without it, to show the cap is not what keeps it stable.
+    pub fn set_speed_cap(&mut self, on: bool) {
+        self.speed_cap = on;
     }
 
     /// The environment in use.
@@ -372,7 +386,8 @@ impl ParcelWorld {
         self.time_s += frame_dt_s;
 
         let t0 = Instant::now();
-        self.finish_frame(&mut report.fates, &mut clamps);
+        report.opaque_parcels = self.finish_frame(&mut report.fates);
+        self.opaque_parcel_frames += report.opaque_parcels;
         self.counters.thermo += t0.elapsed();
 
         report.substeps = n;

@@ -77,3 +77,64 @@ fn simulate_rejects_a_bad_step() {
     .expect_failure_containing(&["--dt"]);
     assert!(!out.exists(), "nothing is written on error");
 }
+
+/// The CSV has one cumulative column per clamp kind (no `clamps_total`,
+/// and no `opaque`: that is the display column `opaque_parcel_frames`) and
+/// a `suppressed` column; the summary prints the same counts. A speed cap
+/// of 0.5 m/s (thermals of a 2 K excess rise at metres per second) and room
+/// for 3 parcels (the ground emits tens in 2 minutes) make both fire, so
+/// the test fails if either is not reported.
+#[test]
+fn simulate_reports_clamps_by_kind_and_suppressed_emissions() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("diag.csv");
+    let err = cli::run_command(
+        cli::command()
+            .args(["simulate", "--duration", "120", "--dt", "2", "--seed", "3"])
+            .args(["--set", "physics.max_speed_m_s=0.5"])
+            .args(["--set", "emission.max_parcels=3"])
+            .args(["--set", "emission.diurnal=false"])
+            .args(["--set", "emission.rate_per_km2_per_h=300"])
+            .arg("--out")
+            .arg(&out),
+    )
+    .expect_success();
+    let mut rdr = csv::Reader::from_path(&out).unwrap();
+    let headers = rdr.headers().unwrap().clone();
+    let names: Vec<&str> = headers.iter().collect();
+    for kind in cumulus::physics::ClampCounts::default()
+        .kinds()
+        .map(|(k, _)| k)
+    {
+        assert!(
+            names.contains(&format!("clamp_{kind}").as_str()),
+            "{kind}: {names:?}"
+        );
+    }
+    assert!(!names.contains(&"clamps_total"), "{names:?}");
+    assert!(
+        !names.contains(&"clamp_opaque"),
+        "opaque is not a clamp: {names:?}"
+    );
+    assert!(names.contains(&"opaque_parcel_frames") && names.contains(&"suppressed"));
+    let last = rdr.records().map(Result::unwrap).last().unwrap();
+    let col = |n: &str| -> u64 {
+        last[names.iter().position(|h| *h == n).unwrap()]
+            .parse()
+            .unwrap()
+    };
+    let (speed, suppressed) = (col("clamp_speed"), col("suppressed"));
+    assert!(speed > 0, "a 0.5 m/s cap must clamp");
+    assert!(suppressed > 0, "3 parcels at most must refuse emissions");
+    let line = |start: &str| {
+        err.lines()
+            .find(|l| l.starts_with(start))
+            .unwrap_or_else(|| panic!("no {start} line in {err}"))
+            .to_string()
+    };
+    assert!(line("clamps:").contains(&format!("speed {speed}")), "{err}");
+    assert!(
+        line("suppressed:").contains(&format!("{suppressed} emissions refused at max_parcels")),
+        "{err}"
+    );
+}

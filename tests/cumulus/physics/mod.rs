@@ -3,7 +3,9 @@
 //! parcel theory, `cumulus simulate` and the stability matrix.
 
 mod cli;
+mod entrainment;
 mod fidelity;
+mod les;
 mod moist_ascent;
 mod order;
 mod scale;

@@ -25,6 +25,21 @@ fn render_simulates_and_writes_a_png() {
     // The embedded scene has condensed by 10 minutes: the cloud pass ran.
     assert!(stderr.contains("cloud parcels ("), "{stderr}");
     assert!(stderr.contains("clouds "), "{stderr}");
+    // It prints the clamps and suppressed emissions of the simulation it
+    // ran: the same as `simulate` prints for the same scene, seed, frame
+    // step and duration (both step 2 s frames with seed 1).
+    let sim =
+        cli::run_command(cli::command().args(["simulate", "--duration", "600"])).expect_success();
+    let line = |text: &str, start: &str| {
+        text.lines()
+            .map(|l| l.trim_start_matches("simulation to t = 600 s: "))
+            .find(|l| l.starts_with(start))
+            .unwrap_or_else(|| panic!("no {start} line in {text}"))
+            .to_string()
+    };
+    for start in ["clamps:", "suppressed:"] {
+        assert_eq!(line(&stderr, start), line(&sim, start), "{start}");
+    }
 }
 
 #[test]

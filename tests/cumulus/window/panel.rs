@@ -313,3 +313,62 @@ fn the_visibility_slider_applies_its_value_when_the_drag_ends() {
     h.frame(vec![]);
     assert_eq!(h.m.render_cfg.visibility_km, v);
 }
+
+/// The panel's clamp report (`app::clamps_panel::clamp_text`, what the
+/// simulation section draws): none and plain at the start; after a warm
+/// parcel rises under a 0.5 m/s speed cap (its 2 K excess drives it at
+/// metres per second, so the cap must fire) the speed clamps by kind, in
+/// the attention colour; back to none after a reset.
+#[test]
+fn the_panel_shows_clamps_by_kind_since_the_reset() {
+    use cumulus::app::clamps_panel::clamp_text;
+    let mut h = Harness::new();
+    // A fresh world (the harness's frames may have pre-simulated a little).
+    h.m.reset().unwrap();
+    let t = clamp_text(&h.m.world.diagnostics());
+    assert!(
+        !t.attention && t.heading.ends_with("none") && t.kinds.is_empty(),
+        "{t:?}"
+    );
+
+    let mut cfg = h.m.world_cfg.clone();
+    cfg.physics.max_speed_m_s = 0.5;
+    cfg.emission.enabled = false;
+    h.m.apply_world_config(cfg).unwrap();
+    let spec = cumulus::physics::ParcelSpec::from_environment(
+        h.m.world.environment(),
+        glam::DVec3::new(0.0, 0.0, 300.0),
+        2.0,
+        0.0,
+        150.0,
+    );
+    h.m.world.spawn_parcel(spec).unwrap();
+    for _ in 0..30 {
+        h.m.world.step(2.0);
+    }
+    let d = h.m.world.diagnostics();
+    assert!(d.clamps.speed > 0, "{}", d.clamps);
+    let t = clamp_text(&d);
+    assert!(t.attention, "{t:?}");
+    assert_eq!(
+        t.heading,
+        format!("clamps since reset: {}", d.clamps.total())
+    );
+    assert!(
+        t.kinds.contains(&format!("speed {}", d.clamps.speed)),
+        "{t:?}"
+    );
+    assert!(
+        t.notes.iter().any(|n| n.contains("display, not a clamp")),
+        "{t:?}"
+    );
+    // The section draws it without trouble.
+    h.frame(vec![]);
+
+    h.m.reset().unwrap();
+    let t = clamp_text(&h.m.world.diagnostics());
+    assert!(
+        !t.attention && t.kinds.is_empty(),
+        "a reset starts the count again: {t:?}"
+    );
+}

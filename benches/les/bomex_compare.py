@@ -1,0 +1,64 @@
+#!/usr/bin/env python3
+"""Runs profiles/bomex.toml for 6 simulated hours with each entrainment
+model and prints the means of cloud base, cloud top and cloud cover over
+hours 0-1, 1-3 and 3-6 (Markdown), the numbers of docs/les.md. Base is the
+lowest condensation plane of any cloudy parcel, top the highest sphere top,
+cover the fraction of the ground under cloud seen from above (the
+simulate CSV's columns), each averaged over the frames of the window.
+
+    cargo build --release
+    python3 benches/les/bomex_compare.py [--bin target/release/cumulus] [--out bomex-out]
+"""
+import argparse
+import csv
+import os
+import subprocess
+
+MODELS = ["paper", "plume", "observed"]
+HOURS = 6
+DT_S = 5
+# Spin-up, growth, and the LES's averaging window (the last three hours).
+WINDOWS = [(0, 1), (1, 3), (3, 6)]
+
+
+def run(bin_path, out_dir, model):
+    path = os.path.join(out_dir, f"bomex_{model}.csv")
+    subprocess.run(
+        [bin_path, "simulate", "profiles/bomex.toml", "--duration", str(HOURS * 3600),
+         "--dt", str(DT_S), "--seed", "1", "--set", f'physics.entrainment_model="{model}"',
+         "--out", path],
+        check=True, stderr=subprocess.DEVNULL)
+    return path
+
+
+def windowed(path):
+    rows = list(csv.DictReader(open(path)))
+    out = []
+    for h0, h1 in WINDOWS:
+        sel = [r for r in rows if h0 * 3600 < float(r["time_s"]) <= h1 * 3600]
+        cloudy = [r for r in sel if r["cloud_base_m"]]
+        mean = lambda xs: sum(xs) / len(xs) if xs else float("nan")
+        out.append((
+            mean([float(r["cloud_base_m"]) for r in cloudy]),
+            mean([float(r["cloud_top_m"]) for r in cloudy]),
+            mean([float(r["cloud_cover"]) for r in sel]),
+            mean([float(r["condensed_parcels"]) for r in sel]),
+        ))
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--bin", default="target/release/cumulus")
+    ap.add_argument("--out", default="bomex-out")
+    args = ap.parse_args()
+    os.makedirs(args.out, exist_ok=True)
+    print("| model | hours | cloud base (m) | cloud top (m) | cloud cover (%) | condensed parcels |")
+    print("|---|---:|---:|---:|---:|---:|")
+    for m in MODELS:
+        for (h0, h1), (base, top, cover, n) in zip(WINDOWS, windowed(run(args.bin, args.out, m))):
+            print(f"| {m} | {h0}–{h1} | {base:.0f} | {top:.0f} | {100 * cover:.1f} | {n:.0f} |")
+
+
+if __name__ == "__main__":
+    main()
