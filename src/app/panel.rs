@@ -319,6 +319,10 @@ fn profile_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) {
             kind.key()
         ));
     }
+    ui.label(format!(
+        "({} thermodynamics, LFC of the most CAPE, as `cumulus parcel`)",
+        crate::app::profile_edit::ENERGY_THERMO.key()
+    ));
     sk::hodograph(ui, m.editor.environment().wind());
     ui.add(
         egui::Slider::new(
