@@ -113,7 +113,13 @@ def scene_text(base_scene, overrides, terrain):
         ground["height_scale_m"] = "0.0"
     dropped = set(ground) | ({"water_level_m"} if terrain == "flat" else set())
     ground_lines = "".join(f"\n{k} = {v}" for k, v in ground.items())
+    base_dir = os.path.dirname(os.path.abspath(base_scene))
     for line in lines:
+        # The copy is written elsewhere: a sounding named relative to the
+        # scene's folder is named by its absolute path.
+        s = re.match(r'^(\s*sounding\s*=\s*)"([^"]+)"(.*)$', line)
+        if s and not os.path.isabs(s.group(2)):
+            line = f'{s.group(1)}"{os.path.join(base_dir, s.group(2))}"{s.group(3)}'
         m = re.match(r"^\s*\[([^\]]+)\]\s*$", line)
         if m:
             table = m.group(1).strip()
