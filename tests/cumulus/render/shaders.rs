@@ -221,6 +221,7 @@ fn overrides_come_from_the_modules() {
             "ENCODE_SRGB",
             "GRID_CULLING",
             "HAS_TERRAIN",
+            "MARCH_STEPS",
             "USE_NORMALS"
         ]
     );

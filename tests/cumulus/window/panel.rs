@@ -248,12 +248,16 @@ fn skew_t_view_drags_points_and_updates_cape_live() {
     let p = h.m.editor.points()[0];
     // Same placement tolerance as the height view (0.1 K ≈ a screen point).
     assert!((p.t_c - (p0.t_c + 2.0)).abs() < 0.1, "{p0:?} → {p:?}");
-    // The panel's CAPE/CIN are the edited environment's, at once.
+    // The panel's CAPE/CIN are the edited environment's, at once (with
+    // the panel's thermodynamics, `cumulus parcel`'s default).
     let (cape, cin) = h.m.editor.cape_cin_j_per_kg();
     let fresh = cumulus::atmosphere::cape::parcel_report(
         h.m.editor.environment(),
         cumulus::atmosphere::cape::ParcelKind::Surface,
-        &Default::default(),
+        &cumulus::atmosphere::lifting::LiftOptions {
+            thermo: cumulus::app::profile_edit::ENERGY_THERMO,
+            ..Default::default()
+        },
     )
     .unwrap();
     assert_eq!((cape, cin), (fresh.cape_j_per_kg, fresh.cin_j_per_kg));
