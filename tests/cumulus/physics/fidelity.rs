@@ -9,7 +9,7 @@ use crate::common::fair_weather;
 use crate::common::physics::{neutral, world};
 
 /// Every term off: tests switch on the one they look at.
-fn nothing() -> PhysicsConfig {
+pub(crate) fn nothing() -> PhysicsConfig {
     PhysicsConfig {
         sph: false,
         viscosity: false,

@@ -125,19 +125,9 @@ fn bomex_cloud_base_and_cover_are_the_les_order_and_plume_entrainment_lowers_the
 /// one) adds nothing; one beside it adds its own disk.
 #[test]
 fn cloud_cover_is_the_area_of_the_union_of_cloudy_disks() {
-    use cumulus::physics::{ParcelSpec, ParcelWorld, PhysicsConfig, WorldConfig};
+    use cumulus::physics::{ParcelSpec, ParcelWorld, WorldConfig};
     use glam::DVec3;
-    let physics = PhysicsConfig {
-        sph: false,
-        viscosity: false,
-        atmospheric_pressure: false,
-        mixing: false,
-        exchange: false,
-        condensation: false,
-        buoyancy: false,
-        drag: false,
-        ..PhysicsConfig::default()
-    };
+    let physics = super::fidelity::nothing();
     let mut cfg = WorldConfig {
         physics,
         ..WorldConfig::default()
