@@ -203,24 +203,52 @@ fn resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
     // is value order; 0 = nothing).
     let bits = bitcast<u32>(value + 1.0);
     // A trilinear fetch within one voxel of this one's centre can see it.
-    // Every level of the pyramid (occupancy.wgsl): the ancestors of those
-    // cells (the same cell of a level above often, then one atomic each).
+    let cells = frame.grid_dims;
     let c0 = (max(gid, vec3<u32>(1u)) - 1u) / BAKE_BLOCK;
-    let c1 = min((gid + 1u) / BAKE_BLOCK, frame.grid_dims - 1u);
-    for (var l = 0u; l < OCCUPANCY_LEVELS; l++) {
-        var step = 1u;
-        for (var i = 0u; i < l; i++) {
-            step *= OCCUPANCY_FACTOR;
-        }
-        let a = c0 / step;
-        let b = c1 / step;
-        for (var z = a.z; z <= b.z; z++) {
-            for (var y = a.y; y <= b.y; y++) {
-                for (var x = a.x; x <= b.x; x++) {
-                    let idx = occupancy_index(vec3<u32>(x, y, z) * step, l);
-                    atomicMax(&occupancy_bits[idx], bits);
-                }
+    let c1 = min((gid + 1u) / BAKE_BLOCK, cells - 1u);
+    for (var z = c0.z; z <= c1.z; z++) {
+        for (var y = c0.y; y <= c1.y; y++) {
+            for (var x = c0.x; x <= c1.x; x++) {
+                atomicMax(&occupancy_bits[x + cells.x * (y + cells.y * z)], bits);
             }
         }
     }
+}
+
+// 4. `pyramid1`, then `pyramid2`, one thread per cell of that level of the
+//    occupancy pyramid (occupancy.wgsl): the max of its OCCUPANCY_FACTOR³
+//    cells of the level below, written once (the atomics of every voxel
+//    into a few upper cells would contend).
+fn build_level(cell: vec3<u32>, l: u32) {
+    if any(cell >= occupancy_dims(l)) {
+        return;
+    }
+    let below = occupancy_dims(l - 1u);
+    var scale = 1u;
+    for (var i = 1u; i < l; i++) {
+        scale *= OCCUPANCY_FACTOR;
+    }
+    let first = cell * OCCUPANCY_FACTOR;
+    let last = min(first + OCCUPANCY_FACTOR, below) - 1u;
+    var bits = 0u;
+    for (var z = first.z; z <= last.z; z++) {
+        for (var y = first.y; y <= last.y; y++) {
+            for (var x = first.x; x <= last.x; x++) {
+                // Level l − 1 cell (x, y, z): level-0 cell (x, y, z)·scale.
+                let idx = occupancy_index(vec3<u32>(x, y, z) * scale, l - 1u);
+                bits = max(bits, atomicLoad(&occupancy_bits[idx]));
+            }
+        }
+    }
+    atomicStore(&occupancy_bits[occupancy_index(cell * scale * OCCUPANCY_FACTOR, l)], bits);
+}
+
+@compute @workgroup_size(4, 4, 4)
+fn pyramid1(@builtin(global_invocation_id) gid: vec3<u32>) {
+    build_level(gid, 1u);
+}
+
+@compute @workgroup_size(4, 4, 4)
+fn pyramid2(@builtin(global_invocation_id) gid: vec3<u32>) {
+    build_level(gid, 2u);
 }

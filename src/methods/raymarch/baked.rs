@@ -73,6 +73,8 @@ pub const PLANE_SHELL: f32 = 0.3;
 /// level above: OCCUPANCY_LEVELS and OCCUPANCY_FACTOR of
 /// shaders/raymarch/occupancy.wgsl (a test compares them). Three levels of
 /// 4: cells of 4³, 16³ and 64³ voxels (at 84 m voxels, 5.4 km for the top).
+/// The bake's resolve writes level 0; its entry points `pyramid1` and
+/// `pyramid2` build the two above, one thread per cell.
 pub const OCCUPANCY_LEVELS: u32 = 3;
 pub const OCCUPANCY_FACTOR: u32 = 4;
 
@@ -143,6 +145,8 @@ pub struct BakedField {
     splat: wgpu::ComputePipeline,
     light: wgpu::ComputePipeline,
     resolve: wgpu::ComputePipeline,
+    /// Levels 1 and 2 of the occupancy pyramid, each from the one below.
+    pyramid: [wgpu::ComputePipeline; OCCUPANCY_LEVELS as usize - 1],
     /// The condensed parcels (read-only storage), room for `capacity`.
     parcels: wgpu::Buffer,
     capacity: u64,
@@ -258,7 +262,7 @@ impl BakedField {
             }],
         });
         let source = source().map_err(|e| Error::Gpu(format!("assembling the bake: {e}")))?;
-        let (splat, light, resolve) = crate::gpu::catching(device, "creating the bake pipelines", || {
+        let (splat, light, resolve, pyramid) = crate::gpu::catching(device, "creating the bake pipelines", || {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("bake"),
             source: wgpu::ShaderSource::Wgsl(source.into()),
@@ -278,9 +282,14 @@ impl BakedField {
                 cache: None,
             })
         };
-        (compute("splat"), compute("light"), compute("resolve"))
+        (
+            compute("splat"),
+            compute("light"),
+            compute("resolve"),
+            [compute("pyramid1"), compute("pyramid2")],
+        )
         })?;
-        *built += 3;
+        *built += 5;
         let empty = volume_texture(device, "baked macro field", FIELD_FORMAT, [1, 1, 1]);
         // IEEE half-precision −1 (v far from every parcel), then G, B, A = 0.
         // (The empty light volume keeps wgpu's zero fill: no cloud.)
@@ -305,6 +314,7 @@ impl BakedField {
             splat,
             light,
             resolve,
+            pyramid,
             parcels: parcel_buffer(device, 1),
             capacity: 1,
             store: None,
@@ -526,6 +536,14 @@ impl BakedField {
         pass.set_pipeline(&self.resolve);
         let d = store.dims;
         pass.dispatch_workgroups(d[0] / 4, d[1] / 4, d[2] / 4);
+        // The pyramid's upper levels, each from the finished level below
+        // (wgpu orders the dispatches).
+        let mut cells = c;
+        for pipeline in &self.pyramid {
+            cells = cells.map(|n| n.div_ceil(OCCUPANCY_FACTOR));
+            pass.set_pipeline(pipeline);
+            pass.dispatch_workgroups(cells[0].div_ceil(4), cells[1].div_ceil(4), cells[2].div_ceil(4));
+        }
         drop(pass);
         self.dirty = false;
         self.info.bakes += 1;
