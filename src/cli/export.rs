@@ -30,7 +30,9 @@ OUT.vdb: OpenVDB, a sparse float grid named density in metres (z up); in Blender
 then in the volume's material (Principled Volume) set Density to extinction_scale_per_m (docs/rendering.md, Exporting the density). \
 A scene with [[ellipsoids]] (authored, Schpok 2003) exports what the slices method draws: \
 the implicit field of the ellipsoids (animated to the frame's time) and the parcels as spheres, \
-times the tier's media filter of the noise octaves (values may exceed 1 where primitives overlap). \
+times the tier's media filter of the noise octaves, zero at or under Sharpness and scaled by each cloud's \
+opacity per metre (its plane opacity over its plane spacing), so that extinction_scale_per_m x value is the \
+extinction the slices composite (values may exceed 1 where primitives overlap). \
 With --frames N > 1 the frames go to OUT-0000.vol, OUT-0001.vol, … (each with its .json), one \
 every --every seconds from --time (OUT-0000.vdb, … likewise): an animation's keyframes as a numbered series. \
 Any number of parcels (the density is evaluated on the CPU). When the default voxel's grid would \
@@ -236,9 +238,10 @@ fn export_frame(
         );
         b
     });
+    let scale_per_m = field.extinction_scale_per_m(cfg);
     let values = export::sample_grid(
         &spec,
-        |p| field.density(p),
+        |p| field.value(p, scale_per_m),
         |done, _| {
             if let Some(b) = &bar {
                 b.set_position(done);
@@ -253,7 +256,7 @@ fn export_frame(
         ("cumulus_time_s", Meta::Float(time as f32)),
         (
             "cumulus_extinction_scale_per_m",
-            Meta::Float(cfg.extinction_per_m),
+            Meta::Float(scale_per_m),
         ),
     ];
     cumulus::output::write_atomic_with(out, |w| format.write(w, &spec, values, &meta))
@@ -266,7 +269,7 @@ fn export_frame(
     // The sun of the exported frame: the scene's [sun] clock, or the pinned one.
     let clock = scene.sun.as_ref().map(|s| s.clock()).transpose()?;
     let sun = super::sun_args::frame_sun(clock.as_ref(), cfg, time);
-    let sidecar = Sidecar::new(
+    let mut sidecar = Sidecar::new(
         scene_name,
         time,
         &vol_name,
@@ -275,6 +278,7 @@ fn export_frame(
         &Camera::from(&scene.camera),
         &sun,
     );
+    sidecar.medium.extinction_scale_per_m = scale_per_m;
     let json = serde_json::to_vec_pretty(&sidecar).context("encoding the sidecar")?;
     if let Err(e) = cumulus::output::write_atomic(sidecar_out, &json) {
         // Whole or not at all: a grid without its sidecar is not an export.
@@ -357,10 +361,24 @@ impl Density {
         }
     }
 
-    fn density(&self, p: glam::Vec3) -> f32 {
+    /// σ_t = this × the exported value: the ray-march's extinction per
+    /// unit ρ, or for authored clouds the largest of the slices' clouds
+    /// (each cloud's own is in its values). units: 1/m
+    fn extinction_scale_per_m(&self, cfg: &cumulus::config::RenderConfig) -> f32 {
+        match self {
+            Density::Parcels(_) => cfg.extinction_per_m,
+            Density::Authored(f) => f.max_extinction_per_m().unwrap_or(cfg.extinction_per_m),
+        }
+    }
+
+    /// The exported value at `p`: ρ of the parcels' hypertexture, or the
+    /// extinction the slices pass draws over [`Self::extinction_scale_per_m`]
+    /// (its Sharpness cut-off and each cloud's opacity included, so an
+    /// offline renderer draws the cloud the slices draw).
+    fn value(&self, p: glam::Vec3, scale_per_m: f32) -> f32 {
         match self {
             Density::Parcels(f) => f.density(p),
-            Density::Authored(f) => f.density(p),
+            Density::Authored(f) => f.extinction_per_m(p) / scale_per_m,
         }
     }
 }

@@ -19,17 +19,66 @@ pub struct AuthoredField {
     states: Vec<EllipsoidState>,
     octaves: OctaveUniform,
     noise: NoiseVolume,
+    /// Each cloud's primitives (a range of `states`) and the extinction
+    /// its stack draws per unit of density: its planes' opacity over their
+    /// spacing. units: 1/m
+    clouds: Vec<(std::ops::Range<usize>, f32)>,
+    /// `[render.slices] sharpness`: the density at or under which the
+    /// pass discards a fragment.
+    sharpness: f32,
 }
 
 impl AuthoredField {
     /// The field of `frame` (see [`super::slices_frame`]) with the noise
     /// volume of `noise_texels` (`render.noise_texels`).
     pub fn new(frame: &super::SlicesFrame, noise_texels: u32) -> Self {
+        let clouds = frame
+            .slices
+            .stacks
+            .iter()
+            .filter_map(|s| Some((s.primitives.clone(), stack_extinction_per_m(&s.geometry)?)))
+            .collect();
         Self {
             states: frame.slices.states.clone(),
             octaves: frame.octaves,
             noise: NoiseVolume::new(noise_texels),
+            clouds,
+            sharpness: frame.cfg.sharpness,
         }
+    }
+
+    /// The largest extinction per unit density of any cloud, or None
+    /// without a cloud. units: 1/m
+    pub fn max_extinction_per_m(&self) -> Option<f32> {
+        self.clouds.iter().map(|c| c.1).reduce(f32::max)
+    }
+
+    /// The extinction the slices pass draws at `p`: each cloud's stack
+    /// composites planes of opacity τ = plane opacity × field × media
+    /// (1 − e^−τ each, so e^−Στ through the stack, the Beer–Lambert law of
+    /// the extinction τ / plane spacing), discarding where field × media
+    /// is at or under Sharpness; clouds whose stacks overlap add. The
+    /// field is the exact implicit field where the pass interpolates it
+    /// between its vertices. units: 1/m
+    pub fn extinction_per_m(&self, p: Vec3) -> f32 {
+        let mut media = None;
+        let mut sigma = 0.0;
+        for (range, per_density) in &self.clouds {
+            let field = field_at(&self.states[range.clone()], p);
+            // The media filters are at most 1: no noise lifts this cloud over.
+            if field <= self.sharpness {
+                continue;
+            }
+            let m = *media.get_or_insert_with(|| {
+                let tier = tier_at(&self.octaves, p.z);
+                media_of(&self.octaves, tier).apply(self.composite_noise(tier, p))
+            });
+            let density = field * m;
+            if density > self.sharpness {
+                sigma += per_density * density;
+            }
+        }
+        sigma
     }
 
     /// Bounds (min, max) of every primitive with strength, or None. units: m
@@ -58,6 +107,20 @@ impl AuthoredField {
         let tier = tier_at(&self.octaves, p.z);
         field * media_of(&self.octaves, tier).apply(self.composite_noise(tier, p))
     }
+}
+
+/// A stack's extinction per unit density: its planes' opacity (which
+/// carries the cloud's compensation) over their spacing, or None for a
+/// stack without planes. units: 1/m
+fn stack_extinction_per_m(g: &crate::methods::slices::model::slicing::SliceGeometry) -> Option<f32> {
+    let planes = g.plane_offsets_m.len();
+    let plane_opacity = g.vertices.first()?.plane_opacity;
+    let spacing = if planes > 1 {
+        (g.plane_offsets_m[0] - g.plane_offsets_m[planes - 1]).abs() / (planes - 1) as f32
+    } else {
+        return None;
+    };
+    (spacing > 0.0).then(|| plane_opacity / spacing)
 }
 
 /// The tier holding altitude `z_m`: the highest whose bottom is at or
