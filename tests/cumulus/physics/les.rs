@@ -2,7 +2,8 @@
 //! al. 2003; the case definition at knmi.nl/~siebesma/gcss/bomexcomp.init.html):
 //! the environment cumulus builds from the scene's temperatures and
 //! dewpoints has the published θ_l and q_t (as a mixing ratio) at every
-//! height, and the emission carries the published surface fluxes.
+//! height, and the emission carries the published surface fluxes; hour by
+//! hour, the model against what is sourced of the LES results.
 
 use std::path::Path;
 
@@ -121,11 +122,12 @@ fn bomex_hours(model: cumulus::physics::EntrainmentModel, hours: usize) -> Bomex
 }
 
 /// The model over time against what is sourced of the BOMEX LES
-/// (docs/les.md, "Sources"): after spin-up the LES hold a quasi-steady
-/// state with a mixed layer to cloud base (~500 m), a cloud layer to
-/// ~1500 m and the inversion above it (1480–2000 m in the case
-/// definition), which stops the clouds. The LES cover has no sourced value
-/// here, so cover is only compared between our entrainment models.
+/// (docs/les.md, "What is known of the LES results"): after spin-up the
+/// LES hold a quasi-steady state with a mixed layer to cloud base
+/// (~500 m), a cloud layer to ~1500 m and the inversion above it
+/// (1480–2000 m in the case definition), which stops the clouds; their
+/// cover and LWP time series are plotted on axes of 0–0.2 and 0–20 g m⁻²
+/// (Siebesma et al. 2003 Fig. 2), the only bounds on them found.
 #[test]
 fn bomex_over_time_base_reproduced_tops_only_with_stronger_entrainment() {
     use cumulus::physics::EntrainmentModel;
@@ -189,7 +191,8 @@ fn bomex_over_time_base_reproduced_tops_only_with_stronger_entrainment() {
     }
     // Siebesma et al. 2003 Fig. 2 plots the LES cover and LWP time series
     // (ensemble mean and spread) on axes of 0–0.2 and 0–20 g m⁻²
-    // (docs/les.md, "Sources"): the published curves lie below those tops.
+    // (docs/les.md, "What is known of the LES results"): the published
+    // curves lie below those tops.
     // Cover: the paper's and plume entrainment stay under 0.2 at every hour
     // (measured ≤ 11.5 %, ≤ 17.8 %); observed entrainment does not (25 %),
     // since entrained air adds mass and so volume (eq 6).
