@@ -40,8 +40,9 @@ const MAX_FRAMES: f64 = 1.0e7;
 /// column per kind of `ClampCounts`; `suppressed` counts emissions refused
 /// at `max_parcels`; `opaque_parcel_frames` is the display count of parcels
 /// shown fully opaque (not a clamp); `cloud_cover` is
-/// `ParcelWorld::cloud_cover`.
-fn columns(d: &Diagnostics, r: &StepReport, cover: f64) -> Vec<(String, String)> {
+/// `ParcelWorld::cloud_cover` and `liquid_water_path_kg_m2`
+/// `ParcelWorld::liquid_water_path`.
+fn columns(d: &Diagnostics, r: &StepReport, cover: f64, lwp: f64) -> Vec<(String, String)> {
     let fixed = [
         ("time_s", format!("{:.3}", d.time_s)),
         ("parcels", d.parcels.to_string()),
@@ -61,6 +62,7 @@ fn columns(d: &Diagnostics, r: &StepReport, cover: f64) -> Vec<(String, String)>
         ("suppressed", d.fates.suppressed.to_string()),
         ("opaque_parcel_frames", d.opaque_parcel_frames.to_string()),
         ("cloud_cover", format!("{cover:.5}")),
+        ("liquid_water_path_kg_m2", format!("{lwp:.6e}")),
     ];
     let clamps = d
         .clamps
@@ -89,8 +91,8 @@ fn opt(v: Option<f64>) -> String {
 }
 
 /// The header and the row of one step.
-fn header_and_row(d: &Diagnostics, r: &StepReport, cover: f64) -> (String, String) {
-    let c = columns(d, r, cover);
+fn header_and_row(d: &Diagnostics, r: &StepReport, cover: f64, lwp: f64) -> (String, String) {
+    let c = columns(d, r, cover, lwp);
     let join =
         |f: &dyn Fn(&(String, String)) -> String| c.iter().map(f).collect::<Vec<_>>().join(",");
     (join(&|(n, _)| n.to_string()), join(&|(_, v)| v.clone()))
@@ -188,7 +190,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             );
         }
         if args.out.is_some() {
-            let (header, row) = header_and_row(&d, &report, world.cloud_cover());
+            let (header, row) =
+                header_and_row(&d, &report, world.cloud_cover(), world.liquid_water_path());
             if lines.is_empty() {
                 lines.push(header);
             }

@@ -286,4 +286,16 @@ impl ParcelWorld {
         }
         covered.iter().filter(|&&c| c).count() as f64 / covered.len() as f64
     }
+
+    /// Liquid water path: the liquid water of all parcels per unit area of
+    /// the ground, the domain mean LES report. units: kg m⁻²
+    pub fn liquid_water_path(&self) -> f64 {
+        let size = self.cfg.ground.size_m;
+        let liquid: f64 = self
+            .parcels
+            .iter()
+            .map(|p| p.dry_mass_kg * p.ql_kg_per_kg)
+            .sum();
+        liquid / (size[0] * size[1])
+    }
 }
