@@ -423,7 +423,7 @@ fn parcels_sliced_get_flat_bases_at_their_condensation_planes() {
     )
     .unwrap();
     let v = &frame.slices.vertices();
-    // The drawn sphere (radius × radius_scale) reaches far below the plane,
+    // The drawn sphere (radius × radius_scale × PARCEL_BLEND_SCALE) reaches far below the plane,
     // but every vertex under it is empty and the cloud above it is not.
     let below: Vec<_> = v.iter().filter(|v| v.position_m[2] < plane).collect();
     assert!(frame.slices.states[0].centre_m.z - frame.slices.states[0].radii_m.z < plane - 300.0);
