@@ -254,10 +254,7 @@ fn export_frame(
     let meta = [
         ("cumulus_scene", Meta::Str(scene_name.into())),
         ("cumulus_time_s", Meta::Float(time as f32)),
-        (
-            "cumulus_extinction_scale_per_m",
-            Meta::Float(scale_per_m),
-        ),
+        ("cumulus_extinction_scale_per_m", Meta::Float(scale_per_m)),
     ];
     cumulus::output::write_atomic_with(out, |w| format.write(w, &spec, values, &meta))
         .with_context(|| "writing the grid")?;

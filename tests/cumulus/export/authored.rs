@@ -89,11 +89,17 @@ fn an_authored_animation_exports_as_a_numbered_series() {
                 let d = field.density(spec.centre(x, y, z));
                 let v = a.values[(x + nx * (y + ny * z)) as usize];
                 if d <= sharpness {
-                    assert_eq!(v, 0.0, "cell ({x}, {y}, {z}): density {d} under the cut-off");
+                    assert_eq!(
+                        v, 0.0,
+                        "cell ({x}, {y}, {z}): density {d} under the cut-off"
+                    );
                     shell += (d > 0.0) as usize;
                 }
             }
         }
     }
-    assert!(shell > 0, "the cut-off removed no cell: the test proves nothing");
+    assert!(
+        shell > 0,
+        "the cut-off removed no cell: the test proves nothing"
+    );
 }
