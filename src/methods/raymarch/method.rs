@@ -3,7 +3,7 @@
 //! a 3D field (the `bake` pass, only when they moved); both march the
 //! same WGSL in a fragment pass over the scene or in a compute pass into
 //! the float cloud image (`march`: fragment, compute, or `auto`, which
-//! measures both), or at quarter rate with the temporal resolve.
+//! measures both), or one pixel per 2×2 or 4×4 block with the temporal resolve.
 
 use std::any::Any;
 
@@ -123,7 +123,7 @@ impl Raymarch {
         let draws = cfg.clouds && around.any_clouds;
         let split = draws && around.layers;
         // Sprites sort against a full-size cloud depth, which the
-        // quarter-rate temporal march does not leave: with both, every
+        // temporal march (one pixel per block) does not leave: with both, every
         // pixel is marched each frame.
         let block = cfg.temporal.and_then(|t| t.block()).unwrap_or(1);
         let temporal = block > 1 && draws && !around.layers;
