@@ -95,14 +95,9 @@ impl TemporalMode {
         }
     }
 
-    /// Parses a scene file's name (see [`TemporalMode::name`]).
-    pub fn parse(name: &str) -> Result<Self> {
-        Self::ALL
-            .into_iter()
-            .find(|m| m.name() == name)
-            .ok_or_else(|| {
-                Error::invalid("render.temporal", format!("\"{name}\""), TEMPORAL_ALLOWED)
-            })
+    /// The mode a scene file names (see [`TemporalMode::name`]).
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|m| m.name() == name)
     }
 }
 
@@ -140,7 +135,7 @@ impl<'de> Deserialize<'de> for TemporalMode {
                 self,
                 name: &str,
             ) -> std::result::Result<Self::Value, E> {
-                TemporalMode::parse(name).map_err(|_| {
+                TemporalMode::from_name(name).ok_or_else(|| {
                     E::custom(format!(
                         "unknown temporal mode \"{name}\"; expected {TEMPORAL_ALLOWED}"
                     ))
