@@ -15,9 +15,10 @@
 // march routine; the entry points only supply the pixel: `fs_main`
 // (fragment path) returns it, `cs_main` (compute path) stores it into
 // `cloud_out`, which composite.wgsl then blends over the target the same
-// way; `cs_temporal` (temporal amortisation, `[render] temporal`) marches
-// one pixel of each 2×2 block per frame into quarter-size textures, with
-// its cloud depth, for temporal.wgsl to reproject and accumulate. The
+// way; `cs_temporal` (temporal upscaling, `[render] temporal`) marches
+// one pixel of each 2×2 or 4×4 block per frame into textures of one texel
+// per block, with its cloud depth, for temporal.wgsl to reproject and
+// accumulate. The
 // full-size compute path stores its cloud depth too (`cloud_depth_out`):
 // the sprites of a frame that has both sort against it
 // (sprites/sprites.wgsl).
@@ -186,7 +187,7 @@ fn ndc_of(pix: vec2<f32>, size: vec2<u32>) -> vec2<f32> {
 }
 
 // Compute path: the march's premultiplied colour and cloud depth per pixel
-// (the depth binding is shared with the temporal path's quarter-size one).
+// (the depth binding is shared with the temporal path's one-per-block one).
 @group(2) @binding(0) var cloud_out: texture_storage_2d<rgba16float, write>;
 @group(2) @binding(1) var cloud_depth_out: texture_storage_2d<r32float, write>;
 
@@ -204,8 +205,8 @@ fn cs_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     textureStore(cloud_depth_out, gid.xy, vec4<f32>(depth, 0.0, 0.0, 0.0));
 }
 
-// Temporal path: quarter-size outputs (one texel per 2×2 block of the
-// frame) and the frame's block offset.
+// Temporal path: one texel per block of the frame (`temporal.block`
+// pixels square) and the frame's block offset.
 @group(2) @binding(2) var<uniform> temporal: Temporal;
 
 // Interleaved gradient noise (Jimenez 2014), a cheap blue-noise-like
@@ -220,15 +221,17 @@ fn temporal_jitter(pix: vec2<f32>, frame_index: u32) -> f32 {
 
 @compute @workgroup_size(8, 8)
 fn cs_temporal(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let quarter = temporal.quarter;
-    if any(gid.xy >= quarter) {
+    if any(gid.xy >= temporal.fresh) {
         return;
     }
     let full = temporal.size;
     // The block's marched pixel this frame (inside the frame on odd sizes).
-    let p = min(2u * gid.xy + temporal.offset, full - 1u);
+    let p = min(temporal.block * gid.xy + temporal.offset, full - 1u);
     let pix = vec2<f32>(p) + 0.5;
-    let m = march(pix, ndc_of(pix, full), temporal_jitter(pix, temporal.frame_index));
+    // The frame index advances the jitter once per round of the block, so
+    // a pixel's successive samples take successive golden-ratio jitters.
+    let round = temporal.frame_index / (temporal.block * temporal.block);
+    let m = march(pix, ndc_of(pix, full), temporal_jitter(pix, round));
     textureStore(cloud_out, gid.xy, shown(m));
     textureStore(cloud_depth_out, gid.xy, vec4<f32>(m.depth, 0.0, 0.0, 0.0));
 }

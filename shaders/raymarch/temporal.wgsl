@@ -1,23 +1,35 @@
 // Temporal resolve (`[render] temporal`): builds the full-size cloud
-// image of a frame from the quarter of its pixels that clouds.wgsl's
-// cs_temporal marched (one per 2×2 block, the block offset stepping
-// through a 2×2 Bayer order) and the previous frame's image.
+// image of a frame from the one pixel per B×B block (B = 2 or 4) that
+// clouds.wgsl's cs_temporal marched (the block offset stepping through a
+// B×B Bayer order) and the previous frame's image.
 //
-// For each pixel: the cloud point it shows is the view ray at the cloud
-// depth of its block's fresh sample (no cloud: a far point, so the sky
-// moves with the camera's rotation); that point's pixel in the previous
-// frame (prev_clip_from_world) is where its history is read, bilinearly.
-// The history is clamped into the box (per channel min/max) of the fresh
-// samples of the 3×3 blocks around the pixel: whatever the pixel showed
-// before must look like what is around it now, so a cloud that moved
-// away, or the inside of a cloud the camera flew out of, cannot linger
-// (no ghosting); a clamp that moved the history far restarts its average.
-// A pixel marched this frame averages its fresh sample into its history
-// (weight 1/(n+1) for n accumulated samples, n ≤ MAX_SAMPLES): for a still
-// camera and still clouds each pixel's average runs over the ray-start
-// jitters of successive frames and converges to the full-resolution
-// march. The others keep the clamped history, or take their block's
-// fresh sample where there is none (first frame, off-screen before).
+// For each pixel:
+// - Its fresh estimate: the bilinear interpolation of the four nearest
+//   fresh samples (they sit on a regular grid B pixels apart), and its
+//   cloud depth: theirs, weighted by that and by their opacity (a pixel
+//   near a cloud moves with the cloud; none near it: a far point, so the
+//   sky moves with the camera's rotation). Per pixel, so the velocity
+//   below varies across a block.
+// - Its history: the view ray at that depth gives the cloud point, whose
+//   pixel in the previous frame (prev_clip_from_world) is where the
+//   history is read, by a 5-tap Catmull-Rom filter (sharper than
+//   bilinear: a moving view does not blur the image frame after frame).
+// - Variance clipping: the history is clipped, in YCoCg and alpha, toward
+//   the centre of a box from the 3×3 fresh samples around the pixel:
+//   mean ± GAMMA·σ (Salvi 2016) inside their min/max where the pixel
+//   moves, wider where it stands still (see GAMMA_STILL): whatever
+//   the pixel showed before must look like what is around it now, so a
+//   cloud that moved away, or the inside of a cloud the camera flew out
+//   of, cannot linger (no ghosting); a clip that moved the history far
+//   restarts its average (and, on a moving pixel, shows the fresh
+//   estimate until the pixel is marched).
+// - A pixel marched this frame averages its fresh sample into its
+//   history (weight 1/(n+1) for n accumulated samples, n capped so the
+//   average spans at most HISTORY_FRAMES frames): for a still camera and
+//   still clouds each pixel's average runs over the ray-start jitters of
+//   successive rounds and converges to the full-resolution march. The
+//   others keep the clipped history, or take the fresh estimate where
+//   there is none (first frame, off-screen before).
 //
 // Output: premultiplied linear radiance (as the cloud pass), composited by
 // composite.wgsl; and per pixel the samples averaged into it: with the
@@ -26,16 +38,35 @@
 #import "../common.wgsl"
 #import "temporal_uniform.wgsl"
 
-// Most frames averaged into a pixel: past this the history weighs
-// (MAX_SAMPLES − 1)/MAX_SAMPLES, so the average still follows slow changes
-// (clouds evolve) within ~MAX_SAMPLES marched frames (4× as many frames).
-const MAX_SAMPLES: f32 = 16.0;
+// Most frames a pixel's average spans: its sample cap is this over the
+// frames between two of its samples (16 at 2×2, 4 at 4×4), so the image
+// follows evolving clouds (a time-lapse) within ~HISTORY_FRAMES frames
+// whatever the block.
+const HISTORY_FRAMES: f32 = 64.0;
 // Distance of the point a cloudless pixel is reprojected at. units: m
 const FAR_M: f32 = 100000.0;
-// A clamp that moves the history by more than this (in premultiplied
-// alpha, or radiance relative to the box's largest channel) treats it as
+// Half-width of the clipping box in standard deviations of the fresh
+// neighbourhood where the pixel moved a pixel or more since the previous
+// frame: 1 is the usual choice for variance clipping (a tighter box than
+// min/max, so a stale colour inside the range of the neighbourhood's
+// extremes is still pulled in), kept inside their min/max. Where it
+// stands still the box widens to the union of the min/max and
+// mean ± GAMMA_STILL·σ, grown by STILL_MARGIN of the min/max range on each
+// side: the sparse samples (one per 4×4 block) are too few to tell
+// one-pixel detail from a stale colour, and a still pixel's history is
+// that detail, built over its own marched samples (on the stand-in field
+// the still view after 32 frames is 0.0046 from the full march with the
+// margin, 0.0063 without, 0.0020 with no clip at all); a gross change (a
+// cloud gone: a sky-only neighbourhood, σ ≈ 0) still leaves the history
+// far outside the box (without any clip, the 1.5 km jump of
+// tests/cumulus/render/temporal.rs lingers: 0.046 against 0.027).
+const GAMMA: f32 = 1.0;
+const GAMMA_STILL: f32 = 2.0;
+const STILL_MARGIN: f32 = 0.25;
+// A clip that moves the history by more than this (in premultiplied
+// alpha, or luma/chroma relative to the box's largest luma) treats it as
 // a different surface: its average restarts (the pixel's next marched
-// sample replaces it; until then it shows the clamped value).
+// sample replaces it; until then it shows the clipped value).
 const REJECT: f32 = 0.1;
 
 @group(1) @binding(0) var fresh_color: texture_2d<f32>;
@@ -46,29 +77,108 @@ const REJECT: f32 = 0.1;
 @group(1) @binding(5) var out_aux: texture_storage_2d<r32float, write>;
 @group(1) @binding(6) var<uniform> temporal: Temporal;
 
+// Premultiplied RGBA ↔ YCoCg and alpha: luma apart from chroma, so the
+// box hugs the neighbourhood's colours (a box in RGB is loose along the
+// grey axis that cloud colours spread along).
+fn to_ycocg(c: vec4<f32>) -> vec4<f32> {
+    let y = 0.25 * c.r + 0.5 * c.g + 0.25 * c.b;
+    return vec4<f32>(y, 0.5 * (c.r - c.b), -0.25 * c.r + 0.5 * c.g - 0.25 * c.b, c.a);
+}
+
+fn from_ycocg(c: vec4<f32>) -> vec4<f32> {
+    let t = c.x - c.z;
+    return vec4<f32>(t + c.y, c.x + c.z, t - c.y, c.a);
+}
+
+// The history at `uv` by Catmull-Rom, in 5 bilinear taps (the 9-tap form
+// of Jimenez's "Filmic SMAA" with the corners dropped, weights
+// renormalised); negative lobes clamped away.
+fn history_catmull_rom(uv: vec2<f32>, size: vec2<f32>) -> vec4<f32> {
+    let pos = uv * size;
+    let centre = floor(pos - 0.5) + 0.5;
+    let f = pos - centre;
+    let f2 = f * f;
+    let f3 = f2 * f;
+    let w0 = -0.5 * f3 + f2 - 0.5 * f;
+    let w1 = 1.5 * f3 - 2.5 * f2 + 1.0;
+    let w2 = -1.5 * f3 + 2.0 * f2 + 0.5 * f;
+    let w3 = 0.5 * f3 - 0.5 * f2;
+    let w12 = w1 + w2;
+    let t0 = (centre - 1.0) / size;
+    let t3 = (centre + 2.0) / size;
+    let t12 = (centre + w2 / w12) / size;
+    let s = clamp_sampler;
+    var c = textureSampleLevel(history_color, s, vec2<f32>(t12.x, t0.y), 0.0) * (w12.x * w0.y);
+    c += textureSampleLevel(history_color, s, vec2<f32>(t0.x, t12.y), 0.0) * (w0.x * w12.y);
+    c += textureSampleLevel(history_color, s, t12, 0.0) * (w12.x * w12.y);
+    c += textureSampleLevel(history_color, s, vec2<f32>(t3.x, t12.y), 0.0) * (w3.x * w12.y);
+    c += textureSampleLevel(history_color, s, vec2<f32>(t12.x, t3.y), 0.0) * (w12.x * w3.y);
+    let w = w12.x * w0.y + w0.x * w12.y + w12.x * w12.y + w3.x * w12.y + w12.x * w3.y;
+    return max(c / w, vec4<f32>(0.0));
+}
+
+// Clips `h` toward `centre` into the box centre ± extent: the point where
+// the segment from the centre to h leaves the box (h itself inside it).
+fn clip_to_box(h: vec4<f32>, centre: vec4<f32>, extent: vec4<f32>) -> vec4<f32> {
+    let d = h - centre;
+    let r = abs(d) / max(extent, vec4<f32>(1e-5));
+    let m = max(max(r.x, r.y), max(r.z, r.w));
+    return select(h, centre + d / m, m > 1.0);
+}
+
 @compute @workgroup_size(8, 8)
 fn cs_resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
     let full = temporal.size;
     if any(gid.xy >= full) {
         return;
     }
-    let quarter = vec2<i32>(temporal.quarter);
-    let block = vec2<i32>(gid.xy / 2u);
-    let fresh = textureLoad(fresh_color, block, 0);
-    let depth = textureLoad(fresh_depth, block, 0).x;
-    let marched = all(min(2u * (gid.xy / 2u) + temporal.offset, full - 1u) == gid.xy);
+    let b = temporal.block;
+    let last = vec2<i32>(temporal.fresh) - 1;
+    let own = vec2<i32>(gid.xy / b);
+    let marched = all(min(b * (gid.xy / b) + temporal.offset, full - 1u) == gid.xy);
 
-    // The box of the fresh samples around the pixel.
-    var lo = fresh;
-    var hi = fresh;
+    // The pixel in the grid of fresh samples (sample j at pixel b·j + offset).
+    let g = (vec2<f32>(gid.xy) - vec2<f32>(temporal.offset)) / f32(b);
+    let g0 = floor(g);
+    let fr = g - g0;
+    let i0 = clamp(vec2<i32>(g0), vec2<i32>(0), last);
+    let i1 = clamp(vec2<i32>(g0) + 1, vec2<i32>(0), last);
+    var estimate = vec4<f32>(0.0);
+    var depth_sum = 0.0;
+    var depth_w = 0.0;
+    for (var k = 0; k < 4; k++) {
+        let corner = vec2<i32>(k & 1, k >> 1u);
+        let q = select(i0, i1, corner == vec2<i32>(1));
+        let wv = select(1.0 - fr, fr, corner == vec2<i32>(1));
+        let w = wv.x * wv.y;
+        let c = textureLoad(fresh_color, q, 0);
+        estimate += w * c;
+        let wd = w * c.a * f32(textureLoad(fresh_depth, q, 0).x > 0.0);
+        depth_sum += wd * textureLoad(fresh_depth, q, 0).x;
+        depth_w += wd;
+    }
+    let fresh = textureLoad(fresh_color, own, 0);
+    let own_depth = textureLoad(fresh_depth, own, 0).x;
+    let depth = select(select(0.0, depth_sum / max(depth_w, 1e-6), depth_w > 1e-6), own_depth, marched);
+
+    // Mean, deviation and range of the fresh samples around the pixel.
+    let near = clamp(vec2<i32>(round(g)), vec2<i32>(0), last);
+    var sum = vec4<f32>(0.0);
+    var sum2 = vec4<f32>(0.0);
+    var lo = vec4<f32>(1e30);
+    var hi = vec4<f32>(-1e30);
     for (var dy = -1; dy <= 1; dy++) {
         for (var dx = -1; dx <= 1; dx++) {
-            let q = clamp(block + vec2<i32>(dx, dy), vec2<i32>(0), quarter - 1);
-            let c = textureLoad(fresh_color, q, 0);
+            let q = clamp(near + vec2<i32>(dx, dy), vec2<i32>(0), last);
+            let c = to_ycocg(textureLoad(fresh_color, q, 0));
+            sum += c;
+            sum2 += c * c;
             lo = min(lo, c);
             hi = max(hi, c);
         }
     }
+    let mean = sum / 9.0;
+    let sigma = sqrt(max(sum2 / 9.0 - mean * mean, vec4<f32>(0.0)));
 
     // Where this pixel's cloud point was in the previous frame.
     let pix = vec2<f32>(gid.xy) + 0.5;
@@ -80,22 +190,38 @@ fn cs_resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
     let prev_uv = vec2<f32>(0.5 * prev_ndc.x + 0.5, 0.5 - 0.5 * prev_ndc.y);
     let on_screen = prev.w > 0.0 && all(prev_uv >= vec2<f32>(0.0)) && all(prev_uv <= vec2<f32>(1.0));
     let have_history = temporal.history_valid != 0u && on_screen;
+    // The variance box, inside the range of the samples, by how far the
+    // pixel moved.
+    let motion_px = length(prev_uv * vec2<f32>(full) - pix);
+    let moving = clamp(motion_px, 0.0, 1.0);
+    let margin = STILL_MARGIN * (hi - lo);
+    let box_lo = mix(min(mean - GAMMA_STILL * sigma, lo) - margin, max(mean - GAMMA * sigma, lo), moving);
+    let box_hi = mix(max(mean + GAMMA_STILL * sigma, hi) + margin, min(mean + GAMMA * sigma, hi), moving);
 
     // Branch-free below: Mesa's lavapipe (22.3) crashes on this shader
     // with nested branches, and every lane does the same work anyway.
     let uv = clamp(prev_uv, vec2<f32>(0.0), vec2<f32>(1.0));
-    let h = textureSampleLevel(history_color, clamp_sampler, uv, 0.0);
+    let h = to_ycocg(history_catmull_rom(uv, vec2<f32>(full)));
     let prev_pix = min(vec2<u32>(uv * vec2<f32>(full)), full - 1u);
-    let clamped = clamp(h, lo, hi);
-    let moved = abs(clamped - h);
-    let scale = max(max(hi.r, max(hi.g, hi.b)), 1e-3);
-    let rejected = moved.a > REJECT || max(moved.r, max(moved.g, moved.b)) > REJECT * scale;
-    // Samples in the history: none without one (then the block's fresh
-    // sample stands in, and the pixel's first own sample replaces it).
+    let box_centre = 0.5 * (box_lo + box_hi);
+    let clipped_y = clip_to_box(h, box_centre, 0.5 * (box_hi - box_lo));
+    let moved = abs(clipped_y - h);
+    let scale = max(hi.x, 1e-3);
+    let rejected = moved.w > REJECT || max(moved.x, max(moved.y, moved.z)) > REJECT * scale;
+    let clipped = max(from_ycocg(clipped_y), vec4<f32>(0.0));
+    // Samples in the history: none without one (then the fresh estimate
+    // stands in, and the pixel's first own sample replaces it).
     var n = select(0.0, textureLoad(history_aux, vec2<i32>(prev_pix), 0).x, have_history);
     n = select(n, 0.0, rejected);
-    let past = select(fresh, clamped, have_history);
-    let n_kept = min(n, MAX_SAMPLES - 1.0);
+    let max_samples = max(HISTORY_FRAMES / f32(b * b), 1.0);
+    // A rejected history of a moving pixel shows another surface: the
+    // fresh estimate is the better guess until the pixel's own sample
+    // comes. A still pixel keeps its clipped history (the box is its best
+    // guess of one-pixel detail the estimate would blur).
+    let first = select(estimate, fresh, marched);
+    let keep = marched || !rejected || moving < 0.5;
+    let past = select(first, clipped, have_history && keep);
+    let n_kept = min(n, max_samples - 1.0);
     let color = select(past, mix(past, fresh, 1.0 / (n_kept + 1.0)), marched);
     let samples = select(n, n_kept + 1.0, marched);
     textureStore(out_color, gid.xy, color);

@@ -509,15 +509,15 @@ fn render_section(ui: &mut egui::Ui, m: &mut Model, ps: &mut PanelState) -> bool
         ui.checkbox(&mut r.normals, "normals");
         ui.checkbox(&mut r.shadows, "shadows");
         ui.checkbox(&mut r.terrain.enabled, "terrain");
-        // Unset in the scene means on in the window.
-        let mut temporal = r.temporal.unwrap_or(true);
-        if ui
-            .checkbox(&mut temporal, "temporal")
-            .on_hover_text("march ¼ of the pixels per frame, reproject the rest")
-            .changed()
-        {
-            r.temporal = Some(temporal);
-        }
+        // Unset: the window's default, 4x4.
+        let shown = r.temporal.unwrap_or_default().name();
+        egui::ComboBox::from_label("temporal")
+            .selected_text(shown)
+            .show_ui(ui, |ui| {
+                for m in crate::config::TemporalMode::ALL {
+                    ui.selectable_value(&mut r.temporal, Some(m), m.name());
+                }
+            });
     });
     ui.checkbox(&mut r.aerial_perspective, "aerial perspective")
         .on_hover_text(

@@ -10,7 +10,7 @@ use glam::Vec3;
 
 use super::camera::OrbitCamera;
 use super::profile_edit::ProfileEditor;
-use crate::config::{Camera, RenderConfig};
+use crate::config::{Camera, RenderConfig, TemporalMode};
 use crate::error::{Error, Result};
 use crate::physics::{CloudParcel, ParcelWorld, WorldConfig};
 use crate::scene::{SceneProfile, SceneSource};
@@ -385,7 +385,7 @@ impl Model {
     pub fn resolved_render_config(&self) -> RenderConfig {
         let mut c = self.render_cfg.clone();
         c.resolve_paths(&self.source.base_dir());
-        c.temporal.get_or_insert(true);
+        c.temporal.get_or_insert(TemporalMode::default());
         c
     }
 

@@ -151,7 +151,7 @@ pub fn gpu_check(
         (true, "landscape, temporal amortisation", None),
     ] {
         let cfg = RenderConfig {
-            temporal: Some(temporal),
+            temporal: Some(temporal.into()),
             march: MarchPath::Compute,
             ..l.profile.render.clone()
         };

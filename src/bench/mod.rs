@@ -6,7 +6,7 @@
 //! render method (baked, exact with grid culling, brute force), the
 //! savings of leaving passes out, the physics sub-step time at scale
 //! ([`physics_speed`]), the render methods side by side ([`methods`]), the
-//! landscape with temporal amortisation off and on ([`landscape`]), the
+//! landscape with temporal upscaling off, 2x2 and 4x4 ([`landscape`]), the
 //! slices' vertex field on the CPU against the compute pass
 //! ([`slices_field`]), and the project's speed targets checked as ratios
 //! within one run. Everything is written atomically into one directory as
@@ -330,7 +330,7 @@ pub struct BenchResults {
     pub pathtraced: Option<Vec<pathtraced::PathTracedRow>>,
     /// The render methods side by side (methods.csv).
     pub methods: Vec<methods::MethodRow>,
-    /// The landscape scene with temporal amortisation off and on
+    /// The landscape scene with temporal upscaling off, 2x2 and 4x4
     /// (landscape.csv).
     pub landscape: Vec<landscape::LandscapeRow>,
 }

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
-use cumulus::config::Camera;
+use cumulus::config::{Camera, TemporalMode};
 use cumulus::physics::{CloudParcel, ParcelWorld};
 use cumulus::render::headless::Headless;
 use cumulus::render::{FrameInput, GpuContext};
@@ -58,11 +58,12 @@ pub struct Args {
     /// Finite-difference normals (overrides the scene's [render] normals).
     #[arg(long, value_enum)]
     pub normals: Option<Switch>,
-    /// Temporal amortisation ([render] temporal): draw N frames of each
-    /// output frame on the temporal path (a quarter of the pixels marched
-    /// per frame, the others reprojected and accumulated) and write the
-    /// last. 4 frames march every pixel once; more average more ray-start
-    /// jitters. Without it every pixel is marched once (no temporal path).
+    /// Temporal upscaling ([render] temporal): draw N frames of each
+    /// output frame on the temporal path (one pixel in 16, or in 4 under
+    /// `--set render.temporal=2x2`, marched per frame, the others
+    /// reprojected and accumulated) and write the last. 16 frames (4 at
+    /// 2x2) march every pixel once; more average more ray-start jitters.
+    /// Without it every pixel is marched once (no temporal path).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub accumulate: Option<u32>,
     /// Number of frames.
@@ -268,8 +269,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if let Some(n) = args.normals {
         cfg.normals = n == Switch::On;
     }
-    // Headless, the temporal path runs only when asked to accumulate.
-    cfg.temporal = Some(args.accumulate.is_some());
+    // Headless, the temporal path runs only when asked to accumulate, with
+    // the scene's (or --set's) block, "4x4" where that is off or unset.
+    let scene_mode = cfg.temporal.filter(|m| m.block().is_some());
+    cfg.temporal = Some(match args.accumulate {
+        None => TemporalMode::Off,
+        Some(_) => scene_mode.unwrap_or_default(),
+    });
     // Validation errors name the field; say which file it is in.
     let scene_name = source.name();
     cfg.validate()

@@ -17,7 +17,7 @@ use crate::error::{Error, Result};
 pub use crate::landscape::terrain::TerrainConfig;
 pub use camera::{Camera, CameraConfig};
 pub use method::{MarchPath, RenderMethod};
-pub use render::{DEFAULT_VISIBILITY_KM, RenderConfig, SpritesConfig, TONE_EXPOSURE};
+pub use render::{DEFAULT_VISIBILITY_KM, RenderConfig, SpritesConfig, TONE_EXPOSURE, TemporalMode};
 pub use slices::{SlicesConfig, VertexField};
 
 /// `Ok` when `value` is finite and `ok` holds; else the error naming the

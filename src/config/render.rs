@@ -53,6 +53,99 @@ pub const TONE_EXPOSURE: f32 = 0.25;
 /// setting holds). units: km
 pub const DEFAULT_VISIBILITY_KM: f32 = 217.358_76;
 
+/// `[render] temporal`: how many pixels the ray-march draws per frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum TemporalMode {
+    /// Every pixel, every frame.
+    Off,
+    /// One pixel of each 2×2 block per frame.
+    Block2,
+    /// One pixel of each 4×4 block per frame (the window's default).
+    #[default]
+    Block4,
+}
+
+/// What `[render] temporal` accepts, for error messages.
+const TEMPORAL_ALLOWED: &str = "\"off\", \"2x2\" or \"4x4\" (or false = \"off\", true = \"4x4\")";
+
+impl TemporalMode {
+    /// Every mode, in the order the window's selector lists them.
+    pub const ALL: [TemporalMode; 3] = [
+        TemporalMode::Block4,
+        TemporalMode::Block2,
+        TemporalMode::Off,
+    ];
+
+    /// Name in scene files.
+    pub fn name(self) -> &'static str {
+        match self {
+            TemporalMode::Off => "off",
+            TemporalMode::Block2 => "2x2",
+            TemporalMode::Block4 => "4x4",
+        }
+    }
+
+    /// Side of the block of which one pixel is marched per frame (None:
+    /// off).
+    pub fn block(self) -> Option<u32> {
+        match self {
+            TemporalMode::Off => None,
+            TemporalMode::Block2 => Some(2),
+            TemporalMode::Block4 => Some(4),
+        }
+    }
+
+    /// The mode a scene file names (see [`TemporalMode::name`]).
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|m| m.name() == name)
+    }
+}
+
+impl From<bool> for TemporalMode {
+    fn from(on: bool) -> Self {
+        if on {
+            TemporalMode::Block4
+        } else {
+            TemporalMode::Off
+        }
+    }
+}
+
+impl Serialize for TemporalMode {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
+impl<'de> Deserialize<'de> for TemporalMode {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct Visitor;
+        impl serde::de::Visitor<'_> for Visitor {
+            type Value = TemporalMode;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str(TEMPORAL_ALLOWED)
+            }
+            fn visit_bool<E: serde::de::Error>(
+                self,
+                on: bool,
+            ) -> std::result::Result<Self::Value, E> {
+                Ok(on.into())
+            }
+            fn visit_str<E: serde::de::Error>(
+                self,
+                name: &str,
+            ) -> std::result::Result<Self::Value, E> {
+                TemporalMode::from_name(name).ok_or_else(|| {
+                    E::custom(format!(
+                        "unknown temporal mode \"{name}\"; expected {TEMPORAL_ALLOWED}"
+                    ))
+                })
+            }
+        }
+        d.deserialize_any(Visitor)
+    }
+}
+
 /// Render settings and feature switches (the `[render]` table).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -87,14 +180,15 @@ pub struct RenderConfig {
     /// (`MARCH_STEPS` of shaders/raymarch/clouds.wgsl), compiled out.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub debug_march_steps: bool,
-    /// Temporal amortisation of the ray-march: a quarter of the pixels
-    /// marched per frame, the rest reprojected from earlier frames with
-    /// the camera's motion at the clouds' depth, clamped to the fresh
-    /// samples around them (see src/methods/raymarch/temporal.rs). Unset:
-    /// on in the window, off headless, where `render --accumulate N`
-    /// turns it on (N frames drawn before the one written).
+    /// Temporal upscaling of the ray-march: "4x4" marches one pixel in 16
+    /// per frame, "2x2" one in 4, the rest reprojected from earlier frames
+    /// with the motion at the clouds' depth and clipped to the fresh
+    /// samples around them (see src/methods/raymarch/temporal.rs); "off"
+    /// marches every pixel. `true` is "4x4", `false` "off". Unset: "4x4"
+    /// in the window, off headless, where `render --accumulate N` turns
+    /// it on (N frames drawn before the one written).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub temporal: Option<bool>,
+    pub temporal: Option<TemporalMode>,
     /// Evaluate only the parcels listed in a sample's grid cell (paper §6.2);
     /// off = every parcel at every sample (brute force, for the bench).
     pub grid_culling: bool,
@@ -437,6 +531,35 @@ mod tests {
         let cam = CameraConfig::default();
         let text = toml::to_string_pretty(&cam).unwrap();
         assert_eq!(toml::from_str::<CameraConfig>(&text).unwrap(), cam);
+    }
+
+    #[test]
+    fn temporal_takes_modes_and_booleans_and_names_what_is_allowed() {
+        let parse = |v: &str| toml::from_str::<RenderConfig>(&format!("temporal = {v}\n"));
+        for (v, mode) in [
+            ("\"4x4\"", TemporalMode::Block4),
+            ("\"2x2\"", TemporalMode::Block2),
+            ("\"off\"", TemporalMode::Off),
+            ("true", TemporalMode::Block4),
+            ("false", TemporalMode::Off),
+        ] {
+            assert_eq!(parse(v).unwrap().temporal, Some(mode), "{v}");
+        }
+        for bad in ["\"3x3\"", "4"] {
+            let msg = parse(bad).unwrap_err().to_string();
+            assert!(
+                msg.contains("\"2x2\"") && msg.contains("\"4x4\""),
+                "{bad}: {msg}"
+            );
+        }
+        // Saved scenes keep the mode by name.
+        let cfg = RenderConfig {
+            temporal: Some(TemporalMode::Block2),
+            ..RenderConfig::default()
+        };
+        let text = toml::to_string_pretty(&cfg).unwrap();
+        assert!(text.contains("temporal = \"2x2\""), "{text}");
+        assert_eq!(toml::from_str::<RenderConfig>(&text).unwrap(), cfg);
     }
 
     #[test]

@@ -22,7 +22,7 @@ pub const CLOUD_TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16
 /// Format of the compute march's cloud depth (the opacity-weighted mean
 /// distance of the clouds along each pixel's ray; sprites sort against it).
 pub const CLOUD_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
-/// Format of the temporal path's cloud depth (quarter size) and sample
+/// Format of the temporal path's cloud depth (one texel per block) and sample
 /// counts (full size): one unfilterable float each.
 pub const TEMPORAL_SCALAR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 /// Format of the HDR scene target: every scene pass (sky, terrain, clouds,

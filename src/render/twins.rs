@@ -134,7 +134,11 @@ fn temporal_uniform_matches() {
             frame_index,
             history_valid,
             size,
-            quarter,
+            fresh,
+            block,
+            _pad0,
+            _pad1,
+            _pad2,
         })
     };
     check(&module(&raymarch::CLOUDS, &BAKED), "Temporal", rust());

@@ -3,7 +3,7 @@
 //! a 3D field (the `bake` pass, only when they moved); both march the
 //! same WGSL in a fragment pass over the scene or in a compute pass into
 //! the float cloud image (`march`: fragment, compute, or `auto`, which
-//! measures both), or at quarter rate with the temporal resolve.
+//! measures both), or one pixel per 2×2 or 4×4 block with the temporal resolve.
 
 use std::any::Any;
 
@@ -85,6 +85,8 @@ struct Frame {
     /// Sprites draw too: the march runs in compute and leaves its depth.
     split: bool,
     temporal: bool,
+    /// Side of the temporal path's block (one pixel of each marched).
+    block: u32,
     compute: bool,
 }
 
@@ -121,14 +123,16 @@ impl Raymarch {
         let draws = cfg.clouds && around.any_clouds;
         let split = draws && around.layers;
         // Sprites sort against a full-size cloud depth, which the
-        // quarter-rate temporal march does not leave: with both, every
+        // temporal march (one pixel per block) does not leave: with both, every
         // pixel is marched each frame.
-        let temporal = cfg.temporal == Some(true) && draws && !around.layers;
+        let block = cfg.temporal.and_then(|t| t.block()).unwrap_or(1);
+        let temporal = block > 1 && draws && !around.layers;
         let compute = temporal || self.auto_march.path(cfg.march) == MarchPath::Compute || split;
         Frame {
             draws,
             split,
             temporal,
+            block,
             compute,
         }
     }
@@ -293,10 +297,12 @@ impl CloudMethod for Raymarch {
             self.temporal = None;
             self.size = size;
         }
-        if !self.frame(cfg, around).temporal {
+        let f = self.frame(cfg, around);
+        if !f.temporal {
             self.temporal = None;
-        } else if self.temporal.is_none() {
-            self.temporal = Some(TemporalGpu::new(&ctx.device, layouts, size.0, size.1));
+        } else if self.temporal.as_ref().is_none_or(|t| t.block != f.block) {
+            let t = TemporalGpu::new(&ctx.device, layouts, size.0, size.1, f.block);
+            self.temporal = Some(t);
         }
         Ok(())
     }

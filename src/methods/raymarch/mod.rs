@@ -12,7 +12,7 @@
 //!   same grid without the uniform arrays' limits;
 //! - GPU side: [`method`] implements the render-method trait; [`passes`]
 //!   declares its passes, layouts, slots and files; [`exact`] and
-//!   [`baked`] upload the field; [`temporal`] is the quarter-rate march's
+//!   [`baked`] upload the field; [`temporal`] is the one-pixel-per-block march's
 //!   history; [`auto_march`] picks the faster march path.
 
 pub mod auto_march;

@@ -1,5 +1,5 @@
 //! The ray-march's passes and slots: the march (a fragment pass, a compute
-//! pass writing the cloud image and depth, and the quarter-rate temporal
+//! pass writing the cloud image and depth, and the one-pixel-per-block temporal
 //! march), the temporal resolve, and the files `exact` and `baked` bind
 //! to the shared shaders' slots, with the layout of their field (group
 //! [`SLOT_GROUP`](crate::gpu::pass::SLOT_GROUP)). The bake's own
@@ -49,7 +49,7 @@ pub static BAKED_FIELD: LayoutSpec = LayoutSpec {
     entries: &[volume_entry(0), storage_entry(1), volume_entry(2)],
 };
 
-/// Group 2 of the temporal march (clouds.wgsl `cs_temporal`): quarter
+/// Group 2 of the temporal march (clouds.wgsl `cs_temporal`): one-texel-per-block
 /// colour and depth outputs, the temporal uniform.
 pub static TEMPORAL_OUT: LayoutSpec = LayoutSpec {
     label: "clouds: temporal outputs",
@@ -99,7 +99,7 @@ pub static CLOUDS_COMPUTE: PassSpec = PassSpec {
     kind: PassKind::Compute { entry: "cs_main" },
 };
 
-/// The quarter-rate march of the temporal path (`cs_temporal`).
+/// The one-pixel-per-block march of the temporal path (`cs_temporal`).
 pub static CLOUDS_TEMPORAL: PassSpec = PassSpec {
     name: "clouds (temporal)",
     root: "raymarch/clouds.wgsl",

@@ -1,15 +1,17 @@
-//! Temporal amortisation of the cloud march (`[render] temporal`): each
-//! frame marches one pixel of every 2×2 block (clouds.wgsl `cs_temporal`,
-//! the block offset stepping through a 2×2 Bayer order, so four frames
-//! cover every pixel), and the resolve pass (shaders/raymarch/temporal.wgsl)
-//! reprojects the previous frame's cloud image with the camera's motion
-//! at the clouds' depth, clamps it to the fresh samples around each pixel
-//! and accumulates. The composite then blends the result like the compute
-//! march's image. None of this exists when the switch is off.
+//! Temporal upscaling of the cloud march (`[render] temporal`): each frame
+//! marches one pixel of every B×B block (B = 4 under "4x4", the window's
+//! default, 2 under "2x2"; clouds.wgsl `cs_temporal`), the block offset
+//! stepping through a B×B Bayer order, so B² frames cover every pixel, and
+//! the resolve pass (shaders/raymarch/temporal.wgsl) reprojects the
+//! previous frame's cloud image with the camera's motion at each pixel's
+//! cloud depth (Catmull-Rom fetch), clips it to the statistics of the
+//! fresh samples around the pixel (variance clipping) and accumulates.
+//! The composite then blends the result like the compute march's image.
+//! None of this exists when the setting is "off".
 //!
-//! Resources: quarter-size fresh colour and depth; two full-size history
-//! pairs (colour, samples) used in turn (frame k reads pair k mod 2 and
-//! writes the other, which the composite reads); one uniform.
+//! Resources: fresh colour and depth (one texel per block); two full-size
+//! history pairs (colour, samples) used in turn (frame k reads pair
+//! k mod 2 and writes the other, which the composite reads); one uniform.
 
 use glam::Mat4;
 
@@ -18,10 +20,28 @@ use crate::gpu::layouts::{CLOUD_TARGET_FORMAT, Layouts, TEMPORAL_SCALAR_FORMAT, 
 
 use crate::gpu::resources::{bind_in_order, texture_2d};
 
-/// The marched pixel's offset in its 2×2 block, frame by frame: a 2×2
-/// Bayer (ordered-dither) order, so consecutive frames are diagonal, not
-/// neighbours, and any two consecutive frames cover both rows and columns.
-pub const BAYER_2X2: [[u32; 2]; 4] = [[0, 0], [1, 1], [1, 0], [0, 1]];
+/// The marched pixel's offset in its `block`×`block` block (a power of
+/// two) at frame `k`: the pixel whose entry in the Bayer (ordered-dither)
+/// matrix is k mod block², so each frame's pixel is as far as can be from
+/// the ones of the frames just before, and any `block`² consecutive frames
+/// cover the block. The matrix is built by the usual recursion
+/// M₂ₙ = [[4Mₙ, 4Mₙ+2], [4Mₙ+3, 4Mₙ+1]]; at 2 it is [[0, 2], [3, 1]].
+pub fn bayer_offset(block: u32, k: u32) -> [u32; 2] {
+    let k = k % (block * block);
+    // The recursion read backwards: each level's quadrant from two bits
+    // of k, the lowest bits choosing the largest quadrant.
+    let (mut x, mut y) = (0, 0);
+    let mut half = block / 2;
+    let mut rest = k;
+    while half > 0 {
+        let (dx, dy) = [(0, 0), (1, 1), (1, 0), (0, 1)][(rest % 4) as usize];
+        x += dx * half;
+        y += dy * half;
+        rest /= 4;
+        half /= 2;
+    }
+    [x, y]
+}
 
 /// The uniform of the temporal march and resolve: `struct Temporal` in
 /// shaders/raymarch/temporal_uniform.wgsl (a test compares the layouts).
@@ -31,22 +51,27 @@ pub struct TemporalUniform {
     /// The previous frame's world → clip (the current one's when there is
     /// no history).
     pub prev_clip_from_world: [[f32; 4]; 4],
-    /// The marched pixel's offset in its 2×2 block.
+    /// The marched pixel's offset in its block.
     pub offset: [u32; 2],
     pub frame_index: u32,
     /// 1 when the history holds the previous frame.
     pub history_valid: u32,
     /// Frame width and height. units: px
     pub size: [u32; 2],
-    /// Quarter-size width and height. units: px
-    pub quarter: [u32; 2],
+    /// Width and height of the grid of blocks (the fresh images). units: px
+    pub fresh: [u32; 2],
+    /// Side of a block (2 or 4). units: px
+    pub block: u32,
+    pub _pad0: u32,
+    pub _pad1: u32,
+    pub _pad2: u32,
 }
 
-const _: () = assert!(std::mem::size_of::<TemporalUniform>() == 96);
+const _: () = assert!(std::mem::size_of::<TemporalUniform>() == 112);
 
-/// The quarter-size grid of blocks of a `w`×`h` frame.
-pub fn quarter_size(w: u32, h: u32) -> (u32, u32) {
-    (w.div_ceil(2), h.div_ceil(2))
+/// The grid of `block`×`block` blocks of a `w`×`h` frame.
+pub fn fresh_size(w: u32, h: u32, block: u32) -> (u32, u32) {
+    (w.div_ceil(block), h.div_ceil(block))
 }
 
 /// The temporal path's GPU resources and its frame-to-frame state.
@@ -60,6 +85,8 @@ pub struct TemporalGpu {
     composite_bind: [wgpu::BindGroup; 2],
     /// Frame size. units: px
     pub size: (u32, u32),
+    /// Side of a block, one pixel of which is marched per frame. units: px
+    pub block: u32,
     /// Frames drawn on this path since the history was made.
     pub frame_index: u32,
     /// The history holds the previous frame (false: first frame, or after
@@ -71,8 +98,8 @@ pub struct TemporalGpu {
 }
 
 impl TemporalGpu {
-    pub fn new(device: &wgpu::Device, layouts: &Layouts, width: u32, height: u32) -> Self {
-        let (qw, qh) = quarter_size(width, height);
+    pub fn new(device: &wgpu::Device, layouts: &Layouts, width: u32, height: u32, block: u32) -> Self {
+        let (qw, qh) = fresh_size(width, height, block);
         let usage = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING;
         let view = |label, w, h, format| {
             texture_2d(device, label, w, h, format, usage).create_view(&Default::default())
@@ -125,6 +152,7 @@ impl TemporalGpu {
             resolve_bind,
             composite_bind,
             size: (width, height),
+            block,
             frame_index: 0,
             history_valid: false,
             prev_clip_from_world: Mat4::IDENTITY,
@@ -144,9 +172,9 @@ impl TemporalGpu {
         &self.composite_bind[self.parity()]
     }
 
-    /// Workgroups (8×8) of the quarter-rate march.
+    /// Workgroups (8×8) of the march of one pixel per block.
     pub fn march_workgroups(&self) -> (u32, u32) {
-        let (qw, qh) = quarter_size(self.size.0, self.size.1);
+        let (qw, qh) = fresh_size(self.size.0, self.size.1, self.block);
         (qw.div_ceil(8), qh.div_ceil(8))
     }
 
@@ -159,15 +187,18 @@ impl TemporalGpu {
         } else {
             clip_from_world
         };
-        let [ox, oy] = BAYER_2X2[(self.frame_index % 4) as usize];
-        let (qw, qh) = quarter_size(self.size.0, self.size.1);
+        let (qw, qh) = fresh_size(self.size.0, self.size.1, self.block);
         let u = TemporalUniform {
             prev_clip_from_world: prev.to_cols_array_2d(),
-            offset: [ox, oy],
+            offset: bayer_offset(self.block, self.frame_index),
             frame_index: self.frame_index,
             history_valid: self.history_valid as u32,
             size: [self.size.0, self.size.1],
-            quarter: [qw, qh],
+            fresh: [qw, qh],
+            block: self.block,
+            _pad0: 0,
+            _pad1: 0,
+            _pad2: 0,
         };
         queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&u));
     }
@@ -186,17 +217,34 @@ mod tests {
     use super::*;
 
     #[test]
-    fn four_frames_cover_every_pixel_of_a_block() {
-        let mut seen = [[false; 2]; 2];
-        for [x, y] in BAYER_2X2 {
-            seen[y as usize][x as usize] = true;
+    fn a_round_of_frames_covers_every_pixel_of_a_block() {
+        for block in [2, 4] {
+            let mut seen = vec![false; (block * block) as usize];
+            for k in 0..block * block {
+                let [x, y] = bayer_offset(block, k);
+                assert!(x < block && y < block);
+                seen[(y * block + x) as usize] = true;
+            }
+            assert!(seen.iter().all(|&s| s), "block {block}: {seen:?}");
         }
-        assert_eq!(seen, [[true; 2]; 2]);
     }
 
     #[test]
-    fn quarter_size_rounds_up() {
-        assert_eq!(quarter_size(64, 48), (32, 24));
-        assert_eq!(quarter_size(65, 1), (33, 1));
+    fn bayer_orders_are_the_ordered_dither_matrices() {
+        let order = |block| (0..block * block).map(|k| bayer_offset(block, k)).collect::<Vec<_>>();
+        assert_eq!(order(2), [[0, 0], [1, 1], [1, 0], [0, 1]]);
+        // The 4×4 Bayer matrix [[0, 8, 2, 10], [12, 4, 14, 6],
+        // [3, 11, 1, 9], [15, 7, 13, 5]] read as "where is k".
+        let m = [[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15, 7, 13, 5]];
+        for (k, [x, y]) in order(4).into_iter().enumerate() {
+            assert_eq!(m[y as usize][x as usize], k, "frame {k} at ({x}, {y})");
+        }
+    }
+
+    #[test]
+    fn fresh_size_rounds_up() {
+        assert_eq!(fresh_size(64, 48, 2), (32, 24));
+        assert_eq!(fresh_size(65, 1, 2), (33, 1));
+        assert_eq!(fresh_size(65, 48, 4), (17, 12));
     }
 }

@@ -155,7 +155,9 @@ impl Renderer {
         with(&|c| c.shadows = !c.shadows);
         with(&|c| c.terrain.enabled = !c.terrain.enabled);
         with(&|c| c.aerial_perspective = !c.aerial_perspective);
-        with(&|c| c.temporal = Some(c.temporal != Some(true)));
+        for m in TemporalMode::ALL {
+            with(&|c| c.temporal = Some(m));
+        }
         with(&|c| c.grid_culling = !c.grid_culling);
         for m in RenderMethod::ALL {
             with(&|c| c.method = m);

@@ -29,7 +29,7 @@
 use std::time::Instant;
 
 use crate::config::method::{MarchPath, RenderMethod};
-use crate::config::{RenderConfig, TerrainConfig};
+use crate::config::{RenderConfig, TemporalMode, TerrainConfig};
 use crate::error::{Error, Result};
 use crate::gpu::GpuContext;
 use crate::gpu::layouts::Layouts;

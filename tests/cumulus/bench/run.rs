@@ -224,16 +224,18 @@ fn check_outputs(dir: &Path) {
             .contains("overdraw")
     );
 
-    // landscape.csv: temporal off then on, the FLIP of the amortised
-    // frame against the full march in 0..1 (0 for the full march).
+    // landscape.csv: temporal off, 2x2, 4x4, the FLIP of the upscaled
+    // frames against the full march in 0..1 (0 for the full march).
     let (h, rows) = read_csv(&dir.join("landscape.csv"));
-    assert_eq!(rows.len(), 2, "{rows:?}");
-    assert_eq!((rows[0][0].as_str(), rows[1][0].as_str()), ("off", "on"));
+    let modes: Vec<&str> = rows.iter().map(|r| r[0].as_str()).collect();
+    assert_eq!(modes, ["off", "2x2", "4x4"], "{rows:?}");
     check_positive("landscape.csv", &h, &rows, "frame_ms");
     let flip = col(&h, "mean_flip_vs_full");
     assert_eq!(rows[0][flip], "0.0000");
-    let f: f64 = rows[1][flip].parse().unwrap();
-    assert!((0.0..=1.0).contains(&f), "{rows:?}");
+    for row in &rows[1..] {
+        let f: f64 = row[flip].parse().unwrap();
+        assert!((0.0..=1.0).contains(&f), "{rows:?}");
+    }
 
     let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
     for section in [
@@ -313,19 +315,30 @@ fn tiny_bench_binary() {
     check_outputs(&out);
 }
 
-/// The landscape case as the full bench runs it (1920×1080, temporal off
-/// and on), alone, for docs/performance.md's figures on a CPU adapter where the
-/// whole full run would take too long: `cargo test --release --test cumulus
-/// -- --ignored --nocapture bench::run::landscape_at_1080p`.
+/// The landscape case as the full bench runs it (1920×1080, temporal off,
+/// 2x2 and 4x4), alone, for docs/performance.md's figures on a CPU adapter
+/// where the whole full run would take too long: `cargo test --release
+/// --test cumulus -- --ignored --nocapture bench::run::landscape_at_1080p`.
 #[test]
 #[ignore]
 fn landscape_at_1080p() {
+    landscape_alone(Mode::Full);
+}
+
+/// The same at the quick run's size (480×270).
+#[test]
+#[ignore]
+fn landscape_quick() {
+    landscape_alone(Mode::Quick);
+}
+
+fn landscape_alone(mode: Mode) {
     let Some(ctx) = context() else { return };
     let reps = cumulus::bench::measure::Repeats {
         warmup: 1,
         measured: 3,
         budget_ms: 60_000.0,
     };
-    let rows = cumulus::bench::landscape::landscape(&ctx, Mode::Full, reps, &[]).unwrap();
+    let rows = cumulus::bench::landscape::landscape(&ctx, mode, reps, &[]).unwrap();
     println!("{}", cumulus::bench::landscape::landscape_md(&rows));
 }

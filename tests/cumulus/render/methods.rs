@@ -424,7 +424,7 @@ fn toggling_a_setting_takes_pipelines_built_in_the_background() {
     let parcels = standin::default_field(900.0);
     // The window's settings: temporal on.
     let base = RenderConfig {
-        temporal: Some(true),
+        temporal: Some(cumulus::config::TemporalMode::Block4),
         ..RenderConfig::default()
     };
     let (w, h) = (64, 48);
@@ -466,7 +466,9 @@ fn toggling_a_setting_takes_pipelines_built_in_the_background() {
         ("aerial perspective", |c| {
             c.aerial_perspective = !c.aerial_perspective
         }),
-        ("temporal off", |c| c.temporal = Some(false)),
+        ("temporal off", |c| {
+            c.temporal = Some(cumulus::config::TemporalMode::Off)
+        }),
         ("march compute", |c| {
             c.march = cumulus::config::MarchPath::Compute
         }),

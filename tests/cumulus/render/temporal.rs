@@ -1,13 +1,16 @@
-//! Temporal amortisation and flying through clouds, on the CPU adapter
-//! (lavapipe) at small sizes:
-//! - a still camera: the accumulated quarter-rate image converges to the
-//!   full-resolution march (mean FLIP);
+//! Temporal upscaling and flying through clouds, on the CPU adapter
+//! (lavapipe) at small sizes, on the window's default path (1 pixel in 16
+//! per frame, `temporal = "4x4"`) unless a test says otherwise:
+//! - a still camera: the accumulated image converges to the
+//!   full-resolution march (mean FLIP), at 4×4 and 2×2;
 //! - a moving camera: after the move the image matches the full march at
 //!   the same camera (no ghosts of where the clouds were on screen);
 //! - clouds that jump away: their old place does not linger;
 //! - a camera path through a cloud: no jump of mean luminance between
 //!   frames (rays start at the near plane; clouds end at the terrain), and
-//!   with temporal on, no ghost of the cloud once the camera has left it.
+//!   with temporal on, no ghost of the cloud once the camera has left it;
+//! - a scripted flight past the clouds: every frame near the full march;
+//! - a time-lapse of growing clouds: no smearing behind the change.
 //!
 //! The scene is the deterministic stand-in field (src/methods/standin.rs)
 //! with the default render settings, baked method.
@@ -15,7 +18,7 @@
 use crate::common;
 
 use cumulus::bench::stats::{mean_flip, rgb};
-use cumulus::config::{Camera, CameraConfig, RenderConfig};
+use cumulus::config::{Camera, CameraConfig, RenderConfig, TemporalMode};
 use cumulus::methods::standin;
 use cumulus::physics::CloudParcel;
 use cumulus::render::headless::Headless;
@@ -25,12 +28,15 @@ use glam::Vec3;
 const W: u32 = 160;
 const H: u32 = 120;
 
-fn cfg(temporal: bool) -> RenderConfig {
+fn cfg(temporal: TemporalMode) -> RenderConfig {
     RenderConfig {
         temporal: Some(temporal),
         ..RenderConfig::default()
     }
 }
+
+/// The window's default path.
+const ON: TemporalMode = TemporalMode::Block4;
 
 fn input<'a>(camera: Camera, parcels: &'a [CloudParcel]) -> FrameInput<'a> {
     FrameInput {
@@ -43,7 +49,7 @@ fn input<'a>(camera: Camera, parcels: &'a [CloudParcel]) -> FrameInput<'a> {
 
 /// The full-resolution march of one frame (RGB8).
 fn full(ctx: &GpuContext, camera: Camera, parcels: &[CloudParcel], w: u32, h: u32) -> Vec<u8> {
-    let mut hl = Headless::new(ctx, &cfg(false), w, h).unwrap();
+    let mut hl = Headless::new(ctx, &cfg(TemporalMode::Off), w, h).unwrap();
     assert!(!hl.renderer.pass_names().contains(&"temporal"));
     rgb(&hl.render(ctx, &input(camera, parcels)).unwrap().0)
 }
@@ -52,14 +58,15 @@ fn stand_in_camera() -> Camera {
     Camera::from(&CameraConfig::default())
 }
 
-/// Still camera and clouds: after 16 frames (every pixel marched 4 times,
-/// over 4 ray-start jitters) the accumulated image is within mean FLIP
-/// 0.01 of the full-resolution march, and clearly closer than a single
-/// quarter-rate frame. Measured on lavapipe: 0.0026 after 16 frames,
-/// 0.0156 after one. 0.01: what remains is the full march's own banding
-/// from its one fixed jitter per pixel, which the accumulated image
-/// averages away, and the neighbourhood clamp's softening of one-pixel
-/// detail; ~4× the measured value leaves room for other drivers.
+/// Still camera and clouds: after two rounds of the block (32 frames at
+/// 4×4, every pixel marched twice over two ray-start jitters; 16 frames at
+/// 2×2, four times) the accumulated image is within mean FLIP 0.01 of the
+/// full-resolution march (issue 34), and clearly closer than a single
+/// frame. Measured on lavapipe: 4×4 0.0046 after 32 frames (0.023 after
+/// one), 2×2 0.0018 after 16 (0.012 after one). 0.01: what remains is the
+/// full march's own banding from its one fixed jitter per pixel, which
+/// the accumulated image averages away, and the clip's softening of
+/// one-pixel detail between a pixel's own samples.
 #[test]
 fn still_camera_converges_to_the_full_resolution_march() {
     let Some(ctx) = common::context("temporal convergence") else {
@@ -69,32 +76,42 @@ fn still_camera_converges_to_the_full_resolution_march() {
     let camera = stand_in_camera();
     let reference = full(&ctx, camera, &parcels, W, H);
 
-    let mut hl = Headless::new(&ctx, &cfg(true), W, H).unwrap();
-    let (one, _) = hl.render(&ctx, &input(camera, &parcels)).unwrap();
-    assert!(hl.renderer.pass_names().contains(&"temporal"));
-    let flip_one = mean_flip(&reference, &rgb(&one), W, H);
-    let (sixteen, _) = hl.render_after(&ctx, &input(camera, &parcels), 14).unwrap();
-    assert_eq!(hl.renderer.temporal_frames(), 16);
-    let flip_16 = mean_flip(&reference, &rgb(&sixteen), W, H);
-    eprintln!("mean FLIP vs full march: 1 frame {flip_one:.4}, 16 frames {flip_16:.4}");
-    assert!(flip_16 < 0.01, "16 frames: mean FLIP {flip_16:.4} ≥ 0.01");
-    // The accumulation must do something: one frame has 3/4 of its pixels
-    // copied from a neighbour.
-    assert!(
-        flip_16 < 0.7 * flip_one,
-        "16 frames ({flip_16:.4}) not clearly better than one ({flip_one:.4})"
-    );
+    for (mode, frames) in [(TemporalMode::Block4, 32), (TemporalMode::Block2, 16)] {
+        let mut hl = Headless::new(&ctx, &cfg(mode), W, H).unwrap();
+        let (one, _) = hl.render(&ctx, &input(camera, &parcels)).unwrap();
+        assert!(hl.renderer.pass_names().contains(&"temporal"));
+        let flip_one = mean_flip(&reference, &rgb(&one), W, H);
+        let (last, _) = hl
+            .render_after(&ctx, &input(camera, &parcels), frames - 2)
+            .unwrap();
+        assert_eq!(hl.renderer.temporal_frames(), frames);
+        let flip = mean_flip(&reference, &rgb(&last), W, H);
+        let name = mode.name();
+        eprintln!(
+            "{name}: mean FLIP vs full march: 1 frame {flip_one:.4}, {frames} frames {flip:.4}"
+        );
+        assert!(
+            flip < 0.01,
+            "{name}, {frames} frames: mean FLIP {flip:.4} ≥ 0.01"
+        );
+        // The accumulation must do something: one frame has 15/16 (3/4) of
+        // its pixels interpolated from the marched ones.
+        assert!(
+            flip < 0.7 * flip_one,
+            "{name}: {frames} frames ({flip:.4}) not clearly better than one ({flip_one:.4})"
+        );
+    }
 }
 
 /// The camera orbits and climbs for 12 frames (1.5° and 40 m a frame: a
 /// quick pan that moves the clouds ~5 px a frame at 160×120); the frame
 /// after the move is compared with the full march at that camera.
-/// Measured on lavapipe: 0.034, against 0.18 for the view before the move
-/// (what a frame made of stale history would cost). Bound 0.05: the
-/// pixels uncovered by the move (at the image edge and beside the clouds)
-/// have one or two marched samples, and the clamp softens the rest while
-/// the view moves; a ghost of the clouds' old place costs several times
-/// more (half the view-before-the-move figure would be 0.09).
+/// Measured on lavapipe (4×4): 0.022, against 0.26 for the view before
+/// the move (what a frame made of stale history would cost). Bound 0.05
+/// (issue 34): the pixels uncovered by the move (at the image edge and
+/// beside the clouds) have one or two marched samples or only the fresh
+/// estimate, and the clip softens the rest while the view moves; a ghost
+/// of the clouds' old place costs several times more.
 #[test]
 fn moving_camera_does_not_ghost() {
     let Some(ctx) = common::context("temporal moving camera") else {
@@ -110,7 +127,7 @@ fn moving_camera_does_not_ghost() {
             ..start
         }
     };
-    let mut hl = Headless::new(&ctx, &cfg(true), W, H).unwrap();
+    let mut hl = Headless::new(&ctx, &cfg(ON), W, H).unwrap();
     // History of the still camera first, so the move starts from a
     // converged image of another view (the worst case for ghosts).
     hl.render_after(&ctx, &input(at(0.0), &parcels), 7).unwrap();
@@ -129,16 +146,18 @@ fn moving_camera_does_not_ghost() {
 }
 
 /// Clouds jump 1.5 km east between two frames (a scene edit, or clouds
-/// far faster than any wind), after 8 frames of history of the old place:
-/// 4 frames later (every pixel marched once since) the image is closer to
-/// the full march of the new field than a fifth of the distance between
-/// the old field's and the new field's full marches: the old clouds do
-/// not linger. A quarter: the pixels around the new clouds' edges keep a
-/// clamped history until enough frames average it out, which the still
-/// scene's 4-frame image (also printed) has less of; measured 0.21 since
-/// the sky has multiple scattering (src/sky/: a paler sky behind the
-/// clouds shrinks the old-against-new distance more than the edges'
-/// residue). A ghost that stays is near 1.
+/// far faster than any wind), after a round of history of the old place:
+/// 8 frames later (half the pixels marched since) the image is within
+/// mean FLIP 0.05 of the full march of the new field (issue 34: caught
+/// within 8 frames; 0.05 as for a camera move), and no further from it
+/// than 8 frames of the new field alone (a fresh history, which has the
+/// same unmarched pixels) plus a quarter of the distance between the old
+/// field's and the new field's full marches: the old clouds do not
+/// linger (a ghost that stays adds most of the latter; the quarter is for
+/// the edges of the new clouds, whose pixels keep a clipped history of
+/// the old sky until marched). Measured on lavapipe: 0.027 after the jump,
+/// 0.013 for the new field alone, 0.076 old field against new (with the
+/// history never clipped: 0.046).
 #[test]
 fn clouds_that_jump_away_leave_no_trail() {
     let Some(ctx) = common::context("temporal cloud jump") else {
@@ -155,22 +174,27 @@ fn clouds_that_jump_away_leave_no_trail() {
         .collect();
     let reference = full(&ctx, camera, &after, W, H);
 
-    let mut still = Headless::new(&ctx, &cfg(true), W, H).unwrap();
-    let (s, _) = still.render_after(&ctx, &input(camera, &after), 3).unwrap();
+    let mut still = Headless::new(&ctx, &cfg(ON), W, H).unwrap();
+    let (s, _) = still.render_after(&ctx, &input(camera, &after), 7).unwrap();
     let flip_still = mean_flip(&reference, &rgb(&s), W, H);
 
-    let mut hl = Headless::new(&ctx, &cfg(true), W, H).unwrap();
-    hl.render_after(&ctx, &input(camera, &before), 7).unwrap();
-    let (j, _) = hl.render_after(&ctx, &input(camera, &after), 3).unwrap();
+    let mut hl = Headless::new(&ctx, &cfg(ON), W, H).unwrap();
+    hl.render_after(&ctx, &input(camera, &before), 15).unwrap();
+    let (j, _) = hl.render_after(&ctx, &input(camera, &after), 7).unwrap();
     let flip_jump = mean_flip(&reference, &rgb(&j), W, H);
     let ghost = mean_flip(&reference, &full(&ctx, camera, &before, W, H), W, H);
     eprintln!(
-        "4 frames after the jump: {flip_jump:.4}; 4 frames of the still field: {flip_still:.4}; \
+        "8 frames after the jump: {flip_jump:.4}; 8 frames of the still field: {flip_still:.4}; \
          old field against new: {ghost:.4}"
     );
     assert!(
-        flip_jump < 0.25 * ghost,
-        "the old clouds linger: mean FLIP {flip_jump:.4} against {ghost:.4} for the old field"
+        flip_jump < 0.05,
+        "8 frames after the jump: mean FLIP {flip_jump:.4} ≥ 0.05"
+    );
+    assert!(
+        flip_jump < flip_still + 0.25 * ghost,
+        "the old clouds linger: mean FLIP {flip_jump:.4} against {flip_still:.4} for 8 frames \
+         of the new field alone and {ghost:.4} for the old field"
     );
 }
 
@@ -220,7 +244,7 @@ fn flying_through_a_cloud_does_not_pop() {
     };
     let (parcels, centre, dir) = tower_path();
     let (w, h) = (64, 48);
-    let mut hl = Headless::new(&ctx, &cfg(false), w, h).unwrap();
+    let mut hl = Headless::new(&ctx, &cfg(TemporalMode::Off), w, h).unwrap();
     let mut luma_at = |along_m: f32| {
         let position = centre + dir * along_m;
         let camera = Camera {
@@ -270,15 +294,18 @@ fn flying_through_a_cloud_does_not_pop() {
 /// and out of it again, a reprojected history that was not rejected (the
 /// tower's white still on screen after the camera left it: a ghost) would
 /// make a frame look like the view some frames before. Measured on
-/// lavapipe, 96×72: 0.022–0.080 against the full march (0.05 typical:
-/// flying forward 25 m a frame near clouds, pixels keep one or two
-/// marched samples and the clamp softens the rest, as in
+/// lavapipe, 96×72, 4×4: 0.020–0.120 against the full march (0.06
+/// typical: flying forward 25 m a frame near clouds, pixels keep one or
+/// two marched samples and the clip softens the rest, as in
 /// `moving_camera_does_not_ghost`), where a 4-frame-old view would cost
 /// 0.046–0.52. The largest of those, 0.52, is the frame after the camera
 /// leaves the tower (the old view is all cloud); there the temporal frame
-/// measured 0.080. Bounds: every checkpoint under 0.12 (1.5× the largest
-/// measured, for other drivers), and at the exit under a quarter of what
-/// the stale view costs (a ghost of the cloud's white keeps most of it).
+/// measured 0.120, most of it the fresh estimate of a view that is new
+/// everywhere (1 pixel in 16 marched; 0.080 at 2×2). Bounds: every
+/// checkpoint under 0.16 (1.3× the largest measured, for other drivers),
+/// and at the exit under a quarter of what the stale view costs (a ghost
+/// of the cloud's white keeps most of it: 0.23 with the history never
+/// clipped, 0.45 of it; measured 0.23 of it).
 #[test]
 fn flying_through_a_cloud_with_temporal_on_leaves_no_ghost() {
     let Some(ctx) = common::context("temporal fly-through") else {
@@ -294,7 +321,7 @@ fn flying_through_a_cloud_with_temporal_on_leaves_no_ghost() {
             ..stand_in_camera()
         }
     };
-    let mut hl = Headless::new(&ctx, &cfg(true), w, h).unwrap();
+    let mut hl = Headless::new(&ctx, &cfg(ON), w, h).unwrap();
     // (frame, FLIP against the full march, FLIP of a 4-frame-old view).
     let mut report: Vec<(usize, f64, f64)> = Vec::new();
     for k in 0..=120 {
@@ -316,8 +343,8 @@ fn flying_through_a_cloud_with_temporal_on_leaves_no_ghost() {
     eprintln!("(frame, mean FLIP against the full march, a 4-frame-old view): {report:.4?}");
     for &(k, flip, _) in &report {
         assert!(
-            flip < 0.12,
-            "frame {k}: mean FLIP {flip:.4} ≥ 0.12 against the full march"
+            flip < 0.16,
+            "frame {k}: mean FLIP {flip:.4} ≥ 0.16 against the full march"
         );
     }
     let exit = report.iter().max_by(|a, b| a.2.total_cmp(&b.2)).unwrap();
@@ -333,4 +360,118 @@ fn flying_through_a_cloud_with_temporal_on_leaves_no_ghost() {
         exit.1,
         exit.2
     );
+}
+
+/// The issue's scripted flight (issue 34, "Done when"): after the window's
+/// history of the still view has converged (32 frames), the camera orbits
+/// the stand-in field by 0.75° and closes in by 20 m every frame for 48
+/// frames (the clouds move ~2–3 px a frame at 96×72), and every frame of
+/// the path is compared with the full march at the same camera: all
+/// within mean FLIP 0.05 (the issue's bound). A ghost is what a stale view
+/// costs: the frame 4 frames back is printed beside some (a smeared
+/// history would keep part of it). Measured on lavapipe: 0.012 on the
+/// first frame of the path, rising to 0.035 (frame 45) as the clouds grow
+/// on screen; a 4-frame-old view costs 0.088–0.106.
+#[test]
+fn a_scripted_flight_stays_near_the_full_march_every_frame() {
+    let Some(ctx) = common::context("temporal scripted flight") else {
+        return;
+    };
+    let parcels = standin::default_field(900.0);
+    let (w, h) = (96, 72);
+    let start = stand_in_camera();
+    let at = |k: f32| {
+        let offset = start.position - start.target;
+        let rot = glam::Quat::from_rotation_z((0.75 * k).to_radians());
+        let closer = offset.normalize() * 20.0 * k;
+        Camera {
+            position: start.target + rot * (offset - closer),
+            ..start
+        }
+    };
+    let mut hl = Headless::new(&ctx, &cfg(ON), w, h).unwrap();
+    hl.render_after(&ctx, &input(at(0.0), &parcels), 31)
+        .unwrap();
+    let mut worst = (0, 0.0);
+    let mut flips = Vec::new();
+    let mut stale = Vec::new();
+    for k in 1..=48 {
+        let (img, _) = hl.render(&ctx, &input(at(k as f32), &parcels)).unwrap();
+        let reference = full(&ctx, at(k as f32), &parcels, w, h);
+        let flip = mean_flip(&reference, &rgb(&img), w, h);
+        if k % 12 == 0 {
+            let old = full(&ctx, at(k as f32 - 4.0), &parcels, w, h);
+            stale.push((k, mean_flip(&reference, &old, w, h)));
+        }
+        if flip > worst.1 {
+            worst = (k, flip);
+        }
+        flips.push(flip);
+    }
+    eprintln!(
+        "flight: mean FLIP per frame {flips:.4?}; worst {:.4} at frame {}; a 4-frame-old view: {stale:.4?}",
+        worst.1, worst.0
+    );
+    assert!(
+        worst.1 < 0.05,
+        "frame {}: mean FLIP {:.4} ≥ 0.05",
+        worst.0,
+        worst.1
+    );
+}
+
+/// A time-lapse at 120× (4 s of cloud time a frame: 120× at 30 frames a
+/// second) with a still camera: the stand-in clouds grow (their fill and
+/// their columns, from 5 to 9 minutes of growth) and drift with a 15 m/s
+/// wind (60 m a frame), and after 32 frames every 8th frame up to 64 is
+/// compared with the full march of the field at that time: all within
+/// mean FLIP 0.05 (issue 34: the same bounds as a camera move). A history
+/// that lags (smearing) shows the clouds of some frames back; a view 24
+/// frames (96 s, 1.4 km of drift) old must cost more than the bound, or
+/// the test could not see such a lag. Measured on lavapipe:
+/// 0.026–0.029 against the full march, 0.056–0.060 for the 24-frame-old
+/// view (what is left at 0.025 is the still view's convergence at 96×72,
+/// coarser than at 160×120).
+#[test]
+fn a_time_lapse_does_not_smear() {
+    let Some(ctx) = common::context("temporal time-lapse") else {
+        return;
+    };
+    let camera = stand_in_camera();
+    let (w, h) = (96, 72);
+    let field = |k: u32| {
+        let drift = Vec3::X * 60.0 * k as f32;
+        let grown = standin::default_field(300.0 + 4.0 * k as f32);
+        grown
+            .into_iter()
+            .map(|p| CloudParcel {
+                center_m: p.center_m + drift,
+                ..p
+            })
+            .collect::<Vec<_>>()
+    };
+    let mut hl = Headless::new(&ctx, &cfg(ON), w, h).unwrap();
+    let mut report = Vec::new();
+    for k in 0..=64 {
+        let parcels = field(k);
+        let (img, _) = hl.render(&ctx, &input(camera, &parcels)).unwrap();
+        if k < 32 || k % 8 != 0 {
+            continue;
+        }
+        let reference = full(&ctx, camera, &parcels, w, h);
+        let flip = mean_flip(&reference, &rgb(&img), w, h);
+        let old = full(&ctx, camera, &field(k - 24), w, h);
+        report.push((k, flip, mean_flip(&reference, &old, w, h)));
+    }
+    eprintln!("(frame, mean FLIP against the full march, a 24-frame-old view): {report:.4?}");
+    for &(k, flip, old) in &report {
+        assert!(
+            old > 0.05,
+            "frame {k}: the clouds barely changed in 24 frames ({old:.4})"
+        );
+        assert!(
+            flip < 0.05,
+            "frame {k}: mean FLIP {flip:.4} ≥ 0.05 against the full march"
+        );
+    }
 }
