@@ -17,6 +17,7 @@
 
 pub mod auto_march;
 pub mod baked;
+pub mod clipmap;
 pub mod exact;
 pub mod field;
 pub mod method;
