@@ -56,7 +56,11 @@ const PLANE_RANGE_M: f32 = 2048.0;
 
 // The condensed parcels (the first frame.parcel_count of them).
 @group(1) @binding(0) var<storage, read> bake_parcels: array<Parcel>;
+// The voxels' keys, all levels one after the other, in two buffers: the
+// first KEY_SPLIT keys, then the rest (one binding may hold at most
+// 128 MiB on many devices, 2²⁵ keys; the field holds up to 2²⁶ voxels).
 @group(1) @binding(1) var<storage, read_write> voxel_keys: array<atomic<u32>>;
+@group(1) @binding(5) var<storage, read_write> voxel_keys_hi: array<atomic<u32>>;
 @group(1) @binding(2) var<storage, read_write> occupancy_bits: array<atomic<u32>>;
 @group(1) @binding(3) var field_out: texture_storage_3d<rgba16float, write>;
 @group(1) @binding(4) var light_out: texture_storage_3d<rgba16float, write>;
@@ -72,6 +76,33 @@ const LIGHT_MAX_STEPS: u32 = 1024u;
 // Workgroups per dispatch row of `splat`: SPLAT_ROW of
 // src/methods/raymarch/baked.rs (a test compares them).
 const SPLAT_ROW: u32 = 32768u;
+
+// Keys in the first buffer: KEY_SPLIT of src/methods/raymarch/baked.rs (a
+// test compares them).
+const KEY_SPLIT: u32 = 33554432u;
+
+fn key_load(i: u32) -> u32 {
+    if i < KEY_SPLIT {
+        return atomicLoad(&voxel_keys[i]);
+    }
+    return atomicLoad(&voxel_keys_hi[i - KEY_SPLIT]);
+}
+
+fn key_max(i: u32, key: u32) {
+    if i < KEY_SPLIT {
+        atomicMax(&voxel_keys[i], key);
+    } else {
+        atomicMax(&voxel_keys_hi[i - KEY_SPLIT], key);
+    }
+}
+
+// The key, zeroed for the next bake.
+fn key_take(i: u32) -> u32 {
+    if i < KEY_SPLIT {
+        return atomicExchange(&voxel_keys[i], 0u);
+    }
+    return atomicExchange(&voxel_keys_hi[i - KEY_SPLIT], 0u);
+}
 
 fn voxel_index(v: vec3<u32>, dims: vec3<u32>) -> u32 {
     return v.x + dims.x * (v.y + dims.y * v.z);
@@ -151,8 +182,8 @@ fn splat(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_index) 
         let idx = keys0 + voxel_index(v, dims);
         // Keys only grow: a read that already holds as much spares the
         // atomic (a stale smaller read just folds).
-        if key != 0u && key > atomicLoad(&voxel_keys[idx]) {
-            atomicMax(&voxel_keys[idx], key);
+        if key != 0u && key > key_load(idx) {
+            key_max(idx, key);
         }
     }
 }
@@ -178,7 +209,7 @@ fn splatted_density(l: u32, p: vec3<f32>) -> f32 {
         return 0.0;
     }
     let v = vec3<u32>(clip_rel(l, p));
-    let key = atomicLoad(&voxel_keys[clip.levels[l].offsets.y + voxel_index(v, clip_dims(l))]);
+    let key = key_load(clip.levels[l].offsets.y + voxel_index(v, clip_dims(l)));
     if key == 0u {
         return 0.0;
     }
@@ -234,7 +265,7 @@ fn resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
     if any(v >= dims) {
         return;
     }
-    let key = atomicExchange(&voxel_keys[clip.levels[l].offsets.y + voxel_index(v, dims)], 0u);
+    let key = key_take(clip.levels[l].offsets.y + voxel_index(v, dims));
     // No parcel reaches the voxel: v = −1 and its own height as the plane,
     // as the exact field gives.
     var value = -1.0;

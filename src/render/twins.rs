@@ -298,6 +298,7 @@ fn constants_shared_with_rust_match() {
     };
     assert_eq!(wgsl_const(&bake, "BAKE_BLOCK"), baked::BAKE_BLOCK as f64);
     assert_eq!(wgsl_const(&bake, "SPLAT_ROW"), baked::SPLAT_ROW as f64);
+    assert_eq!(wgsl_const(&bake, "KEY_SPLIT"), baked::KEY_SPLIT as f64);
     assert_eq!(
         wgsl_const(&bake, "MAX_CLIP_LEVELS"),
         crate::methods::raymarch::clipmap::MAX_CLIP_LEVELS as f64

@@ -56,6 +56,10 @@ pub use crate::methods::raymarch::clipmap::MAX_BAKE_VOXELS;
 /// Voxels per coarse occupancy cell along each axis: BAKE_BLOCK of
 /// shaders/raymarch/bake.wgsl (a test compares them).
 pub const BAKE_BLOCK: u32 = 4;
+/// Keys in the splat's first key buffer (128 MiB, the binding size many
+/// devices allow at most); the rest go in a second: KEY_SPLIT of
+/// shaders/raymarch/bake.wgsl (a test compares them).
+pub const KEY_SPLIT: u64 = 1 << 25;
 /// Field texture (RGBA16F, 8 B) + the splat's key (4 B).
 pub const BYTES_PER_VOXEL: u64 = 12;
 /// Format of the field texture: R = v, G = condensation plane (m); B and A
@@ -153,8 +157,9 @@ impl BakeInfo {
 struct Store {
     /// The levels it holds (their sizes set the dispatches).
     map: Clipmap,
-    /// The splat's per-voxel keys, kept alive for the bind group.
-    _keys: wgpu::Buffer,
+    /// The splat's per-voxel keys (the first [`KEY_SPLIT`], the rest),
+    /// kept alive for the bind group.
+    _keys: [wgpu::Buffer; 2],
     occupancy: wgpu::Buffer,
     /// The light volume, one texel per coarse cell.
     light_view: wgpu::TextureView,
@@ -251,6 +256,7 @@ const JOB_ENTRIES: &[wgpu::BindGroupLayoutEntry] = &[
     compute_storage_entry(2),
     storage_texture_entry_of(3, FIELD_FORMAT, wgpu::TextureViewDimension::D3),
     storage_texture_entry_of(4, LIGHT_FORMAT, wgpu::TextureViewDimension::D3),
+    compute_storage_entry(5),
 ];
 
 /// Group 3 of the bake: the clipmap's levels (binding 3, as in the march's
@@ -530,11 +536,14 @@ impl BakedField {
     }
 
     fn make_store(&self, device: &wgpu::Device, map: &Clipmap) -> Store {
-        let keys = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("bake: voxel keys"),
-            size: 4 * map.voxels(),
-            usage: wgpu::BufferUsages::STORAGE,
-            mapped_at_creation: false,
+        let n = map.voxels();
+        let keys = [n.min(KEY_SPLIT), n.saturating_sub(KEY_SPLIT)].map(|k| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("bake: voxel keys"),
+                size: 4 * k.max(1),
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            })
         });
         let occupancy = occupancy_buffer(device, map.occupancy_cells());
         let light_view =
@@ -553,7 +562,7 @@ impl BakedField {
                 },
                 wgpu::BindGroupEntry {
                     binding: 1,
-                    resource: keys.as_entire_binding(),
+                    resource: keys[0].as_entire_binding(),
                 },
                 wgpu::BindGroupEntry {
                     binding: 2,
@@ -566,6 +575,10 @@ impl BakedField {
                 wgpu::BindGroupEntry {
                     binding: 4,
                     resource: wgpu::BindingResource::TextureView(&light_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: keys[1].as_entire_binding(),
                 },
             ],
         });

@@ -30,6 +30,8 @@ use crate::methods::raymarch::region::{parcel_box, wanted_voxel_m};
 /// within 20 km of the camera is 3.7·10⁷ voxels in level 0 alone; 2²⁵
 /// would leave 19 km.
 pub const MAX_BAKE_VOXELS: u64 = 1 << 26;
+// The splat's keys fit its two key buffers (baked.rs).
+const _: () = assert!(MAX_BAKE_VOXELS <= 2 * crate::methods::raymarch::baked::KEY_SPLIT);
 /// Most levels: MAX_CLIP_LEVELS of shaders/raymarch/clipmap.wgsl (a test
 /// compares them). Five levels at 2× steps take a 40 km level-0 square to
 /// 640 km, more than any scene holds.
