@@ -113,3 +113,58 @@ fn landscape_100km_renders_with_50_m_voxels_within_20_km_of_the_camera() {
         w * h
     );
 }
+
+#[test]
+fn the_clipmap_follows_the_camera_past_its_grid_and_not_before() {
+    let Some(ctx) = common::context("GPU clipmap test") else {
+        return;
+    };
+    // 41 × 41 parcels over 100 km × 100 km in a layer 1.4–2.3 km high;
+    // a 150 m shell asks for 45 m voxels, far more than one volume holds.
+    let mut parcels = Vec::new();
+    for i in 0..41 {
+        for j in 0..41 {
+            let c = Vec3::new(i as f32 * 2500.0 - 50_000.0, j as f32 * 2500.0 - 50_000.0, 1800.0);
+            parcels.push(cumulus::physics::CloudParcel {
+                id: (i * 41 + j) as u64,
+                center_m: c + Vec3::new(0.0, 0.0, ((i * j) % 3) as f32 * 150.0),
+                radius_m: 180.0,
+                fill: 1.0,
+                cond_plane_z_m: 1600.0,
+            });
+        }
+    }
+    let cfg = cumulus::config::RenderConfig {
+        shell_m: 150.0,
+        terrain: cumulus::config::TerrainConfig {
+            enabled: false,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let mut hl = Headless::new(&ctx, &cfg, 32, 24).unwrap();
+    let at = |x: f32| Camera {
+        position: Vec3::new(x, -30_000.0, 900.0),
+        target: Vec3::new(x, 0.0, 1800.0),
+        vfov_rad: 50f32.to_radians(),
+        near_m: 10.0,
+        far_m: 150_000.0,
+    };
+    let mut bakes_at = |x: f32| {
+        let input = FrameInput {
+            camera: at(x),
+            parcels: &parcels,
+            sun: cfg.sun(),
+            time_s: 0.0,
+        };
+        hl.render(&ctx, &input).unwrap();
+        hl.renderer.bake_info()
+    };
+    let first = bakes_at(0.0);
+    assert!(first.levels > 1, "{first:?}");
+    // 100 m: inside the camera's grid cell (8 level-0 cells, 1.4 km), the
+    // same levels, no bake.
+    assert_eq!(bakes_at(100.0).bakes, first.bakes);
+    // 5 km: past the grid line, the levels move and the field re-bakes.
+    assert_eq!(bakes_at(5000.0).bakes, first.bakes + 1);
+}
