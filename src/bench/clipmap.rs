@@ -70,7 +70,11 @@ pub fn landscape_100km(overrides: &[String]) -> Result<ClipmapRow> {
 
 /// The report's line.
 pub fn markdown(row: &ClipmapRow) -> String {
-    let sides: Vec<String> = row.level_voxel_m.iter().map(|v| format!("{v:.0}")).collect();
+    let sides: Vec<String> = row
+        .level_voxel_m
+        .iter()
+        .map(|v| format!("{v:.0}"))
+        .collect();
     format!(
         "- 100 km landscape ({} cloud parcels): {} clipmap levels of {} m voxels; coarsest within {:.0} km of the camera {:.0} m (target ≤ {FINE_VOXEL_M:.0}: {})\n",
         row.parcels,
@@ -78,6 +82,10 @@ pub fn markdown(row: &ClipmapRow) -> String {
         sides.join(", "),
         NEAR_M / 1000.0,
         row.near_voxel_m,
-        if row.near_voxel_m <= FINE_VOXEL_M { "met" } else { "NOT met" }
+        if row.near_voxel_m <= FINE_VOXEL_M {
+            "met"
+        } else {
+            "NOT met"
+        }
     )
 }

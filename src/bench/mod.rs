@@ -18,8 +18,8 @@
 //! metrics and Pareto fronts; [`report`] and [`plots`] write the files.
 
 pub mod accuracy;
-pub mod clipmap;
 mod charts;
+pub mod clipmap;
 pub mod gpu_check;
 pub mod landscape;
 pub mod measure;

@@ -283,7 +283,15 @@ pub(crate) fn wgsl_const(module: &naga::Module, name: &str) -> f64 {
 fn clipmap_levels_match_clipmap_rs() {
     use crate::methods::raymarch::clipmap::{ClipUniform, GpuClipLevel};
     let m = module(&raymarch::CLOUDS, &BAKED);
-    check(&m, "ClipLevel", rust_layout!(GpuClipLevel { min_voxel, cells, offsets }));
+    check(
+        &m,
+        "ClipLevel",
+        rust_layout!(GpuClipLevel {
+            min_voxel,
+            cells,
+            offsets
+        }),
+    );
     check(&m, "Clipmap", rust_layout!(ClipUniform { count, levels }));
 }
 

@@ -45,12 +45,17 @@ use glam::Vec3;
 
 use crate::error::{Error, Result};
 use crate::gpu::GpuContext;
-use crate::gpu::layouts::{compute_storage_entry, storage_texture_entry_of};
+use crate::methods::raymarch::bake_gpu::{
+    CLIP_ENTRIES, FRAME_ENTRIES, JOB_ENTRIES, occupancy_buffer, parcel_buffer, pyramid_dispatch,
+    source, splat_workgroups, volume_texture,
+};
 use crate::gpu::uniform::GridInfo;
 use crate::methods::raymarch::clipmap::{ClipUniform, Clipmap, clipmap};
 use crate::methods::raymarch::pack::{self, GpuParcel};
 use crate::physics::CloudParcel;
 
+pub use crate::methods::raymarch::bake_gpu::requirement;
+pub use crate::methods::raymarch::bake_info::BakeInfo;
 pub use crate::methods::raymarch::clipmap::MAX_BAKE_VOXELS;
 
 /// Voxels per coarse occupancy cell along each axis: BAKE_BLOCK of
@@ -101,58 +106,8 @@ pub fn occupancy_cells(cells: [u32; 3]) -> u64 {
 /// rows along y): SPLAT_ROW of shaders/raymarch/bake.wgsl (a test compares
 /// them). Under the 65535 per dimension every device allows.
 pub const SPLAT_ROW: u32 = 32768;
-const PARCEL_BYTES: u64 = std::mem::size_of::<GpuParcel>() as u64;
+pub(super) const PARCEL_BYTES: u64 = std::mem::size_of::<GpuParcel>() as u64;
 
-/// What the last bake covered.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct BakeInfo {
-    /// Voxel side of the finest level. units: m
-    pub voxel_m: f32,
-    /// Clipmap levels (1: the parcels' whole box).
-    pub levels: u32,
-    /// Voxel side the radii asked for, before the memory cap. units: m
-    pub wanted_voxel_m: f32,
-    /// How many times the voxel was enlarged to fit [`MAX_BAKE_VOXELS`].
-    pub coarsened: u32,
-    /// Voxels per axis of the stacked field texture.
-    pub dims: [u32; 3],
-    /// GPU memory of the field. units: bytes
-    pub bytes: u64,
-    /// Bakes run so far (a bake runs only when parcels moved).
-    pub bakes: u64,
-}
-
-impl BakeInfo {
-    /// What to tell the user when the memory cap made the voxels coarser
-    /// than the parcel radii asked for (the CLI prints it, the window's
-    /// panel shows it); None when it did not.
-    pub fn coarsening_note(&self) -> Option<String> {
-        (self.coarsened > 0).then(|| {
-            format!(
-                "the baked cloud field uses {:.0} m voxels instead of {:.0} m to stay within {} voxels (clouds cover a large region)",
-                self.voxel_m, self.wanted_voxel_m, MAX_BAKE_VOXELS
-            )
-        })
-    }
-}
-
-impl BakeInfo {
-    /// The clipmap's levels and their voxels, when there are several (the
-    /// CLI prints it): e.g. "3 camera-centred levels of 45, 90, 181 m
-    /// voxels".
-    pub fn levels_note(&self) -> Option<String> {
-        (self.levels > 1).then(|| {
-            let sides: Vec<String> = (0..self.levels)
-                .map(|k| format!("{:.0}", self.voxel_m * (1u32 << k) as f32))
-                .collect();
-            format!(
-                "the baked cloud field has {} camera-centred levels of {} m voxels",
-                self.levels,
-                sides.join(", ")
-            )
-        })
-    }
-}
 
 struct Store {
     /// The levels it holds (their sizes set the dispatches).
@@ -202,92 +157,6 @@ pub struct BakedField {
     pub generation: u64,
 }
 
-/// A 3D texture the bake writes and the march samples.
-fn volume_texture(
-    device: &wgpu::Device,
-    label: &str,
-    format: wgpu::TextureFormat,
-    dims: [u32; 3],
-) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: dims[0],
-            height: dims[1],
-            depth_or_array_layers: dims[2],
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D3,
-        format,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::STORAGE_BINDING
-            | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    })
-}
-
-/// Group 0 of the bake: the frame uniform.
-const FRAME_ENTRIES: &[wgpu::BindGroupLayoutEntry] = &[wgpu::BindGroupLayoutEntry {
-    binding: 0,
-    visibility: wgpu::ShaderStages::COMPUTE,
-    ty: wgpu::BindingType::Buffer {
-        ty: wgpu::BufferBindingType::Uniform,
-        has_dynamic_offset: false,
-        min_binding_size: None,
-    },
-    count: None,
-}];
-
-/// Group 1 of the bake: the parcels, the accumulators, and the field and
-/// light volumes it writes.
-const JOB_ENTRIES: &[wgpu::BindGroupLayoutEntry] = &[
-    wgpu::BindGroupLayoutEntry {
-        binding: 0,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: true },
-            has_dynamic_offset: false,
-            min_binding_size: wgpu::BufferSize::new(PARCEL_BYTES),
-        },
-        count: None,
-    },
-    compute_storage_entry(1),
-    compute_storage_entry(2),
-    storage_texture_entry_of(3, FIELD_FORMAT, wgpu::TextureViewDimension::D3),
-    storage_texture_entry_of(4, LIGHT_FORMAT, wgpu::TextureViewDimension::D3),
-    compute_storage_entry(5),
-];
-
-/// Group 3 of the bake: the clipmap's levels (binding 3, as in the march's
-/// group 3; shaders/raymarch/clipmap.wgsl).
-const CLIP_ENTRIES: &[wgpu::BindGroupLayoutEntry] = &[wgpu::BindGroupLayoutEntry {
-    binding: 3,
-    visibility: wgpu::ShaderStages::COMPUTE,
-    ty: wgpu::BindingType::Buffer {
-        ty: wgpu::BufferBindingType::Uniform,
-        has_dynamic_offset: false,
-        min_binding_size: None,
-    },
-    count: None,
-}];
-
-/// The bake's module.
-fn source() -> std::result::Result<String, crate::gpu::shaders::ImportError> {
-    crate::gpu::shaders::assemble_with("raymarch/bake.wgsl", &[], &super::passes::BAKED)
-        .map(|a| a.source)
-}
-
-/// What the bake needs from the device (checked before it is built).
-pub fn requirement() -> crate::gpu::requires::Requirement {
-    crate::gpu::requires::Requirement::of(
-        "bake",
-        true,
-        None,
-        &[Some(FRAME_ENTRIES), Some(JOB_ENTRIES), None, Some(CLIP_ENTRIES)],
-        &source().unwrap_or_default(),
-    )
-}
 
 impl BakedField {
     /// The bake's pipelines (counted in `built`) over the frame uniform.
@@ -650,49 +519,4 @@ impl BakedField {
         self.dirty = false;
         self.info.bakes += 1;
     }
-}
-
-/// Workgroups (4³ threads) of pyramid level `p` over every clip level:
-/// the widest level's cells across, each clip level's slices one after the
-/// other along z, as many as the deepest level's rounded up to a
-/// workgroup (bake.wgsl `pyramid_slices`).
-fn pyramid_dispatch(map: &Clipmap, p: u32) -> [u32; 3] {
-    let dims = |cells: [u32; 3]| {
-        let mut d = cells;
-        for _ in 0..p {
-            d = d.map(|n| n.div_ceil(OCCUPANCY_FACTOR));
-        }
-        d
-    };
-    let widest = |a: usize| map.levels.iter().map(|l| dims(l.cells)[a]).max().unwrap_or(1);
-    let slices = widest(2).div_ceil(4) * 4;
-    [
-        widest(0).div_ceil(4),
-        widest(1).div_ceil(4),
-        slices * map.levels.len() as u32 / 4,
-    ]
-}
-
-/// The splat's dispatch for `n` parcels: rows of [`SPLAT_ROW`] workgroups
-/// (the shader skips those past the count).
-fn splat_workgroups(n: u32) -> [u32; 2] {
-    [n.clamp(1, SPLAT_ROW), n.div_ceil(SPLAT_ROW).max(1)]
-}
-
-fn parcel_buffer(device: &wgpu::Device, parcels: u64) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("bake: parcels"),
-        size: parcels.max(1) * PARCEL_BYTES,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    })
-}
-
-fn occupancy_buffer(device: &wgpu::Device, cells: u64) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("bake: occupancy"),
-        size: 4 * cells.max(1),
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    })
 }

@@ -310,7 +310,10 @@ mod tests {
 
     #[test]
     fn a_small_scene_is_one_level_the_padded_box() {
-        let live = [parcel(0.0, 0.0, 2000.0, 400.0), parcel(900.0, 0.0, 2500.0, 400.0)];
+        let live = [
+            parcel(0.0, 0.0, 2000.0, 400.0),
+            parcel(900.0, 0.0, 2500.0, 400.0),
+        ];
         let m = clipmap(&live, 280.0, Vec3::new(-5000.0, 0.0, 100.0));
         assert_eq!(m.levels.len(), 1);
         assert_eq!(m.coarsened, 0);

@@ -51,8 +51,14 @@ fn landscape_100km_renders_with_50_m_voxels_within_20_km_of_the_camera() {
     // Every point of the cloud layer (lowest condensation plane to highest
     // centre) within 20 km of the camera that the field covers, every
     // 500 m across and at five heights.
-    let z0 = parcels.iter().map(|p| p.cond_plane_z_m).fold(f32::MAX, f32::min);
-    let z1 = parcels.iter().map(|p| p.center_m.z).fold(f32::MIN, f32::max);
+    let z0 = parcels
+        .iter()
+        .map(|p| p.cond_plane_z_m)
+        .fold(f32::MAX, f32::min);
+    let z1 = parcels
+        .iter()
+        .map(|p| p.center_m.z)
+        .fold(f32::MIN, f32::max);
     let (top_min, top_max) = (map.top().min, map.top().max());
     let mut checked = 0;
     for i in -40..=40 {
@@ -105,7 +111,12 @@ fn landscape_100km_renders_with_50_m_voxels_within_20_km_of_the_camera() {
     let changed = clear
         .chunks(4)
         .zip(cloudy.chunks(4))
-        .filter(|(a, b)| a.iter().zip(b.iter()).take(3).any(|(x, y)| x.abs_diff(*y) > 8))
+        .filter(|(a, b)| {
+            a.iter()
+                .zip(b.iter())
+                .take(3)
+                .any(|(x, y)| x.abs_diff(*y) > 8)
+        })
         .count();
     assert!(
         changed * 20 > (w * h) as usize,
@@ -124,7 +135,11 @@ fn the_clipmap_follows_the_camera_past_its_grid_and_not_before() {
     let mut parcels = Vec::new();
     for i in 0..41 {
         for j in 0..41 {
-            let c = Vec3::new(i as f32 * 2500.0 - 50_000.0, j as f32 * 2500.0 - 50_000.0, 1800.0);
+            let c = Vec3::new(
+                i as f32 * 2500.0 - 50_000.0,
+                j as f32 * 2500.0 - 50_000.0,
+                1800.0,
+            );
             parcels.push(cumulus::physics::CloudParcel {
                 id: (i * 41 + j) as u64,
                 center_m: c + Vec3::new(0.0, 0.0, ((i * j) % 3) as f32 * 150.0),
