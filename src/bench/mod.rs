@@ -19,6 +19,7 @@
 
 pub mod accuracy;
 mod charts;
+pub mod clipmap;
 pub mod gpu_check;
 pub mod landscape;
 pub mod measure;
@@ -333,6 +334,8 @@ pub struct BenchResults {
     /// The landscape scene with temporal upscaling off, 2x2 and 4x4
     /// (landscape.csv).
     pub landscape: Vec<landscape::LandscapeRow>,
+    /// The 100 km landscape's clipmap (not in the tiny mode).
+    pub clipmap: Option<clipmap::ClipmapRow>,
 }
 
 /// The commit being measured: `$CUMULUS_COMMIT` (for a release binary
@@ -444,6 +447,9 @@ pub fn run_with(ctx: &GpuContext, opts: &Options) -> Result<BenchResults> {
     let slices = slices_field::slices_rows(ctx, size, plan.reps, &opts.overrides, tick)?;
     let landscape = landscape::landscape(ctx, opts.mode, plan.reps, &opts.overrides)?;
     tick("landscape");
+    let clipmap = (opts.mode != Mode::Tiny)
+        .then(|| clipmap::landscape_100km(&opts.overrides))
+        .transpose()?;
     bar.finish_and_clear();
 
     let results = BenchResults {
@@ -457,6 +463,7 @@ pub fn run_with(ctx: &GpuContext, opts: &Options) -> Result<BenchResults> {
         pathtraced: pathtraced::read(&opts.out)?,
         methods,
         landscape,
+        clipmap,
     };
     report::write_all(&opts.out, &results)?;
     methods::write(&opts.out, &results.methods, width, height)?;

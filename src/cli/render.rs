@@ -388,6 +388,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         {
             eprintln!("note: {note}");
         }
+        if cfg.method == cumulus::config::RenderMethod::Baked
+            && let Some(note) = bake.levels_note()
+        {
+            eprintln!("{note}");
+        }
         let st = headless.renderer.sprite_stats();
         let sprites = if st.sprites > 0 {
             format!(

@@ -284,6 +284,22 @@ pub(crate) fn wgsl_const(module: &naga::Module, name: &str) -> f64 {
 }
 
 #[test]
+fn clipmap_levels_match_clipmap_rs() {
+    use crate::methods::raymarch::clipmap::{ClipUniform, GpuClipLevel};
+    let m = module(&raymarch::CLOUDS, &BAKED);
+    check(
+        &m,
+        "ClipLevel",
+        rust_layout!(GpuClipLevel {
+            min_voxel,
+            cells,
+            offsets
+        }),
+    );
+    check(&m, "Clipmap", rust_layout!(ClipUniform { count, levels }));
+}
+
+#[test]
 fn constants_shared_with_rust_match() {
     use crate::methods::raymarch::baked;
     let bake = {
@@ -294,6 +310,11 @@ fn constants_shared_with_rust_match() {
     };
     assert_eq!(wgsl_const(&bake, "BAKE_BLOCK"), baked::BAKE_BLOCK as f64);
     assert_eq!(wgsl_const(&bake, "SPLAT_ROW"), baked::SPLAT_ROW as f64);
+    assert_eq!(wgsl_const(&bake, "KEY_SPLIT"), baked::KEY_SPLIT as f64);
+    assert_eq!(
+        wgsl_const(&bake, "MAX_CLIP_LEVELS"),
+        crate::methods::raymarch::clipmap::MAX_CLIP_LEVELS as f64
+    );
     assert_eq!(
         wgsl_const(&bake, "OCCUPANCY_LEVELS"),
         baked::OCCUPANCY_LEVELS as f64

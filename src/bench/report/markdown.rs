@@ -380,6 +380,9 @@ pub fn report_md(r: &BenchResults) -> String {
         );
     }
     let _ = writeln!(s, "\n{}", scaling_targets(&r.scaling));
+    if let Some(c) = &r.clipmap {
+        s.push_str(&crate::bench::clipmap::markdown(c));
+    }
 
     let all = r.pruning.first().map_or(f64::NAN, |p| p.frame_ms);
     let _ = writeln!(

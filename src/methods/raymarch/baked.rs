@@ -2,9 +2,11 @@
 //! the condensed parcels go up in one read-only storage buffer (any count:
 //! one splat dispatch for all of them, in workgroup rows of [`SPLAT_ROW`]),
 //! are splatted
-//! into a 3D texture of the macro field M = max f·(d+1) − 1 over the region
-//! of the condensed parcels, and a coarse occupancy grid (one cell per
-//! [`BAKE_BLOCK`]³ voxels) lets the march skip empty space. A light volume,
+//! into a 3D texture of the macro field M = max f·(d+1) − 1 over the
+//! levels of a camera-centred clipmap ([`super::clipmap`]: the condensed
+//! parcels' box when it fits, else nested levels at 2× voxel steps), and
+//! a coarse occupancy pyramid per level (one cell per [`BAKE_BLOCK`]³
+//! voxels at its foot) lets the march skip empty space. A light volume,
 //! its own 3D texture ([`LIGHT_FORMAT`]) with one texel per coarse cell,
 //! holds the optical depth of the parcels toward the sun and straight up
 //! over the region's whole height (bake.wgsl `light`); the march samples it
@@ -33,26 +35,36 @@
 //!
 //! Memory. The field costs [`BYTES_PER_VOXEL`] bytes a voxel (RGBA16F
 //! texture + one u32 key; the light volume's 8 B a coarse cell,
-//! ⅛ B a voxel, are left out), at most [`MAX_BAKE_VOXELS`] voxels (96 MiB
-//! of field): a larger region (a 40 km × 40 km × 12 km landscape
-//! needs ~2.4·10⁷ voxels at 84 m) gets coarser voxels, counted in
-//! [`BakeInfo::coarsened`] and shown by the front ends.
+//! ⅛ B a voxel, are left out), at most [`MAX_BAKE_VOXELS`] voxels over all
+//! the levels (768 MiB of field): a box that does not fit at the wanted
+//! voxel is split into camera-centred levels, and only when no level count
+//! fits does the finest voxel grow, counted in [`BakeInfo::coarsened`] and
+//! shown by the front ends.
 
 use glam::Vec3;
 
 use crate::error::{Error, Result};
 use crate::gpu::GpuContext;
-use crate::gpu::layouts::{compute_storage_entry, storage_texture_entry_of};
+use crate::methods::raymarch::bake_gpu::{
+    CLIP_ENTRIES, FRAME_ENTRIES, JOB_ENTRIES, occupancy_buffer, parcel_buffer, pyramid_dispatch,
+    source, splat_workgroups, volume_texture,
+};
 use crate::gpu::uniform::GridInfo;
+use crate::methods::raymarch::clipmap::{ClipUniform, Clipmap, clipmap};
 use crate::methods::raymarch::pack::{self, GpuParcel};
-use crate::methods::raymarch::region::{Region, region};
 use crate::physics::CloudParcel;
+
+pub use crate::methods::raymarch::bake_gpu::requirement;
+pub use crate::methods::raymarch::bake_info::BakeInfo;
+pub use crate::methods::raymarch::clipmap::MAX_BAKE_VOXELS;
 
 /// Voxels per coarse occupancy cell along each axis: BAKE_BLOCK of
 /// shaders/raymarch/bake.wgsl (a test compares them).
 pub const BAKE_BLOCK: u32 = 4;
-/// Most voxels of the baked field.
-pub const MAX_BAKE_VOXELS: u64 = 1 << 23;
+/// Keys in the splat's first key buffer (128 MiB, the binding size many
+/// devices allow at most); the rest go in a second: KEY_SPLIT of
+/// shaders/raymarch/bake.wgsl (a test compares them).
+pub const KEY_SPLIT: u64 = 1 << 25;
 /// Field texture (RGBA16F, 8 B) + the splat's key (4 B).
 pub const BYTES_PER_VOXEL: u64 = 12;
 /// Format of the field texture: R = v, G = condensation plane (m); B and A
@@ -94,43 +106,15 @@ pub fn occupancy_cells(cells: [u32; 3]) -> u64 {
 /// rows along y): SPLAT_ROW of shaders/raymarch/bake.wgsl (a test compares
 /// them). Under the 65535 per dimension every device allows.
 pub const SPLAT_ROW: u32 = 32768;
-const PARCEL_BYTES: u64 = std::mem::size_of::<GpuParcel>() as u64;
+pub(super) const PARCEL_BYTES: u64 = std::mem::size_of::<GpuParcel>() as u64;
 
-/// What the last bake covered.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct BakeInfo {
-    /// Voxel side. units: m
-    pub voxel_m: f32,
-    /// Voxel side the radii asked for, before the memory cap. units: m
-    pub wanted_voxel_m: f32,
-    /// How many times the voxel was enlarged to fit [`MAX_BAKE_VOXELS`].
-    pub coarsened: u32,
-    /// Voxels per axis.
-    pub dims: [u32; 3],
-    /// GPU memory of the field. units: bytes
-    pub bytes: u64,
-    /// Bakes run so far (a bake runs only when parcels moved).
-    pub bakes: u64,
-}
-
-impl BakeInfo {
-    /// What to tell the user when the memory cap made the voxels coarser
-    /// than the parcel radii asked for (the CLI prints it, the window's
-    /// panel shows it); None when it did not.
-    pub fn coarsening_note(&self) -> Option<String> {
-        (self.coarsened > 0).then(|| {
-            format!(
-                "the baked cloud field uses {:.0} m voxels instead of {:.0} m to stay within {} voxels (clouds cover a large region)",
-                self.voxel_m, self.wanted_voxel_m, MAX_BAKE_VOXELS
-            )
-        })
-    }
-}
 
 struct Store {
-    dims: [u32; 3],
-    /// The splat's per-voxel keys, kept alive for the bind group.
-    _keys: wgpu::Buffer,
+    /// The levels it holds (their sizes set the dispatches).
+    map: Clipmap,
+    /// The splat's per-voxel keys (the first [`KEY_SPLIT`], the rest),
+    /// kept alive for the bind group.
+    _keys: [wgpu::Buffer; 2],
     occupancy: wgpu::Buffer,
     /// The light volume, one texel per coarse cell.
     light_view: wgpu::TextureView,
@@ -156,10 +140,15 @@ pub struct BakedField {
     empty_view: wgpu::TextureView,
     empty_light_view: wgpu::TextureView,
     empty_occupancy: wgpu::Buffer,
+    /// The clipmap's levels as the shaders read them (group 3, binding 3
+    /// of the bake and of the march).
+    clip_buf: wgpu::Buffer,
+    clip_bind: wgpu::BindGroup,
     /// Parcels, shell and sun direction of the last bake (re-bake only when
     /// they change).
     last: Option<(Vec<GpuParcel>, f32, Vec3)>,
-    region: Option<Region>,
+    /// The levels of the last bake (re-bake when the camera moves them).
+    map: Option<Clipmap>,
     parcel_count: u32,
     dirty: bool,
     info: BakeInfo,
@@ -168,78 +157,6 @@ pub struct BakedField {
     pub generation: u64,
 }
 
-/// A 3D texture the bake writes and the march samples.
-fn volume_texture(
-    device: &wgpu::Device,
-    label: &str,
-    format: wgpu::TextureFormat,
-    dims: [u32; 3],
-) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: dims[0],
-            height: dims[1],
-            depth_or_array_layers: dims[2],
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D3,
-        format,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::STORAGE_BINDING
-            | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    })
-}
-
-/// Group 0 of the bake: the frame uniform.
-const FRAME_ENTRIES: &[wgpu::BindGroupLayoutEntry] = &[wgpu::BindGroupLayoutEntry {
-    binding: 0,
-    visibility: wgpu::ShaderStages::COMPUTE,
-    ty: wgpu::BindingType::Buffer {
-        ty: wgpu::BufferBindingType::Uniform,
-        has_dynamic_offset: false,
-        min_binding_size: None,
-    },
-    count: None,
-}];
-
-/// Group 1 of the bake: the parcels, the accumulators, and the field and
-/// light volumes it writes.
-const JOB_ENTRIES: &[wgpu::BindGroupLayoutEntry] = &[
-    wgpu::BindGroupLayoutEntry {
-        binding: 0,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: true },
-            has_dynamic_offset: false,
-            min_binding_size: wgpu::BufferSize::new(PARCEL_BYTES),
-        },
-        count: None,
-    },
-    compute_storage_entry(1),
-    compute_storage_entry(2),
-    storage_texture_entry_of(3, FIELD_FORMAT, wgpu::TextureViewDimension::D3),
-    storage_texture_entry_of(4, LIGHT_FORMAT, wgpu::TextureViewDimension::D3),
-];
-
-/// The bake's module.
-fn source() -> std::result::Result<String, crate::gpu::shaders::ImportError> {
-    crate::gpu::shaders::assemble_with("raymarch/bake.wgsl", &[], &super::passes::BAKED)
-        .map(|a| a.source)
-}
-
-/// What the bake needs from the device (checked before it is built).
-pub fn requirement() -> crate::gpu::requires::Requirement {
-    crate::gpu::requires::Requirement::of(
-        "bake",
-        true,
-        None,
-        &[Some(FRAME_ENTRIES), Some(JOB_ENTRIES)],
-        &source().unwrap_or_default(),
-    )
-}
 
 impl BakedField {
     /// The bake's pipelines (counted in `built`) over the frame uniform.
@@ -261,6 +178,24 @@ impl BakedField {
                 resource: frame_buf.as_entire_binding(),
             }],
         });
+        let clip_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("bake: clipmap"),
+            entries: CLIP_ENTRIES,
+        });
+        let clip_buf = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("bake: clipmap levels"),
+            size: std::mem::size_of::<ClipUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let clip_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("bake: clipmap"),
+            layout: &clip_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 3,
+                resource: clip_buf.as_entire_binding(),
+            }],
+        });
         let source = source().map_err(|e| Error::Gpu(format!("assembling the bake: {e}")))?;
         let (splat, light, resolve, pyramid) = crate::gpu::catching(device, "creating the bake pipelines", || {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -269,7 +204,7 @@ impl BakedField {
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("bake"),
-            bind_group_layouts: &[Some(&frame_layout), Some(&layout)],
+            bind_group_layouts: &[Some(&frame_layout), Some(&layout), None, Some(&clip_layout)],
             immediate_size: 0,
         });
         let compute = |entry: &str| {
@@ -322,8 +257,10 @@ impl BakedField {
             empty_light_view: volume_texture(device, "bake: light volume", LIGHT_FORMAT, [1, 1, 1])
                 .create_view(&Default::default()),
             empty_occupancy: occupancy_buffer(device, 1),
+            clip_buf,
+            clip_bind,
             last: None,
-            region: None,
+            map: None,
             parcel_count: 0,
             dirty: false,
             info: BakeInfo::default(),
@@ -331,17 +268,23 @@ impl BakedField {
         })
     }
 
-    /// The field texture, light volume and occupancy buffer the march
-    /// reads.
-    pub fn field(&self) -> (&wgpu::TextureView, &wgpu::TextureView, &wgpu::Buffer) {
+    /// The field texture, light volume, occupancy buffer and clipmap
+    /// uniform the march reads.
+    pub fn field(&self) -> (&wgpu::TextureView, &wgpu::TextureView, &wgpu::Buffer, &wgpu::Buffer) {
         match &self.store {
-            Some(s) => (&s.view, &s.light_view, &s.occupancy),
+            Some(s) => (&s.view, &s.light_view, &s.occupancy, &self.clip_buf),
             None => (
                 &self.empty_view,
                 &self.empty_light_view,
                 &self.empty_occupancy,
+                &self.clip_buf,
             ),
         }
+    }
+
+    /// The levels of the last bake (None before any).
+    pub fn clipmap(&self) -> Option<&Clipmap> {
+        self.map.as_ref().filter(|_| self.parcel_count > 0)
     }
 
     /// What the last bake covered.
@@ -363,9 +306,10 @@ impl BakedField {
     }
 
     /// Takes this frame's parcels: when they (or the shell, or the sun
-    /// direction `sun`) changed since the last bake, uploads them and marks
-    /// the field for a bake. Returns the coarse grid the march uses (the
-    /// frame's grid).
+    /// direction `sun`, or the clipmap's levels around the `camera`)
+    /// changed since the last bake, uploads them and marks the field for a
+    /// bake. Returns the coarse grid the march uses (the frame's grid: the
+    /// clipmap's last level, the whole box).
     pub fn update(
         &mut self,
         ctx: &GpuContext,
@@ -373,47 +317,54 @@ impl BakedField {
         shell_m: f32,
         radius_scale: f32,
         sun: Vec3,
+        camera: Vec3,
     ) -> Result<GridInfo> {
         let live = pack::gpu_parcels(parcels, shell_m, radius_scale)?;
-        let unchanged = self
-            .last
-            .as_ref()
-            .is_some_and(|(p, s, d)| *s == shell_m && *d == sun && *p == live);
+        let map = (!live.is_empty()).then(|| clipmap(&live, shell_m, camera));
+        let unchanged = self.map == map
+            && self
+                .last
+                .as_ref()
+                .is_some_and(|(p, s, d)| *s == shell_m && *d == sun && *p == live);
         if !unchanged {
-            self.upload(ctx, &live, shell_m)?;
+            self.upload(ctx, &live, map)?;
             self.last = Some((live, shell_m, sun));
         }
         Ok(self.grid_info())
     }
 
     fn grid_info(&self) -> GridInfo {
-        match self.region.filter(|_| self.parcel_count > 0) {
-            Some(r) => GridInfo {
-                min: r.min,
-                cell: Vec3::splat(r.voxel_m * BAKE_BLOCK as f32),
-                dims: r.cells,
-                parcel_count: self.parcel_count,
-                entry_count: 0,
-                coarsened: r.coarsened,
-            },
+        match self.clipmap() {
+            Some(m) => {
+                let top = m.top();
+                GridInfo {
+                    min: top.min,
+                    cell: Vec3::splat(top.cell_m()),
+                    dims: top.cells,
+                    parcel_count: self.parcel_count,
+                    entry_count: 0,
+                    coarsened: m.coarsened,
+                }
+            }
             None => GridInfo::EMPTY,
         }
     }
 
-    fn upload(&mut self, ctx: &GpuContext, live: &[GpuParcel], shell_m: f32) -> Result<()> {
+    fn upload(&mut self, ctx: &GpuContext, live: &[GpuParcel], map: Option<Clipmap>) -> Result<()> {
         self.parcel_count = live.len() as u32;
-        if live.is_empty() {
+        self.map = map;
+        let Some(map) = self.map.clone() else {
             self.dirty = false;
             return Ok(());
-        }
+        };
         let device = &ctx.device;
-        let r = region(live, shell_m);
-        let dims = r.voxel_dims();
+        let dims = map.stacked_dims();
+        let finest = map.levels[0].voxel_m;
         let max3 = device.limits().max_texture_dimension_3d;
         if dims.iter().any(|&d| d > max3) {
             return Err(Error::Gpu(format!(
-                "the baked cloud field needs {}×{}×{} voxels of {:.0} m, more than this device's 3D texture limit of {max3} per side",
-                dims[0], dims[1], dims[2], r.voxel_m
+                "the baked cloud field needs {}×{}×{} voxels (finest {:.0} m, {} levels stacked), more than this device's 3D texture limit of {max3} per side",
+                dims[0], dims[1], dims[2], finest, map.levels.len()
             )));
         }
         let n = live.len() as u64;
@@ -425,34 +376,49 @@ impl BakedField {
         }
         ctx.queue
             .write_buffer(&self.parcels, 0, bytemuck::cast_slice(live));
-        if self.store.as_ref().map(|s| s.dims) != Some(dims) {
-            self.store = Some(self.make_store(device, dims, r.cells));
+        ctx.queue
+            .write_buffer(&self.clip_buf, 0, bytemuck::bytes_of(&map.uniform()));
+        // A new texture when the stacked sizes or the buffers' offsets
+        // change (the levels' positions alone are in the uniform).
+        let same = |s: &Store| {
+            s.map.stacked_dims() == dims
+                && s.map.voxels() == map.voxels()
+                && s.map.occupancy_cells() == map.occupancy_cells()
+        };
+        if !self.store.as_ref().is_some_and(same) {
+            self.store = Some(self.make_store(device, &map));
             self.generation += 1;
+        } else if let Some(s) = self.store.as_mut() {
+            s.map = map.clone();
         }
-        self.region = Some(r);
         self.dirty = true;
         self.info = BakeInfo {
-            voxel_m: r.voxel_m,
-            wanted_voxel_m: r.wanted_voxel_m,
-            coarsened: r.coarsened,
+            voxel_m: finest,
+            levels: map.levels.len() as u32,
+            wanted_voxel_m: map.wanted_voxel_m,
+            coarsened: map.coarsened,
             dims,
-            bytes: r.voxels() * BYTES_PER_VOXEL,
+            bytes: map.voxels() * BYTES_PER_VOXEL,
             bakes: self.info.bakes,
         };
         Ok(())
     }
 
-    fn make_store(&self, device: &wgpu::Device, dims: [u32; 3], cells: [u32; 3]) -> Store {
-        let voxels = dims.iter().map(|&d| d as u64).product::<u64>();
-        let keys = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("bake: voxel keys"),
-            size: 4 * voxels,
-            usage: wgpu::BufferUsages::STORAGE,
-            mapped_at_creation: false,
+    fn make_store(&self, device: &wgpu::Device, map: &Clipmap) -> Store {
+        let n = map.voxels();
+        let keys = [n.min(KEY_SPLIT), n.saturating_sub(KEY_SPLIT)].map(|k| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("bake: voxel keys"),
+                size: 4 * k.max(1),
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            })
         });
-        let occupancy = occupancy_buffer(device, occupancy_cells(cells));
-        let light_view = volume_texture(device, "bake: light volume", LIGHT_FORMAT, cells)
-            .create_view(&Default::default());
+        let occupancy = occupancy_buffer(device, map.occupancy_cells());
+        let light_view =
+            volume_texture(device, "bake: light volume", LIGHT_FORMAT, map.stacked_cells())
+                .create_view(&Default::default());
+        let dims = map.stacked_dims();
         let view = volume_texture(device, "baked macro field", FIELD_FORMAT, dims)
             .create_view(&Default::default());
         let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -465,7 +431,7 @@ impl BakedField {
                 },
                 wgpu::BindGroupEntry {
                     binding: 1,
-                    resource: keys.as_entire_binding(),
+                    resource: keys[0].as_entire_binding(),
                 },
                 wgpu::BindGroupEntry {
                     binding: 2,
@@ -479,10 +445,14 @@ impl BakedField {
                     binding: 4,
                     resource: wgpu::BindingResource::TextureView(&light_view),
                 },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: keys[1].as_entire_binding(),
+                },
             ],
         });
         Store {
-            dims,
+            map: map.clone(),
             _keys: keys,
             occupancy,
             light_view,
@@ -514,8 +484,9 @@ impl BakedField {
         pass.set_pipeline(&self.splat);
         pass.set_bind_group(0, &self.bind_frame, &[]);
         pass.set_bind_group(1, &store.bind, &[]);
+        pass.set_bind_group(3, &self.clip_bind, &[]);
         let [x, y] = splat_workgroups(self.parcel_count);
-        pass.dispatch_workgroups(x, y, 1);
+        pass.dispatch_workgroups(x, y, store.map.levels.len() as u32);
         drop(pass);
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("bake: resolve"),
@@ -527,49 +498,25 @@ impl BakedField {
         });
         pass.set_bind_group(0, &self.bind_frame, &[]);
         pass.set_bind_group(1, &store.bind, &[]);
+        pass.set_bind_group(3, &self.clip_bind, &[]);
         // The light volume reads the splat's accumulators before resolve
         // clears them (wgpu orders the two dispatches); resolve does not
         // read it.
         pass.set_pipeline(&self.light);
-        let c = store.dims.map(|d| d / BAKE_BLOCK);
+        let c = store.map.stacked_cells();
         pass.dispatch_workgroups(c[0].div_ceil(4), c[1].div_ceil(4), c[2].div_ceil(4));
         pass.set_pipeline(&self.resolve);
-        let d = store.dims;
+        let d = store.map.stacked_dims();
         pass.dispatch_workgroups(d[0] / 4, d[1] / 4, d[2] / 4);
-        // The pyramid's upper levels, each from the finished level below
+        // The pyramids' upper levels, each from the finished level below
         // (wgpu orders the dispatches).
-        let mut cells = c;
-        for pipeline in &self.pyramid {
-            cells = cells.map(|n| n.div_ceil(OCCUPANCY_FACTOR));
+        for (i, pipeline) in self.pyramid.iter().enumerate() {
+            let [x, y, z] = pyramid_dispatch(&store.map, i as u32 + 1);
             pass.set_pipeline(pipeline);
-            pass.dispatch_workgroups(cells[0].div_ceil(4), cells[1].div_ceil(4), cells[2].div_ceil(4));
+            pass.dispatch_workgroups(x, y, z);
         }
         drop(pass);
         self.dirty = false;
         self.info.bakes += 1;
     }
-}
-
-/// The splat's dispatch for `n` parcels: rows of [`SPLAT_ROW`] workgroups
-/// (the shader skips those past the count).
-fn splat_workgroups(n: u32) -> [u32; 2] {
-    [n.clamp(1, SPLAT_ROW), n.div_ceil(SPLAT_ROW).max(1)]
-}
-
-fn parcel_buffer(device: &wgpu::Device, parcels: u64) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("bake: parcels"),
-        size: parcels.max(1) * PARCEL_BYTES,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    })
-}
-
-fn occupancy_buffer(device: &wgpu::Device, cells: u64) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("bake: occupancy"),
-        size: 4 * cells.max(1),
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    })
 }

@@ -198,15 +198,16 @@ fn ray_slots(cfg: &RenderConfig) -> &'static Slots {
 
 /// Group 3 under `baked`: the field it last baked.
 fn bind_field(device: &wgpu::Device, layouts: &Layouts, baked: &BakedField) -> wgpu::BindGroup {
-    let (field, light, occupancy) = baked.field();
+    let (field, light, occupancy, clip) = baked.field();
     bind_in_order(
         device,
-        "baked: field, occupancy, light",
+        "baked: field, occupancy, light, clipmap",
         &layouts.get(&BAKED_FIELD),
         vec![
             wgpu::BindingResource::TextureView(field),
             occupancy.as_entire_binding(),
             wgpu::BindingResource::TextureView(light),
+            clip.as_entire_binding(),
         ],
     )
 }
@@ -260,7 +261,8 @@ impl CloudMethod for Raymarch {
             self.exact.upload(ctx, input.parcels, shell, scale)?
         } else {
             let sun = input.sun.direction.normalize();
-            self.baked.update(ctx, input.parcels, shell, scale, sun)?
+            let eye = input.camera.position;
+            self.baked.update(ctx, input.parcels, shell, scale, sun, eye)?
         };
         if self.always_bake {
             self.baked.invalidate();

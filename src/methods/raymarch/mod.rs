@@ -16,7 +16,10 @@
 //!   history; [`auto_march`] picks the faster march path.
 
 pub mod auto_march;
+mod bake_gpu;
+mod bake_info;
 pub mod baked;
+pub mod clipmap;
 pub mod exact;
 pub mod field;
 pub mod method;

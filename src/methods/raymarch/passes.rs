@@ -19,6 +19,7 @@ pub const FILES: &[(&str, &str)] = crate::gpu::shaders::shader_files![
     "raymarch/far_light_exact.wgsl",
     "raymarch/field_baked.wgsl",
     "raymarch/occupancy.wgsl",
+    "raymarch/clipmap.wgsl",
     "raymarch/density.wgsl",
     "raymarch/lighting.wgsl",
     "raymarch/bake.wgsl",
@@ -42,11 +43,12 @@ const fn volume_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     )
 }
 
-/// Group 3 under `baked`: the baked field, its occupancy and the light
-/// volume (shaders/raymarch/field_baked.wgsl).
+/// Group 3 under `baked`: the baked field, its occupancy, the light
+/// volume (shaders/raymarch/field_baked.wgsl) and the clipmap's levels
+/// (shaders/raymarch/clipmap.wgsl).
 pub static BAKED_FIELD: LayoutSpec = LayoutSpec {
-    label: "baked: field, occupancy, light",
-    entries: &[volume_entry(0), storage_entry(1), volume_entry(2)],
+    label: "baked: field, occupancy, light, clipmap",
+    entries: &[volume_entry(0), storage_entry(1), volume_entry(2), uniform_entry(3)],
 };
 
 /// Group 2 of the temporal march (clouds.wgsl `cs_temporal`): one-texel-per-block

@@ -4,6 +4,7 @@
 //! path-traced comparison and the renderer embedded in another program.
 
 mod cli;
+mod clipmap;
 mod embed;
 mod gl;
 mod lighting;
