@@ -120,6 +120,15 @@ pub const fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
+/// A uniform buffer of the compute passes (the bake's frame and clipmap
+/// levels).
+pub const fn compute_uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ..uniform_entry(binding)
+    }
+}
+
 /// A read-write storage buffer of the compute passes (the bake's
 /// accumulators, the slices' vertices).
 pub const fn compute_storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {

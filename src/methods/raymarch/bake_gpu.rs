@@ -1,7 +1,7 @@
 //! The bake's bind-group layouts, module and buffers (the pipelines and
 //! the encoding are in [`super::baked`]).
 
-use crate::gpu::layouts::{compute_storage_entry, storage_texture_entry_of};
+use crate::gpu::layouts::{compute_storage_entry, compute_uniform_entry, storage_texture_entry_of};
 use crate::methods::raymarch::baked::{
     FIELD_FORMAT, LIGHT_FORMAT, OCCUPANCY_FACTOR, PARCEL_BYTES, SPLAT_ROW,
 };
@@ -33,16 +33,7 @@ pub(super) fn volume_texture(
 }
 
 /// Group 0 of the bake: the frame uniform.
-pub(super) const FRAME_ENTRIES: &[wgpu::BindGroupLayoutEntry] = &[wgpu::BindGroupLayoutEntry {
-    binding: 0,
-    visibility: wgpu::ShaderStages::COMPUTE,
-    ty: wgpu::BindingType::Buffer {
-        ty: wgpu::BufferBindingType::Uniform,
-        has_dynamic_offset: false,
-        min_binding_size: None,
-    },
-    count: None,
-}];
+pub(super) const FRAME_ENTRIES: &[wgpu::BindGroupLayoutEntry] = &[compute_uniform_entry(0)];
 
 /// Group 1 of the bake: the parcels, the accumulators, and the field and
 /// light volumes it writes.
@@ -66,16 +57,7 @@ pub(super) const JOB_ENTRIES: &[wgpu::BindGroupLayoutEntry] = &[
 
 /// Group 3 of the bake: the clipmap's levels (binding 3, as in the march's
 /// group 3; shaders/raymarch/clipmap.wgsl).
-pub(super) const CLIP_ENTRIES: &[wgpu::BindGroupLayoutEntry] = &[wgpu::BindGroupLayoutEntry {
-    binding: 3,
-    visibility: wgpu::ShaderStages::COMPUTE,
-    ty: wgpu::BindingType::Buffer {
-        ty: wgpu::BufferBindingType::Uniform,
-        has_dynamic_offset: false,
-        min_binding_size: None,
-    },
-    count: None,
-}];
+pub(super) const CLIP_ENTRIES: &[wgpu::BindGroupLayoutEntry] = &[compute_uniform_entry(3)];
 
 /// The bake's module.
 pub(super) fn source() -> std::result::Result<String, crate::gpu::shaders::ImportError> {

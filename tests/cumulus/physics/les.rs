@@ -211,17 +211,13 @@ fn bomex_over_time_base_reproduced_tops_only_with_stronger_entrainment() {
     }
 }
 
-/// `ParcelWorld::cloud_cover`, the LES's "columns with cloud" for parcels:
-/// a cloudy parcel wholly above its condensation plane covers its disk
-/// πr², and a second one straight above it (a taller cloud, not a wider
-/// one) adds nothing; one beside it adds its own disk.
-#[test]
-fn cloud_cover_is_the_area_of_the_union_of_cloudy_disks() {
+/// A world with every physics term and the emission off, holding parcels
+/// of 150 m at `centres` with `ql` kg/kg of liquid, stepped once; and the
+/// ground's area (m²).
+fn cloudy_parcels(centres: &[glam::DVec3], ql: f64) -> (cumulus::physics::ParcelWorld, f64) {
     use cumulus::physics::{ParcelSpec, ParcelWorld, WorldConfig};
-    use glam::DVec3;
-    let physics = super::fidelity::nothing();
     let mut cfg = WorldConfig {
-        physics,
+        physics: super::fidelity::nothing(),
         ..WorldConfig::default()
     };
     cfg.emission.enabled = false;
@@ -229,16 +225,27 @@ fn cloud_cover_is_the_area_of_the_union_of_cloudy_disks() {
     let env = cumulus::atmosphere::AtmosphereSpec::default()
         .build(Path::new("."))
         .unwrap();
+    let mut w = ParcelWorld::new(env, cfg, 1).unwrap();
+    for &c in centres {
+        let mut s = ParcelSpec::from_environment(w.environment(), c, 0.0, 0.0, 150.0);
+        s.ql_kg_per_kg = ql;
+        w.spawn_parcel(s).unwrap();
+    }
+    w.step(1.0);
+    (w, area)
+}
+
+/// `ParcelWorld::cloud_cover`, the LES's "columns with cloud" for parcels:
+/// a cloudy parcel wholly above its condensation plane covers its disk
+/// πr², and a second one straight above it (a taller cloud, not a wider
+/// one) adds nothing; one beside it adds its own disk.
+#[test]
+fn cloud_cover_is_the_area_of_the_union_of_cloudy_disks() {
+    use glam::DVec3;
     let cover_of = |centres: &[DVec3]| {
-        let mut w = ParcelWorld::new(env.clone(), cfg.clone(), 1).unwrap();
-        for &c in centres {
-            let mut s = ParcelSpec::from_environment(w.environment(), c, 0.0, 0.0, 150.0);
-            // Far past saturation: the parcel's own condensation level lies
-            // kilometres below it, so all of its sphere is cloud.
-            s.ql_kg_per_kg = 5e-3;
-            w.spawn_parcel(s).unwrap();
-        }
-        w.step(1.0);
+        // Far past saturation: the parcel's own condensation level lies
+        // kilometres below it, so all of its sphere is cloud.
+        let (w, _) = cloudy_parcels(centres, 5e-3);
         assert!(
             w.parcels()
                 .iter()
@@ -246,6 +253,7 @@ fn cloud_cover_is_the_area_of_the_union_of_cloudy_disks() {
         );
         w.cloud_cover()
     };
+    let area = cloudy_parcels(&[], 0.0).1;
     let r = 150.0_f64;
     let disk = std::f64::consts::PI * r * r / area;
     let one = cover_of(&[DVec3::new(0.0, 0.0, 3000.0)]);
@@ -270,27 +278,9 @@ fn cloud_cover_is_the_area_of_the_union_of_cloudy_disks() {
 /// second cloudy parcel straight above the first doubles it.
 #[test]
 fn liquid_water_path_is_the_liquid_of_all_parcels_over_the_ground() {
-    use cumulus::physics::{ParcelSpec, ParcelWorld, WorldConfig};
     use glam::DVec3;
-    let mut cfg = WorldConfig {
-        physics: super::fidelity::nothing(),
-        ..WorldConfig::default()
-    };
-    cfg.emission.enabled = false;
-    let area = cfg.ground.size_m[0] * cfg.ground.size_m[1];
-    let env = cumulus::atmosphere::AtmosphereSpec::default()
-        .build(Path::new("."))
-        .unwrap();
-    let world_of = |centres: &[DVec3], ql: f64| {
-        let mut w = ParcelWorld::new(env.clone(), cfg.clone(), 1).unwrap();
-        for &c in centres {
-            let mut s = ParcelSpec::from_environment(w.environment(), c, 0.0, 0.0, 150.0);
-            s.ql_kg_per_kg = ql;
-            w.spawn_parcel(s).unwrap();
-        }
-        w.step(1.0);
-        w
-    };
+    let area = cloudy_parcels(&[], 0.0).1;
+    let world_of = |centres: &[DVec3], ql: f64| cloudy_parcels(centres, ql).0;
     let one = world_of(&[DVec3::new(0.0, 0.0, 3000.0)], 5e-3);
     let p = &one.parcels()[0];
     let expected = p.dry_mass_kg * p.ql_kg_per_kg / area;
