@@ -17,4 +17,5 @@ mod slices;
 mod slices_look;
 mod slices_twin;
 mod temporal;
+mod temporal_landscape;
 mod tower_body;
