@@ -86,3 +86,29 @@ pub fn state_bits(w: &ParcelWorld) -> Vec<u64> {
     }
     out
 }
+
+/// The shipped profile `profiles/<name>` simulated to its start time as
+/// `cumulus render` does (2 s frames, seed 1): the scene, its folder (for
+/// `RenderConfig::resolve_paths`) and the cloud parcels at the start.
+pub fn scene_at_start(
+    name: &str,
+) -> (
+    cumulus::scene::SceneProfile,
+    std::path::PathBuf,
+    Vec<cumulus::physics::CloudParcel>,
+) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("profiles")
+        .join(name);
+    let (scene, source) = cumulus::scene::load_scene(Some(&path)).unwrap();
+    let base = source.base_dir();
+    let env = scene.atmosphere.build(&base).unwrap();
+    let mut world = ParcelWorld::new(env, scene.world_config(&base).unwrap(), 1).unwrap();
+    let start = scene.simulation.start_s;
+    while world.time_s() < start - 1e-9 {
+        world.step(2f64.min(start - world.time_s()));
+    }
+    let mut parcels = Vec::new();
+    world.cloud_parcels(&mut parcels);
+    (scene, base, parcels)
+}

@@ -6,14 +6,11 @@
 //! renders with them. Without any adapter the render part fails (see
 //! `common::gpu` for the opt-in skip).
 
-use std::path::Path;
-
 use crate::common;
 
 use cumulus::config::Camera;
 use cumulus::methods::raymarch::clipmap::clipmap;
 use cumulus::methods::raymarch::pack::gpu_parcels;
-use cumulus::physics::ParcelWorld;
 use cumulus::render::FrameInput;
 use cumulus::render::headless::Headless;
 use glam::Vec3;
@@ -25,18 +22,8 @@ const FINE_VOXEL_M: f32 = 50.0;
 
 #[test]
 fn landscape_100km_renders_with_50_m_voxels_within_20_km_of_the_camera() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles/landscape_100km.toml");
-    let (scene, source) = cumulus::scene::load_scene(Some(&path)).unwrap();
-    let base = source.base_dir();
-    let env = scene.atmosphere.build(&base).unwrap();
-    let mut world = ParcelWorld::new(env, scene.world_config(&base).unwrap(), 1).unwrap();
-    // The render command's default physics frame (2 s, sub-stepped).
+    let (scene, base, parcels) = common::physics::scene_at_start("landscape_100km.toml");
     let start = scene.simulation.start_s;
-    while world.time_s() < start - 1e-9 {
-        world.step(2f64.min(start - world.time_s()));
-    }
-    let mut parcels = Vec::new();
-    world.cloud_parcels(&mut parcels);
     assert!(parcels.len() > 500, "only {} cloud parcels", parcels.len());
 
     let mut cfg = scene.render.clone();
