@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Runs profiles/arm_sgp.toml from 11:30 UTC to 01:30 UTC (14 simulated
+"""Runs tests/data/les/arm_sgp.toml from 11:30 UTC to 01:30 UTC (14 simulated
 hours) with each entrainment model and prints, hour by hour, our cloud
 cover, base and top beside the eight LES of Brown et al. 2002
 (tests/data/les/arm_sgp_les_hourly.csv: mean and range over the models):
@@ -25,7 +25,7 @@ LES = "tests/data/les/arm_sgp_les_hourly.csv"
 def run(bin_path, out_dir, model):
     path = os.path.join(out_dir, f"arm_sgp_{model}.csv")
     subprocess.run(
-        [bin_path, "simulate", "profiles/arm_sgp.toml", "--duration", str(HOURS * 3600),
+        [bin_path, "simulate", "tests/data/les/arm_sgp.toml", "--duration", str(HOURS * 3600),
          "--dt", str(DT_S), "--seed", "1", "--set", f'physics.entrainment_model="{model}"',
          "--out", path],
         check=True, stderr=subprocess.DEVNULL)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the [[atmosphere.points]] of profiles/arm_sgp.toml from the ARM
+"""Writes the [[atmosphere.points]] of tests/data/les/arm_sgp.toml from the ARM
 SGP initial profiles (Brown et al. 2002, QJRMS 128, 1075, Table A.1): theta
 and the total-water mixing ratio r_T at 0-5500 m, linear between the
 levels, no liquid water at the start (so r_v = r_T), on 970 hPa at the
