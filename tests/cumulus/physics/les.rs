@@ -3,7 +3,7 @@
 //! the environment cumulus builds from the scene's temperatures and
 //! dewpoints has the published θ_l and q_t (as a mixing ratio) at every
 //! height, and the emission carries the published surface fluxes; hour by
-//! hour, the model against what is sourced of the LES results.
+//! hour, the model against the published LES results (docs/les.md).
 
 use std::path::Path;
 
@@ -71,10 +71,34 @@ fn the_bomex_scene_has_the_published_profiles_and_fluxes() {
 /// Hourly means over the frames with cloud of one BOMEX run with the
 /// given entrainment model: (cloud base, cloud top, highest centre of a
 /// cloudy parcel, cloud cover, liquid water path) for hours 0–1, 1–2, …;
-/// also the time of the first cloud. units: m, m, m, 1, kg m⁻²; s
+/// the greatest value of each hour's mean cloud-fraction profile and its
+/// height; also the time of the first cloud. units: m, m, m, 1, kg m⁻²;
+/// (1, m); s
 struct BomexHours {
     hours: Vec<(f64, f64, f64, f64, f64)>,
+    profile_max: Vec<(f64, f64)>,
     first_cloud_s: f64,
+}
+
+/// Levels of the cloud-fraction profile: every 20 m to 4 km. units: m
+const PROFILE_DZ_M: f64 = 20.0;
+const PROFILE_LEVELS: usize = 200;
+
+/// Adds to `profile` the cloud fraction at each level: the area of the
+/// horizontal sections of the cloudy parcels' spheres above their
+/// condensation planes (what `cloud_cover` projects), over the ground's
+/// area. Parcels overlapping at a level count twice, so this bounds the
+/// LES's fraction of cloudy grid points from above.
+fn add_cloud_fraction(w: &cumulus::physics::ParcelWorld, area_m2: f64, profile: &mut [f64]) {
+    for p in w.parcels().iter().filter(|p| p.is_condensed()) {
+        for (k, f) in profile.iter_mut().enumerate() {
+            let z = (k as f64 + 0.5) * PROFILE_DZ_M;
+            let dz = z - p.position_m.z;
+            if z >= p.cond_plane_z_m && dz.abs() < p.radius_m {
+                *f += std::f64::consts::PI * (p.radius_m * p.radius_m - dz * dz) / area_m2;
+            }
+        }
+    }
 }
 
 fn bomex_hours(model: cumulus::physics::EntrainmentModel, hours: usize) -> BomexHours {
@@ -83,14 +107,18 @@ fn bomex_hours(model: cumulus::physics::EntrainmentModel, hours: usize) -> Bomex
     let env = scene.atmosphere.build(&source.base_dir()).unwrap();
     let mut cfg = scene.world_config(&source.base_dir()).unwrap();
     cfg.physics.entrainment_model = model;
+    let area_m2 = cfg.ground.size_m[0] * cfg.ground.size_m[1];
     let mut w = cumulus::physics::ParcelWorld::new(env, cfg, 1).unwrap();
     let mut first_cloud_s = f64::NAN;
     let mut out = Vec::new();
+    let mut profile_max = Vec::new();
     for _ in 0..hours {
         let (mut sum, mut n, mut lwp) = ((0.0, 0.0, 0.0, 0.0), 0.0, 0.0);
+        let mut profile = vec![0.0; PROFILE_LEVELS];
         // 720 frames of 5 s: the frame of benches/les/bomex_compare.py.
         for _ in 0..720 {
             w.step(5.0);
+            add_cloud_fraction(&w, area_m2, &mut profile);
             let d = w.diagnostics();
             if let (Some(b), Some(t)) = (d.cloud_base_m, d.cloud_top_m) {
                 if first_cloud_s.is_nan() {
@@ -114,25 +142,33 @@ fn bomex_hours(model: cumulus::physics::EntrainmentModel, hours: usize) -> Bomex
         }
         assert!(n > 300.0, "clouds in most frames of every hour");
         out.push((sum.0 / n, sum.1 / n, sum.2 / n, sum.3 / n, lwp / n));
+        let (k, f) = profile
+            .iter()
+            .enumerate()
+            .fold((0, 0.0), |m, (k, &f)| if f > m.1 { (k, f) } else { m });
+        profile_max.push((f / 720.0, (k as f64 + 0.5) * PROFILE_DZ_M));
     }
     BomexHours {
         hours: out,
+        profile_max,
         first_cloud_s,
     }
 }
 
-/// The model over time against what is sourced of the BOMEX LES
-/// (docs/les.md, "What is known of the LES results"): after spin-up the
-/// LES hold a quasi-steady state with a mixed layer to cloud base
-/// (~500 m), a cloud layer to ~1500 m and the inversion above it
-/// (1480–2000 m in the case definition), which stops the clouds; their
-/// cover and LWP time series are plotted on axes of 0–0.2 and 0–20 g m⁻²
-/// (Siebesma et al. 2003 Fig. 2), the only bounds on them found.
+/// The model over time against the published BOMEX LES (Siebesma et al.
+/// 2003; docs/les.md, "The LES results"): first clouds after about half an
+/// hour, quasi-steady after the spin-up; over the last 3 h a total cloud
+/// cover of 13 % (8 % UCLA to 17 % NCAR), a cloud base of ~500 m, a
+/// cloud-fraction profile greatest (≈ 0.06) near cloud base and gone by
+/// ~2000 m, and an ensemble-mean LWP that never exceeds ~11 g m⁻² (Fig. 2b,
+/// read by eye). The test runs 3 hours: ours is steady from the first
+/// (asserted below), so hour 2–3 stands for the LES's hours 3–6.
 #[test]
-fn bomex_over_time_base_reproduced_tops_only_with_stronger_entrainment() {
+fn bomex_over_time_base_and_cover_reproduced_tops_only_with_stronger_entrainment() {
     use cumulus::physics::EntrainmentModel;
-    // Inversion top of the case definition (θ_l 308.2 K, q_t 4.2 g/kg).
-    const INVERSION_TOP_M: f64 = 2000.0;
+    // Cloud fraction vanishes at ~2000 m in Fig. 6 (read by eye, ±50 m),
+    // where the case's inversion ends (θ_l 308.2 K, q_t 4.2 g/kg).
+    const LES_CLOUD_TOP_M: f64 = 2000.0;
     // Bottom of the inversion: the top of the LES cloud layer.
     const INVERSION_BASE_M: f64 = 1480.0;
     let runs: Vec<_> = [
@@ -145,19 +181,26 @@ fn bomex_over_time_base_reproduced_tops_only_with_stronger_entrainment() {
     .collect();
     for (m, r) in &runs {
         for (h, (base, top, centre, cover, lwp)) in r.hours.iter().enumerate() {
+            let (f, z) = r.profile_max[h];
             eprintln!(
                 "{m:?} hour {h}–{}: base {base:.0} m, top {top:.0} m, \
                  highest cloudy centre {centre:.0} m, cover {cover:.3}, \
-                 LWP {:.1} g/m²",
+                 LWP {:.1} g/m², cloud-fraction profile max {f:.3} at {z:.0} m",
                 h + 1,
                 1e3 * lwp
             );
         }
         eprintln!("{m:?}: first cloud {:.1} min", r.first_cloud_s / 60.0);
-        // Clouds within the first half hour: parcels reach their
-        // condensation level in minutes (measured 4.6–5.9 min); the LES
-        // spin-up time has no sourced value, so this only guards onset.
-        assert!(r.first_cloud_s < 1800.0, "{m:?}: no cloud in 30 min");
+        // Not reproduced: the spin-up. The LES's first clouds come "after
+        // half an hour" (section 2a; ~25 min in Fig. 2a), when resolved
+        // turbulence has made saturated grid boxes; our thermals leave the
+        // sea with their excess and condense within minutes (measured
+        // 4.6–5.9 min). 15 min: half the LES's time.
+        assert!(
+            r.first_cloud_s < 900.0,
+            "{m:?}: first cloud {} s",
+            r.first_cloud_s
+        );
         // Quasi-steady after the first hour, as the case is designed
         // (constant fluxes, forcing holding the profiles): hour 2–3 against
         // hour 1–2. 2 % of base and top (measured ≤ 0.3 %), 10 % of cover
@@ -167,48 +210,68 @@ fn bomex_over_time_base_reproduced_tops_only_with_stronger_entrainment() {
         assert!((b.1 / a.1 - 1.0).abs() < 0.02, "{m:?} top {a:?} → {b:?}");
         assert!((b.3 / a.3 - 1.0).abs() < 0.10, "{m:?} cover {a:?} → {b:?}");
         // Reproduced: the cloud base lies within 100 m of the LES's ~500 m
-        // (a value read off Siebesma et al.'s Fig. 3 to ~100 m; ours is the
-        // lowest condensation plane of all thermals, below a mean base).
+        // (Siebesma et al. section 2b(1); Fig. 6's cloud fraction starts
+        // there; ours is the lowest condensation plane of all thermals,
+        // below a mean base).
         for &(base, ..) in &r.hours[1..] {
             assert!((base - 500.0).abs() < 100.0, "{m:?} cloud base {base} m");
         }
+        // Not reproduced: the shape of the cloud-fraction profile. The LES's
+        // is greatest just above cloud base (~600 m) and falls off upward,
+        // since all clouds share a base but not a top; ours is greatest at
+        // the top of the cloud layer (measured 1.53–2.41 km), where the
+        // parcels stop and stay. 1400 m: well above the LES's maximum and
+        // the middle of the cloud layer.
+        let (_, z_max) = r.profile_max[2];
+        assert!(z_max > 1400.0, "{m:?} profile max at {z_max} m");
+        // Not reproduced: the liquid water. The LES ensemble-mean LWP stays
+        // under ~11 g m⁻² at every time (Fig. 2b, by eye, ±1 g m⁻²); ours
+        // is more than three times that (measured 37, 42, 53 g m⁻²): the
+        // cloudy parcels are few, big and little diluted, and entrained air
+        // adds mass and so liquid (eq 6).
+        let lwp = r.hours[2].4;
+        assert!(lwp > 3.0 * 0.011, "{m:?} LWP {lwp} kg/m²");
     }
     let steady = |i: usize| runs[i].1.hours[2];
     let (paper, plume, observed) = (steady(0), steady(1), steady(2));
     // Not reproduced with the paper's entrainment: its cloudy parcels rise
-    // through the whole inversion (measured: highest centre 2.5 km, top 2.6 km).
-    assert!(paper.2 > INVERSION_TOP_M, "paper centre {} m", paper.2);
+    // through the whole inversion (measured: highest centre 2.5 km, top
+    // 2.63 km), where the LES's cloud fraction is gone by ~2000 m.
+    assert!(paper.2 > LES_CLOUD_TOP_M, "paper centre {} m", paper.2);
+    assert!(paper.1 > LES_CLOUD_TOP_M + 500.0, "paper top {} m", paper.1);
     // Reproduced with plume or observed entrainment: the cloudy parcels
-    // reach the inversion, the top of the LES cloud layer, and stop inside
-    // it (highest centres measured 1.64 km observed, 1.81 km plume: ≥ 150 m
-    // from either edge).
+    // stop inside the inversion (highest centres measured 1.64 km observed,
+    // 1.81 km plume: ≥ 150 m from either edge) and their sphere tops
+    // (measured 2.04 and 1.92 km) lie within 150 m of where the LES's
+    // cloud fraction vanishes: the reading (±50 m) and the spheres'
+    // 150 m radius.
     for (name, r) in [("plume", plume), ("observed", observed)] {
         assert!(
-            (INVERSION_BASE_M..INVERSION_TOP_M).contains(&r.2),
+            (INVERSION_BASE_M..LES_CLOUD_TOP_M).contains(&r.2),
             "{name} highest cloudy centre {} m",
             r.2
         );
+        assert!(
+            (r.1 - LES_CLOUD_TOP_M).abs() < 150.0,
+            "{name} top {} m",
+            r.1
+        );
     }
-    // Siebesma et al. 2003 Fig. 2 plots the LES cover and LWP time series
-    // (ensemble mean and spread) on axes of 0–0.2 and 0–20 g m⁻²
-    // (docs/les.md, "What is known of the LES results"): the published
-    // curves lie below those tops.
-    // Cover: the paper's and plume entrainment stay under 0.2 at every hour
-    // (measured ≤ 11.5 %, ≤ 17.8 %); observed entrainment does not (25 %),
-    // since entrained air adds mass and so volume (eq 6).
-    for (name, i) in [("paper", 0), ("plume", 1)] {
-        for &(.., cover, _) in &runs[i].1.hours {
-            assert!(cover < 0.2, "{name} cover {cover}");
-        }
+    // Cover against the LES's means over the last 3 h (section 2a): 13 %
+    // ensemble mean, 8 % (UCLA) to 17 % (NCAR); none of the participants'
+    // sensitivity runs went "beyond about 25%".
+    // Reproduced with the paper's entrainment: inside the models' range
+    // at every hour (measured 10.2–11.5 %).
+    for &(.., cover, _) in &runs[0].1.hours {
+        assert!((0.08..0.17).contains(&cover), "paper cover {cover}");
     }
-    assert!(observed.3 > 0.2, "observed cover {}", observed.3);
-    // Not reproduced: the liquid water. Every model holds more than the
-    // 20 g m⁻² at the top of Fig. 2b's axis (measured 37, 42, 53 g m⁻²):
-    // the cloudy parcels are few, big and little diluted, and entrained air
-    // adds mass and so liquid (eq 6), the more the stronger the entrainment.
-    for (name, r) in [("paper", paper), ("plume", plume), ("observed", observed)] {
-        assert!(r.4 > 0.020, "{name} LWP {} kg/m²", r.4);
-    }
+    // Plume: above the ensemble mean, at the top of the range (measured
+    // 17.8 % at hour 2–3 against NCAR's 17 %) and under the 25 % ceiling.
+    assert!((0.13..0.25).contains(&plume.3), "plume cover {}", plume.3);
+    // Not reproduced with the observed rate: above every model and the
+    // sensitivity runs' ceiling (measured 25.5 %), since entrained air
+    // adds mass and so volume (eq 6) and the parcels swell.
+    assert!(observed.3 > 0.25, "observed cover {}", observed.3);
 }
 
 /// A world with every physics term and the emission off, holding parcels
