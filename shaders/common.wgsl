@@ -32,7 +32,7 @@ struct FrameNoise {
 
 struct Frame {
     clip_from_world: mat4x4<f32>,
-    world_from_clip: mat4x4<f32>,
+    eye_from_clip: mat4x4<f32>,   // clip → world offset from the eye (no translation)
     camera_pos: CameraPos,
     sun_dir: vec3<f32>,          // unit vector toward the sun
     phase_g: f32,                // the clouds' Henyey–Greenstein g (forward lobe)
@@ -90,14 +90,19 @@ fn fullscreen_vertex(i: u32) -> FullscreenOut {
     return o;
 }
 
-fn world_from_ndc(ndc: vec2<f32>, depth: f32) -> vec3<f32> {
-    let h = frame.world_from_clip * vec4<f32>(ndc, depth, 1.0);
+// Offset from the eye of the point at `ndc` and clip depth `depth`.
+fn eye_offset_from_ndc(ndc: vec2<f32>, depth: f32) -> vec3<f32> {
+    let h = frame.eye_from_clip * vec4<f32>(ndc, depth, 1.0);
     return h.xyz / h.w;
+}
+
+fn world_from_ndc(ndc: vec2<f32>, depth: f32) -> vec3<f32> {
+    return frame.camera_pos.eye_m + eye_offset_from_ndc(ndc, depth);
 }
 
 // Unit view direction through a point of the screen.
 fn view_dir(ndc: vec2<f32>) -> vec3<f32> {
-    return normalize(world_from_ndc(ndc, 0.5) - frame.camera_pos.eye_m);
+    return normalize(eye_offset_from_ndc(ndc, 0.5));
 }
 
 // Slab test: (t_near, t_far) of a ray through an axis-aligned box.

@@ -11,9 +11,14 @@
 //   sky moves with the camera's rotation). Per pixel, so the velocity
 //   below varies across a block.
 // - Its history: the view ray at that depth gives the cloud point, whose
-//   pixel in the previous frame (prev_clip_from_world) is where the
-//   history is read, by a 5-tap Catmull-Rom filter (sharper than
-//   bilinear: a moving view does not blur the image frame after frame).
+//   pixel in the previous frame is where the history is read, by a 5-tap
+//   Catmull-Rom filter (sharper than bilinear: a moving view does not
+//   blur the image frame after frame). The reprojection is
+//   camera-relative (prev_clip_from_eye): a still view maps every pixel
+//   to itself to f32 precision however far the camera is from the
+//   world's origin; through world positions 18 km out (the landscape),
+//   rays were off by up to a tenth of a pixel, and the history, resampled
+//   at that offset each frame, drifted from the full march.
 // - Variance clipping: the history is clipped, in YCoCg and alpha, toward
 //   the centre of a box from the 3×3 fresh samples around the pixel:
 //   mean ± GAMMA·σ (Salvi 2016) inside their min/max where the pixel
@@ -183,9 +188,8 @@ fn cs_resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
     // Where this pixel's cloud point was in the previous frame.
     let pix = vec2<f32>(gid.xy) + 0.5;
     let ndc = vec2<f32>(2.0 * pix.x / f32(full.x) - 1.0, 1.0 - 2.0 * pix.y / f32(full.y));
-    let ro = frame.camera_pos.eye_m;
-    let point = ro + view_dir(ndc) * select(FAR_M, depth, depth > 0.0);
-    let prev = temporal.prev_clip_from_world * vec4<f32>(point, 1.0);
+    let offset = view_dir(ndc) * select(FAR_M, depth, depth > 0.0);
+    let prev = temporal.prev_clip_from_eye * vec4<f32>(offset, 1.0);
     let prev_ndc = prev.xy / max(prev.w, 1e-6);
     let prev_uv = vec2<f32>(0.5 * prev_ndc.x + 0.5, 0.5 - 0.5 * prev_ndc.y);
     let on_screen = prev.w > 0.0 && all(prev_uv >= vec2<f32>(0.0)) && all(prev_uv <= vec2<f32>(1.0));

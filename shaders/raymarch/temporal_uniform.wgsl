@@ -4,7 +4,7 @@
 // src/methods/raymarch/temporal.rs.
 
 struct Temporal {
-    prev_clip_from_world: mat4x4<f32>,
+    prev_clip_from_eye: mat4x4<f32>, // this frame's eye offset → previous clip
     offset: vec2<u32>,   // the marched pixel's offset in its block
     frame_index: u32,
     history_valid: u32,  // 1: the history holds the previous frame

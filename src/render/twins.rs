@@ -63,7 +63,7 @@ fn frame_parcels_and_grid_match_pack_rs() {
         "Frame",
         rust_layout!(FrameUniform {
             clip_from_world,
-            world_from_clip,
+            eye_from_clip,
             camera_pos,
             sun_dir,
             phase_g,
@@ -129,7 +129,7 @@ fn temporal_uniform_matches() {
     use crate::methods::raymarch::temporal::TemporalUniform;
     let rust = || {
         rust_layout!(TemporalUniform {
-            prev_clip_from_world,
+            prev_clip_from_eye,
             offset,
             frame_index,
             history_valid,

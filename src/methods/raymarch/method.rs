@@ -280,9 +280,11 @@ impl CloudMethod for Raymarch {
 
     fn prepared(&mut self, ctx: &GpuContext, frame: &FrameUniform) {
         if let Some(t) = self.temporal.as_mut() {
+            let eye = glam::Vec4::from(frame.camera_pos).truncate();
             t.prepare(
                 &ctx.queue,
-                glam::Mat4::from_cols_array_2d(&frame.clip_from_world),
+                glam::Mat4::from_cols_array_2d(&frame.eye_from_clip).inverse(),
+                eye,
             );
         }
     }

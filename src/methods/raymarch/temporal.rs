@@ -48,9 +48,11 @@ pub fn bayer_offset(block: u32, k: u32) -> [u32; 2] {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct TemporalUniform {
-    /// The previous frame's world → clip (the current one's when there is
-    /// no history).
-    pub prev_clip_from_world: [[f32; 4]; 4],
+    /// This frame's world offset from the eye → the previous frame's clip
+    /// (the current clip when there is no history): camera-relative, so
+    /// a still camera reprojects to the same pixel to f32 precision
+    /// however far it is from the world's origin.
+    pub prev_clip_from_eye: [[f32; 4]; 4],
     /// The marched pixel's offset in its block.
     pub offset: [u32; 2],
     pub frame_index: u32,
@@ -92,9 +94,12 @@ pub struct TemporalGpu {
     /// The history holds the previous frame (false: first frame, or after
     /// a change of settings or a frame without clouds).
     pub history_valid: bool,
-    prev_clip_from_world: Mat4,
-    /// This frame's world → clip, set by `prepare`, kept by `finish_frame`.
-    current_clip_from_world: Mat4,
+    /// The previous frame's eye offset → clip, and its eye. units: m
+    prev_clip_from_eye: Mat4,
+    prev_eye: glam::Vec3,
+    /// This frame's, set by `prepare`, kept by `finish_frame`.
+    current_clip_from_eye: Mat4,
+    current_eye: glam::Vec3,
 }
 
 impl TemporalGpu {
@@ -155,8 +160,10 @@ impl TemporalGpu {
             block,
             frame_index: 0,
             history_valid: false,
-            prev_clip_from_world: Mat4::IDENTITY,
-            current_clip_from_world: Mat4::IDENTITY,
+            prev_clip_from_eye: Mat4::IDENTITY,
+            prev_eye: glam::Vec3::ZERO,
+            current_clip_from_eye: Mat4::IDENTITY,
+            current_eye: glam::Vec3::ZERO,
         }
     }
 
@@ -178,18 +185,22 @@ impl TemporalGpu {
         (qw.div_ceil(8), qh.div_ceil(8))
     }
 
-    /// Uploads the uniform of the frame about to be drawn with camera
-    /// `clip_from_world`.
-    pub fn prepare(&mut self, queue: &wgpu::Queue, clip_from_world: Mat4) {
-        self.current_clip_from_world = clip_from_world;
+    /// Uploads the uniform of the frame about to be drawn from `eye` with
+    /// `clip_from_eye` ([`crate::config::Camera::clip_from_eye`]).
+    pub fn prepare(&mut self, queue: &wgpu::Queue, clip_from_eye: Mat4, eye: glam::Vec3) {
+        self.current_clip_from_eye = clip_from_eye;
+        self.current_eye = eye;
+        // A point at offset d from this eye is at d + (eye − prev_eye)
+        // from the previous one: the small difference, not two large
+        // positions, enters the matrix.
         let prev = if self.history_valid {
-            self.prev_clip_from_world
+            self.prev_clip_from_eye * Mat4::from_translation(eye - self.prev_eye)
         } else {
-            clip_from_world
+            clip_from_eye
         };
         let (qw, qh) = fresh_size(self.size.0, self.size.1, self.block);
         let u = TemporalUniform {
-            prev_clip_from_world: prev.to_cols_array_2d(),
+            prev_clip_from_eye: prev.to_cols_array_2d(),
             offset: bayer_offset(self.block, self.frame_index),
             frame_index: self.frame_index,
             history_valid: self.history_valid as u32,
@@ -206,7 +217,8 @@ impl TemporalGpu {
     /// After a frame drew the temporal passes: its image is the next
     /// frame's history.
     pub fn finish_frame(&mut self) {
-        self.prev_clip_from_world = self.current_clip_from_world;
+        self.prev_clip_from_eye = self.current_clip_from_eye;
+        self.prev_eye = self.current_eye;
         self.frame_index = self.frame_index.wrapping_add(1);
         self.history_valid = true;
     }

@@ -30,7 +30,11 @@ impl Renderer {
         let [min_x, min_y, max_x, max_y] = self.shadow_rect(input.sun.direction);
         FrameUniform {
             clip_from_world: clip_from_world.to_cols_array_2d(),
-            world_from_clip: clip_from_world.inverse().to_cols_array_2d(),
+            eye_from_clip: input
+                .camera
+                .clip_from_eye(aspect)
+                .inverse()
+                .to_cols_array_2d(),
             camera_pos: bytemuck::cast(camera),
             sun_dir: input.sun.direction.normalize().to_array(),
             phase_g: c.phase_g,

@@ -125,10 +125,10 @@ impl Renderer {
             .face_instances(cam, r, k, input.sun.direction);
         ring.face
             .upload(ctx, &self.layouts.get(&SPRITES_GROUP), &instances)?;
-        let c = face_camera(cam, k, input.camera.far_m).clip_from_world(1.0);
+        let face_cam = face_camera(cam, k, input.camera.far_m);
         let mut face = *frame;
-        face.clip_from_world = c.to_cols_array_2d();
-        face.world_from_clip = c.inverse().to_cols_array_2d();
+        face.clip_from_world = face_cam.clip_from_world(1.0).to_cols_array_2d();
+        face.eye_from_clip = face_cam.clip_from_eye(1.0).inverse().to_cols_array_2d();
         face.camera_pos = cam.extend(input.time_s).to_array();
         ctx.queue
             .write_buffer(&ring.face_frame_buf, 0, bytemuck::bytes_of(&face));

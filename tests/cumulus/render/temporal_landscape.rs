@@ -24,16 +24,15 @@ use cumulus::render::headless::Headless;
 /// the test to see a ghost.
 ///
 /// Ignored: it does not hold yet (issue 34 stays open). Measured on
-/// lavapipe at 192×108: 0.037 on the first frame of the path, 0.059 at
+/// lavapipe at 192×108: 0.035 on the first frame of the path, 0.058 at
 /// worst (frame 16); a 4-frame-old view 0.147 at least. At 96×54: 0.083
-/// (2×2 there: 0.043). The still view alone is 0.019 from the full march
-/// after 32 frames and drifts to 0.030 over 48 more frames of the same
-/// view (cause not found: a wider still clip box, or still pixels'
-/// history left unclipped, lower it without stopping it; see
-/// docs/performance.md); on the stand-in field of
-/// tests/cumulus/render/temporal.rs the same bounds hold.
+/// (2×2 there: 0.043). The still view alone is 0.013 from the full march
+/// after 32 frames, 0.016 after 48 more (0.019 → 0.029 before view rays
+/// were made camera-relative: see docs/performance.md); the flight's error
+/// is the moving history's blur between a pixel's own samples. On the
+/// stand-in field of tests/cumulus/render/temporal.rs the same bounds hold.
 #[test]
-#[ignore = "issue 34: 4x4 on the landscape is 0.059 at worst (bound 0.05); run with --ignored"]
+#[ignore = "issue 34: 4x4 on the landscape is 0.058 at worst (bound 0.05); run with --ignored"]
 fn a_flight_over_the_landscape_stays_near_the_full_march_every_frame() {
     let (scene, base, parcels) = common::physics::scene_at_start("landscape.toml");
     let start = scene.simulation.start_s;
