@@ -14,22 +14,17 @@ parcel); the first-cloud time of each model follows.
 import argparse
 import csv
 import os
-import subprocess
+
+from bomex_compare import simulate
 
 MODELS = ["paper", "plume", "observed"]
 HOURS = 14
-DT_S = 5
 LES = "tests/data/les/arm_sgp_les_hourly.csv"
 
 
 def run(bin_path, out_dir, model):
-    path = os.path.join(out_dir, f"arm_sgp_{model}.csv")
-    subprocess.run(
-        [bin_path, "simulate", "tests/data/les/arm_sgp.toml", "--duration", str(HOURS * 3600),
-         "--dt", str(DT_S), "--seed", "1", "--set", f'physics.entrainment_model="{model}"',
-         "--out", path],
-        check=True, stderr=subprocess.DEVNULL)
-    return path
+    scene = "tests/data/les/arm_sgp.toml"
+    return simulate(bin_path, scene, HOURS, os.path.join(out_dir, f"arm_sgp_{model}.csv"), model)
 
 
 def hourly(path):

@@ -24,14 +24,19 @@ DT_S = 5
 WINDOWS = [(h, h + 1) for h in range(HOURS)] + [(3, 6)]
 
 
-def run(bin_path, out_dir, model):
-    path = os.path.join(out_dir, f"bomex_{model}.csv")
+def simulate(bin_path, scene, hours, out_path, model):
+    """`cumulus simulate` of `scene` for `hours` with entrainment `model`
+    (seed 1, DT_S steps) to the CSV `out_path`; returns the path."""
     subprocess.run(
-        [bin_path, "simulate", "profiles/bomex.toml", "--duration", str(HOURS * 3600),
+        [bin_path, "simulate", scene, "--duration", str(hours * 3600),
          "--dt", str(DT_S), "--seed", "1", "--set", f'physics.entrainment_model="{model}"',
-         "--out", path],
+         "--out", out_path],
         check=True, stderr=subprocess.DEVNULL)
-    return path
+    return out_path
+
+
+def run(bin_path, out_dir, model):
+    return simulate(bin_path, "profiles/bomex.toml", HOURS, os.path.join(out_dir, f"bomex_{model}.csv"), model)
 
 
 def windowed(path):

@@ -112,3 +112,31 @@ pub fn scene_at_start(
     world.cloud_parcels(&mut parcels);
     (scene, base, parcels)
 }
+
+/// Holds `env` to a published initial profile every `step_m` from the
+/// ground to `top_m`: `published(z)` gives θ (K) and the vapour mixing
+/// ratio (kg/kg). Tolerances 0.02 K and 0.5 %: the scenes' points are
+/// written to 4 decimals of a degree and the dewpoint's rounding moves
+/// the mixing ratio by ~0.03 %, while a wrong level, corner or gradient
+/// is off by tenths of a kelvin or more (benches/les/*_points.py).
+pub fn assert_published_profile(
+    env: &Environment,
+    top_m: usize,
+    step_m: usize,
+    published: impl Fn(f64) -> (f64, f64),
+) {
+    for z in (0..=top_m).step_by(step_m) {
+        let z = z as f64;
+        let (theta, r) = published(z);
+        assert!(
+            (env.theta_k(z) - theta).abs() < 0.02,
+            "θ at {z} m: {} vs {theta}",
+            env.theta_k(z)
+        );
+        assert!(
+            (env.qv(z) / r - 1.0).abs() < 5e-3,
+            "mixing ratio at {z} m: {} vs {r}",
+            env.qv(z)
+        );
+    }
+}

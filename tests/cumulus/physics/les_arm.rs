@@ -7,6 +7,8 @@
 
 use std::path::Path;
 
+use crate::common;
+
 /// Table A.1 at height `z_m`: (θ K, r_T kg/kg), linear between levels.
 fn arm(z_m: f64) -> (f64, f64) {
     const LEVELS: [(f64, f64, f64); 8] = [
@@ -38,22 +40,7 @@ fn scene() -> (
 #[test]
 fn the_arm_scene_has_the_published_profiles_and_heat_flux() {
     let (env, cfg) = scene();
-    for z in (0..=5500).step_by(25) {
-        let z = z as f64;
-        let (theta, r) = arm(z);
-        // 0.02 K and 0.5 %, as for BOMEX (tests/cumulus/physics/les.rs): the
-        // points' rounding; a wrong level is off by tenths of a kelvin.
-        assert!(
-            (env.theta_k(z) - theta).abs() < 0.02,
-            "θ at {z} m: {} vs {theta}",
-            env.theta_k(z)
-        );
-        assert!(
-            (env.qv(z) / r - 1.0).abs() < 5e-3,
-            "r at {z} m: {} vs {r}",
-            env.qv(z)
-        );
-    }
+    common::physics::assert_published_profile(&env, 5500, 25, arm);
     // The sensible heat flux the emission carries, ρ c_p × rate × V × Δθ ×
     // the sun's factor, against Table A.2 where H > 0 (UTC h, W m⁻²).
     let v = 4.0 / 3.0 * std::f64::consts::PI * cfg.emission.radius_m.powi(3);
