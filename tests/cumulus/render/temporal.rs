@@ -62,8 +62,8 @@ fn stand_in_camera() -> Camera {
 /// 4×4, every pixel marched twice over two ray-start jitters; 16 frames at
 /// 2×2, four times) the accumulated image is within mean FLIP 0.01 of the
 /// full-resolution march (issue 34), and clearly closer than a single
-/// frame. Measured on lavapipe: 4×4 0.0046 after 32 frames (0.023 after
-/// one), 2×2 0.0018 after 16 (0.012 after one). 0.01: what remains is the
+/// frame. Measured on lavapipe: 4×4 0.0039 after 32 frames (0.023 after
+/// one), 2×2 0.0013 after 16 (0.012 after one). 0.01: what remains is the
 /// full march's own banding from its one fixed jitter per pixel, which
 /// the accumulated image averages away, and the clip's softening of
 /// one-pixel detail between a pixel's own samples.
@@ -294,14 +294,15 @@ fn flying_through_a_cloud_does_not_pop() {
 /// and out of it again, a reprojected history that was not rejected (the
 /// tower's white still on screen after the camera left it: a ghost) would
 /// make a frame look like the view some frames before. Measured on
-/// lavapipe, 96×72, 4×4: 0.020–0.120 against the full march (0.06
+/// lavapipe, 96×72, 4×4: 0.034–0.118 against the full march (0.05
 /// typical: flying forward 25 m a frame near clouds, pixels keep one or
 /// two marched samples and the clip softens the rest, as in
 /// `moving_camera_does_not_ghost`), where a 4-frame-old view would cost
 /// 0.046–0.52. The largest of those, 0.52, is the frame after the camera
 /// leaves the tower (the old view is all cloud); there the temporal frame
-/// measured 0.120, most of it the fresh estimate of a view that is new
-/// everywhere (1 pixel in 16 marched; 0.080 at 2×2). Bounds: every
+/// measured 0.118, most of it the fresh estimate of a view that is new
+/// everywhere (1 pixel in 16 marched; 0.080 at 2×2; 0.120 when every
+/// history was clipped to the box, not only a rejected one). Bounds: every
 /// checkpoint under 0.16 (1.3× the largest measured, for other drivers),
 /// and at the exit under a quarter of what the stale view costs (a ghost
 /// of the cloud's white keeps most of it: 0.23 with the history never

@@ -23,16 +23,17 @@ use cumulus::render::headless::Headless;
 /// and must cost more than the bound, or the flight would be too slow for
 /// the test to see a ghost.
 ///
-/// Ignored: it does not hold yet (issue 34 stays open). Measured on
-/// lavapipe at 192×108: 0.035 on the first frame of the path, 0.058 at
-/// worst (frame 16); a 4-frame-old view 0.147 at least. At 96×54: 0.083
-/// (2×2 there: 0.043). The still view alone is 0.013 from the full march
-/// after 32 frames, 0.016 after 48 more (0.019 → 0.029 before view rays
-/// were made camera-relative: see docs/performance.md); the flight's error
-/// is the moving history's blur between a pixel's own samples. On the
-/// stand-in field of tests/cumulus/render/temporal.rs the same bounds hold.
+/// Measured on lavapipe at 192×108: 0.030 on the first frame of the
+/// path, 0.046 at worst (frame 10); a 4-frame-old view 0.147 at least.
+/// Before the resolve kept an accepted history unclipped (clipping every
+/// moving pixel's history to the box of fresh samples 4 px apart, 15
+/// frames between its own samples, flattened the clouds' one-pixel
+/// detail): 0.035 first, 0.058 at worst. With no clip at all the flight
+/// is 0.028 at worst, the floor of the reprojection itself, but a ghost
+/// elsewhere (tests/cumulus/render/temporal.rs). The still view alone is
+/// 0.013 from the full march after 32 frames. About 25 s on lavapipe (2
+/// cores).
 #[test]
-#[ignore = "issue 34: 4x4 on the landscape is 0.058 at worst (bound 0.05); run with --ignored"]
 fn a_flight_over_the_landscape_stays_near_the_full_march_every_frame() {
     let (scene, base, parcels) = common::physics::scene_at_start("landscape.toml");
     let start = scene.simulation.start_s;
