@@ -9,6 +9,7 @@
 use egui::{DragValue, RichText};
 
 use super::state::Model;
+use crate::config::slices::OPACITY_RANGE;
 use crate::methods::slices::model::{Ellipsoid, MediaFilter, Motion, NoiseMotion, VertexField};
 
 /// Three drag fields for a vector, with a label.
@@ -36,7 +37,7 @@ pub fn slices_section(ui: &mut egui::Ui, m: &mut Model, selected: &mut usize) ->
 
     ui.label(RichText::new("Global rendering").strong());
     ui.add(
-        egui::Slider::new(&mut s.opacity, 0.01..=16.0)
+        egui::Slider::new(&mut s.opacity, OPACITY_RANGE.0..=OPACITY_RANGE.1)
             .logarithmic(true)
             .text("Opacity"),
     );

@@ -40,14 +40,20 @@ impl VertexField {
     }
 }
 
+/// The range of Opacity (validation and the window's slider).
+pub const OPACITY_RANGE: (f32, f32) = (0.01, 1000.0);
+
 /// `[render.slices]`: settings of the `slices` render method.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SlicesConfig {
-    /// Overall opacity of the cloud, 0.01 to 16 (the integral of plane
+    /// Overall opacity of the cloud, 0.01 to 1000 (the integral of plane
     /// opacities across all planes of a cloud's stack; the renderer scales
     /// it so it acts on one mean primitive of the cloud, see
-    /// `methods::slices::model::CloudScale`).
+    /// `methods::slices::model::CloudScale`): the optical depth through a
+    /// mean primitive where the field and media are 1. Their product is
+    /// mostly 0.05–0.3, so a few is a thin veil and 100–200 the optically
+    /// thick body (τ 5–20 across) a real cumulus or cumulonimbus has.
     pub opacity: f32,
     /// Number of slicing planes, 8 to 1024.
     pub quality: u32,
@@ -167,9 +173,9 @@ impl SlicesConfig {
         finite_in(
             &format!("{T}.opacity"),
             self.opacity,
-            0.01,
-            16.0,
-            "0.01 to 16",
+            OPACITY_RANGE.0,
+            OPACITY_RANGE.1,
+            "0.01 to 1000",
         )?;
         if !(8..=1024).contains(&self.quality) {
             return Err(Error::invalid(
