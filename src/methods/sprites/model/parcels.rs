@@ -3,21 +3,33 @@
 //! its radius (down to its condensation plane: the flat base), filled in
 //! proportion to its fill. Parcels that touch form one cloud for the
 //! shading (paper §5): its colour levels run from the cloud's base to its
-//! top, and the directional term of every one of its sprites is taken from
-//! the whole cloud's centre, so a tower has a sunlit side, a shaded side and
-//! a dark base rather than a lit and a shaded side per parcel.
+//! top, and the directional term of every one of its sprites looks from
+//! the whole cloud's centre, its billow's (the parcels around it) and its
+//! parcel's, so a tower has a sunlit side, a shaded side and a dark base,
+//! and each billow its own lit side and shaded creases.
 
 use glam::Vec3;
 
 use super::atlas::{FLAT_BOTTOM_TILE, PUFFY_TILES};
-use super::cloud::{PRUNE_TYPICAL, SpriteBox, SpriteCloud, SpriteCloudSpec};
+use super::cloud::{PRUNE_TYPICAL, ShadeCenters, SpriteBox, SpriteCloud, SpriteCloudSpec};
 use super::presets::CloudType;
 use super::shading::{ColorLevel, LEVELS};
 use crate::physics::CloudParcel;
 
 /// Sprites of a parcel at fill 1: a parcel sphere is drawn with up to this
 /// many sprites, fewer as its fill drops (never fewer than the paper's 5).
-pub const PARCEL_SPRITES: u32 = 40;
+/// 60 of [`PARCEL_ALPHA`] rather than 40 opaque ones: the edge of a sphere
+/// builds up over several sprites, softer, as the path-traced parcels'
+/// (issue 32: 0.071 → 0.066 FLIP on fair weather with the shading below).
+pub const PARCEL_SPRITES: u32 = 60;
+
+/// Alpha of every colour level of a physics cloud (eq. 3's level alpha).
+pub const PARCEL_ALPHA: f32 = 0.75;
+
+/// A parcel's billow, for the directional term: the parcels of its cloud
+/// whose centres lie within this × its (drawn) radius, weighted by volume
+/// and falling off linearly with distance.
+pub const BILLOW_REACH: f32 = 4.0;
 
 /// The painted colour (sRGB-encoded, shaders/artist.wgsl) of a physics
 /// cloud from its base (first) to its top (last), over the cloud's height.
@@ -54,7 +66,9 @@ pub fn parcel_cloud(p: &CloudParcel, seed: u64) -> SpriteCloud {
     let bottom = SpriteBox {
         min_m: [-0.6 * r, -0.6 * r, base + size[1] * 0.3],
         max_m: [0.6 * r, 0.6 * r, base + size[1] * 0.35],
-        count: Some((count / 4).max(1)),
+        // A tenth: a flat row of darker bottoms reads as a seam where a
+        // cloud's parcels stand on each other.
+        count: Some((count / 10).max(1)),
         rotation_deg: [-5.0, 5.0],
         textures: vec![FLAT_BOTTOM_TILE],
         group: 1,
@@ -82,7 +96,7 @@ pub fn levels(bottom_m: f32, top_m: f32) -> Vec<ColorLevel> {
         .enumerate()
         .map(|(i, &c)| ColorLevel {
             height_m: bottom_m + span * i as f32 / (LEVELS - 1) as f32,
-            rgba: [c, c, c, 1.0],
+            rgba: [c, c, c, PARCEL_ALPHA],
         })
         .collect()
 }
@@ -99,8 +113,9 @@ pub fn clusters(parcels: &[CloudParcel]) -> Vec<usize> {
 /// stable id ([`CloudParcel::id`]): the same parcel gives the same sprites
 /// whichever parcels condense or evaporate around it. Touching parcels
 /// are shaded as one cloud: levels from the cloud's lowest condensation
-/// plane to its top, and one centre for the directional term (the mean of
-/// their centres, weighted by volume).
+/// plane to its top, one centre for the directional term (the mean of
+/// their centres, weighted by volume) and a billow centre per parcel
+/// ([`billow_centers`]).
 pub fn parcel_clouds(parcels: &[CloudParcel]) -> Vec<SpriteCloud> {
     let drawn: Vec<&CloudParcel> = parcels
         .iter()
@@ -119,15 +134,51 @@ pub fn parcel_clouds(parcels: &[CloudParcel]) -> Vec<SpriteCloud> {
         s.2 += p.center_m * w;
         s.3 += w;
     }
+    let billows = billow_centers(&owned, &cluster);
     owned
         .iter()
         .zip(&cluster)
-        .map(|(p, &c)| {
+        .zip(billows)
+        .map(|((p, &c), billow)| {
             let (bottom, top, sum, w) = span[c];
             let mut cloud = parcel_cloud(p, p.id);
             cloud.levels = levels(bottom, top);
-            cloud.shade_center_m = Some(sum / w);
+            cloud.shade_center_m = Some(ShadeCenters {
+                cloud_m: sum / w,
+                billow_m: billow,
+            });
             cloud
+        })
+        .collect()
+}
+
+/// The centre of each parcel's billow (§5.2's shading group at the scale of
+/// the billows): the mean centre of the parcels of its cloud (`cluster`)
+/// within [`BILLOW_REACH`] × its radius, weighted by volume × (1 − distance
+/// / reach). On a cloud's surface it lies inward, so the direction from it
+/// is about the surface's normal; under a higher part of the cloud it lies
+/// above, so the part is shaded.
+pub fn billow_centers(parcels: &[CloudParcel], cluster: &[usize]) -> Vec<Vec3> {
+    let n = cluster.iter().copied().max().map_or(0, |m| m + 1);
+    let mut members = vec![Vec::new(); n];
+    for (i, &c) in cluster.iter().enumerate() {
+        members[c].push(i);
+    }
+    parcels
+        .iter()
+        .zip(cluster)
+        .map(|(p, &c)| {
+            let reach = BILLOW_REACH * p.radius_m.max(1.0);
+            let (sum, w) = members[c].iter().map(|&j| &parcels[j]).fold(
+                (Vec3::ZERO, 0.0f32),
+                |(sum, w), q| {
+                    let k = (1.0 - q.center_m.distance(p.center_m) / reach).max(0.0)
+                        * q.radius_m.powi(3).max(1e-6);
+                    (sum + q.center_m * k, w + k)
+                },
+            );
+            // The parcel itself is always within reach: w > 0.
+            sum / w
         })
         .collect()
 }
@@ -168,7 +219,7 @@ mod tests {
         for c in &clouds {
             assert_eq!(c.levels.first().unwrap().height_m, 1000.0);
             assert_eq!(c.levels.last().unwrap().height_m, 1600.0);
-            let centre = c.shade_center_m.unwrap();
+            let centre = c.shade_center_m.unwrap().cloud_m;
             assert!((centre.z - 1325.0).abs() < 1e-3, "{centre}");
         }
     }
