@@ -134,7 +134,7 @@ pub fn parcel_clouds(parcels: &[CloudParcel]) -> Vec<SpriteCloud> {
         s.2 += p.center_m * w;
         s.3 += w;
     }
-    let billows = billow_centers(&owned, &cluster);
+    let billows = billow_centers(&owned);
     owned
         .iter()
         .zip(&cluster)
@@ -153,34 +153,25 @@ pub fn parcel_clouds(parcels: &[CloudParcel]) -> Vec<SpriteCloud> {
 }
 
 /// The centre of each parcel's billow (§5.2's shading group at the scale of
-/// the billows): the mean centre of the parcels of its cloud (`cluster`)
-/// within [`BILLOW_REACH`] × its radius, weighted by volume × (1 − distance
-/// / reach). On a cloud's surface it lies inward, so the direction from it
-/// is about the surface's normal; under a higher part of the cloud it lies
-/// above, so the part is shaded.
-pub fn billow_centers(parcels: &[CloudParcel], cluster: &[usize]) -> Vec<Vec3> {
-    let n = cluster.iter().copied().max().map_or(0, |m| m + 1);
-    let mut members = vec![Vec::new(); n];
-    for (i, &c) in cluster.iter().enumerate() {
-        members[c].push(i);
-    }
-    parcels
-        .iter()
-        .zip(cluster)
-        .map(|(p, &c)| {
-            let reach = BILLOW_REACH * p.radius_m.max(1.0);
-            let (sum, w) = members[c].iter().map(|&j| &parcels[j]).fold(
-                (Vec3::ZERO, 0.0f32),
-                |(sum, w), q| {
-                    let k = (1.0 - q.center_m.distance(p.center_m) / reach).max(0.0)
-                        * q.radius_m.powi(3).max(1e-6);
-                    (sum + q.center_m * k, w + k)
-                },
-            );
-            // The parcel itself is always within reach: w > 0.
-            sum / w
-        })
-        .collect()
+/// the billows): the mean centre of the parcels within [`BILLOW_REACH`] ×
+/// its radius, weighted by volume × (1 − distance / reach), whichever cloud
+/// they belong to (a neighbour that does not touch still hides part of the
+/// sky and the sun). On a cloud's surface it lies inward, so the direction
+/// from it is about the surface's normal; under a higher part of the cloud
+/// it lies above, so the part is shaded.
+pub fn billow_centers(parcels: &[CloudParcel]) -> Vec<Vec3> {
+    let centres: Vec<Vec3> = parcels.iter().map(|p| p.center_m).collect();
+    let r_max = parcels.iter().map(|p| p.radius_m).fold(1.0f32, f32::max);
+    let mut sum = vec![(Vec3::ZERO, 0.0f32); parcels.len()];
+    crate::physics::clusters::near_pairs(&centres, BILLOW_REACH * r_max, |i, j| {
+        let (p, q) = (&parcels[i], &parcels[j]);
+        let reach = BILLOW_REACH * p.radius_m.max(1.0);
+        let k = (1.0 - q.center_m.distance(p.center_m) / reach).max(0.0) * q.radius_m.powi(3).max(1e-6);
+        sum[i].0 += q.center_m * k;
+        sum[i].1 += k;
+    });
+    // Each parcel is within its own reach: the weight is positive.
+    sum.into_iter().map(|(s, w)| s / w).collect()
 }
 
 #[cfg(test)]
