@@ -545,10 +545,14 @@ mod tests {
         for i in PUFFY_TILES.iter().map(|&i| i as usize) {
             let (a, l) = (&alpha[i], &lum[i]);
             let body = (0..t * t).filter(|&k| a[k] > 0.5).map(|k| l[k]);
+            // Over the shade's range (1 − PUFFY_SHADE_FLOOR), so the
+            // structure is tested whatever its depth: billows lit on top,
+            // darker creases measure 0.25–0.28 (0.11–0.12 over the 0.45 range
+            // the tiles had before, 0.045 over today's 0.18); the old
+            // vertical ramp gave 0.04–0.07 (0.02–0.03 over 0.45).
             let (_, std) = mean_std(body);
-            // Billows lit on top, darker creases: measured 0.11–0.12; the
-            // old vertical ramp gave 0.02–0.03.
-            assert!(std >= 0.06, "tile {i}: luminance std {std}");
+            let relative = std / (1.0 - PUFFY_SHADE_FLOOR);
+            assert!(relative >= 0.13, "tile {i}: luminance std {std}, {relative} of the range");
             let half = |rows: std::ops::Range<usize>| {
                 let (mut s, mut w) = (0.0, 0.0);
                 for k in rows.start * t..rows.end * t {
