@@ -141,9 +141,11 @@ pub struct ShadeCenters {
 /// parcel's centre in [`SpriteCloud::shading_from`]: the billows carry the
 /// light and shade the path tracer shows (sunlit rims, shaded creases and
 /// undersides), the cloud a little of its sunlit and shaded sides, the
-/// parcel its own roundness. Chosen against the path tracer (issue 32; with
-/// the cloud's and the parcel's at 1 : 1 and no billow: fair weather 0.078,
-/// towering cumulus 0.095 FLIP; these: 0.066 and 0.093).
+/// parcel its own roundness. Chosen against the path tracer (issue 32,
+/// with [`super::parcels::BILLOW_ABOVE`]); the weights of before (1 : 0 : 1)
+/// with everything else as now cost about 0.003 FLIP on fair weather and on
+/// the towering cumulus before the billows were weighted upward, and more
+/// since (the billows carry the shade under the tower's upper parts).
 pub const SHADE_WEIGHTS: [f32; 3] = [0.5, 3.0, 2.0];
 
 impl SpriteCloud {
