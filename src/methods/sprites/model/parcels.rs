@@ -229,4 +229,25 @@ mod tests {
             assert!((centre.z - 1325.0).abs() < 1e-3, "{centre}");
         }
     }
+
+    /// A billow's centre lies inward from a cloud's side and above a part
+    /// under another, more above than beside (BILLOW_ABOVE); a parcel alone
+    /// is its own billow; parcels beyond the reach do not count.
+    #[test]
+    fn billow_centres_lie_inward_and_above() {
+        let ps = [
+            parcel(1, 0.0, 1200.0, 100.0),
+            parcel(2, 200.0, 1200.0, 100.0),
+            parcel(3, 0.0, 1400.0, 100.0),
+            parcel(4, 5000.0, 1200.0, 100.0),
+        ];
+        let b = billow_centers(&ps);
+        // Parcel 1 sees 2 beside and 3 above at the same distance: the
+        // centre moves up more than sideways.
+        let d = b[0] - ps[0].center_m;
+        assert!(d.x > 0.0 && d.z > d.x, "{d}");
+        // Parcel 3, on top, has no parcel above: its centre lies below.
+        assert!(b[2].z < ps[2].center_m.z, "{}", b[2]);
+        assert_eq!(b[3], ps[3].center_m);
+    }
 }
