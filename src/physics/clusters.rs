@@ -64,7 +64,10 @@ pub fn near_pairs(centres: &[Vec3], cell: f32, mut near: impl FnMut(usize, usize
         for dz in -1..=1 {
             for dy in -1..=1 {
                 for dx in -1..=1 {
-                    for &j in grid.get(&(k + IVec3::new(dx, dy, dz))).into_iter().flatten() {
+                    let Some(list) = grid.get(&(k + IVec3::new(dx, dy, dz))) else {
+                        continue;
+                    };
+                    for &j in list {
                         near(i, j);
                     }
                 }
