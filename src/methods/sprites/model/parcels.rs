@@ -54,9 +54,10 @@ pub const TOUCHING: f32 = 1.0;
 /// A condensed parcel as a sprite cloud: one box spanning its sphere down to
 /// its condensation plane (the flat base), `fill` × [`PARCEL_SPRITES`]
 /// sprites of [`PARCEL_SPRITE_SIZE`] × its radius, cumulus tiles, a
-/// flat-bottomed tile on the base row. `seed` makes it deterministic (use the parcel's id). Its
-/// levels and shading centre are its own; [`parcel_clouds`] gives them the
-/// cloud the parcel belongs to.
+/// flat-bottomed tile on the base row. `seed` makes it deterministic (use
+/// the parcel's id). Its levels and shading centre are its own;
+/// [`parcel_clouds`] gives them the cloud and the billow the parcel
+/// belongs to.
 pub fn parcel_cloud(p: &CloudParcel, seed: u64) -> SpriteCloud {
     let r = p.radius_m.max(1.0);
     let base = (p.cond_plane_z_m - p.center_m.z).clamp(-r, r);
