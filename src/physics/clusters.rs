@@ -26,34 +26,16 @@ pub fn touching_groups(
         i
     }
     let r_max = spheres.iter().map(|s| s.1).fold(1.0f32, f32::max);
-    // Two joined spheres are at most reach × 2 r_max apart: a cell that
-    // wide keeps every candidate in the 27 cells around a centre.
-    let cell = 2.0 * reach * r_max;
-    let key = |v: Vec3| (v / cell).floor().as_ivec3();
-    let mut grid: std::collections::HashMap<IVec3, Vec<usize>> = Default::default();
-    for (i, s) in spheres.iter().enumerate() {
-        grid.entry(key(s.0)).or_default().push(i);
-    }
-    for (i, &(c, r)) in spheres.iter().enumerate() {
-        let k = key(c);
-        for dz in -1..=1 {
-            for dy in -1..=1 {
-                for dx in -1..=1 {
-                    let Some(list) = grid.get(&(k + IVec3::new(dx, dy, dz))) else {
-                        continue;
-                    };
-                    for &j in list {
-                        let (cj, rj) = spheres[j];
-                        let d = reach * (r + rj);
-                        if j > i && c.distance_squared(cj) < d * d && also(i, j) {
-                            let (a, b) = (root(&mut parent, i), root(&mut parent, j));
-                            parent[a.max(b)] = a.min(b);
-                        }
-                    }
-                }
-            }
+    // Two joined spheres are at most reach × 2 r_max apart.
+    let centres: Vec<Vec3> = spheres.iter().map(|s| s.0).collect();
+    near_pairs(&centres, 2.0 * reach * r_max, |i, j| {
+        let ((c, r), (cj, rj)) = (spheres[i], spheres[j]);
+        let d = reach * (r + rj);
+        if j > i && c.distance_squared(cj) < d * d && also(i, j) {
+            let (a, b) = (root(&mut parent, i), root(&mut parent, j));
+            parent[a.max(b)] = a.min(b);
         }
-    }
+    });
     let mut index = vec![usize::MAX; n];
     let mut next = 0;
     (0..n)
@@ -66,4 +48,30 @@ pub fn touching_groups(
             index[r]
         })
         .collect()
+}
+
+/// Calls `near(i, j)` for every point `i` and every point `j` (itself
+/// included) in the 27 grid cells of side `cell` around it: every pair
+/// closer than `cell` among others, each ordered pair once.
+pub fn near_pairs(centres: &[Vec3], cell: f32, mut near: impl FnMut(usize, usize)) {
+    let key = |v: Vec3| (v / cell).floor().as_ivec3();
+    let mut grid: std::collections::HashMap<IVec3, Vec<usize>> = Default::default();
+    for (i, &c) in centres.iter().enumerate() {
+        grid.entry(key(c)).or_default().push(i);
+    }
+    for (i, &c) in centres.iter().enumerate() {
+        let k = key(c);
+        for dz in -1..=1 {
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    let Some(list) = grid.get(&(k + IVec3::new(dx, dy, dz))) else {
+                        continue;
+                    };
+                    for &j in list {
+                        near(i, j);
+                    }
+                }
+            }
+        }
+    }
 }

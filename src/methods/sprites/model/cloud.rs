@@ -120,23 +120,49 @@ pub struct SpriteCloud {
     pub pruned: usize,
     /// Sprites dropped beyond [`MAX_SPRITES_PER_CLOUD`] (shown).
     pub capped: usize,
-    /// One centre for the directional shading of every sprite (None: each
+    /// Centres for the directional shading of every sprite (None: each
     /// shading group's own centre, the paper's): a physics parcel's
-    /// sprites are shaded as part of the cloud the parcel belongs to.
-    pub shade_center_m: Option<Vec3>,
+    /// sprites are shaded as part of the cloud and the billow the parcel
+    /// belongs to.
+    pub shade_center_m: Option<ShadeCenters>,
 }
+
+/// The centres a physics parcel's directional term looks from besides its
+/// own (model::parcels). units: m
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShadeCenters {
+    /// The whole cloud's (its parcels' mean centre).
+    pub cloud_m: Vec3,
+    /// The parcel's billow's (the parcels around it).
+    pub billow_m: Vec3,
+}
+
+/// Weights of the directions from the cloud's, the billow's and the
+/// parcel's centre in [`SpriteCloud::shading_from`]: the billows carry the
+/// light and shade the path tracer shows (sunlit rims, shaded creases and
+/// undersides), the cloud a little of its sunlit and shaded sides, the
+/// parcel its own roundness. Chosen against the path tracer (issue 32,
+/// with [`super::parcels::BILLOW_ABOVE`]); the weights of before (1 : 0 : 1)
+/// with everything else as now cost about 0.003 FLIP on fair weather and on
+/// the towering cumulus before the billows were weighted upward, and more
+/// since (the billows carry the shade under the tower's upper parts).
+pub const SHADE_WEIGHTS: [f32; 3] = [0.5, 3.0, 2.0];
 
 impl SpriteCloud {
     /// The point the directional term (eq. 2) of `vertex_m` looks from:
-    /// its shading group's centre `group_m` (the paper's), or, for a cloud
-    /// with a cloud-wide centre, a point from which the vertex lies in the
-    /// mean of the two directions: the cloud's sunlit and shaded sides with
-    /// each billow's own on top of them.
+    /// its shading group's centre `group_m` (the paper's), or, for a
+    /// physics parcel's cloud, a point from which the vertex lies in the
+    /// [`SHADE_WEIGHTS`] mean of the directions from the cloud's, its
+    /// billow's and its parcel's (`group_m`) centres.
     pub fn shading_from(&self, group_m: Vec3, vertex_m: Vec3) -> Vec3 {
         match self.shade_center_m {
             None => group_m,
             Some(c) => {
-                let d = (vertex_m - c).normalize_or_zero() + (vertex_m - group_m).normalize_or_zero();
+                let d = [c.cloud_m, c.billow_m, group_m]
+                    .iter()
+                    .zip(SHADE_WEIGHTS)
+                    .map(|(&from, w)| w * (vertex_m - from).normalize_or_zero())
+                    .sum::<Vec3>();
                 vertex_m - d.normalize_or_zero()
             }
         }
