@@ -83,7 +83,9 @@ impl Renderer {
             let r = ring.model.config.radius_m;
             if let Some(at) = ring.anchor
                 && !ring.model.is_building()
-                && self.sprite_scene.ring_changed(parcels, at, r)
+                && self
+                    .sprite_scene
+                    .ring_changed(parcels, at, r, input.sun.direction)
             {
                 ring.model.invalidate();
             }
@@ -95,7 +97,8 @@ impl Renderer {
             );
             if let Some((k, cam)) = ring.frame.render {
                 if k == 0 {
-                    self.sprite_scene.ring_started(parcels, cam, r);
+                    self.sprite_scene
+                        .ring_started(parcels, cam, r, input.sun.direction);
                 }
                 if k + 1 == SECTORS {
                     self.sprite_scene.ring_completed();

@@ -266,7 +266,10 @@ fn only_condensed_parcels_become_clouds() {
         fill,
         cond_plane_z_m: 1400.0,
     };
-    let clouds = parcel_clouds(&[p(7, 0.0, 0.5), p(8, 1000.0, 0.0), p(9, 2000.0, 1.0)]);
+    let clouds = parcel_clouds(
+        &[p(7, 0.0, 0.5), p(8, 1000.0, 0.0), p(9, 2000.0, 1.0)],
+        Vec3::Z,
+    );
     assert_eq!(clouds.len(), 2, "the dry parcel makes no cloud");
     assert_eq!(
         clouds[1].sprites,
@@ -289,13 +292,13 @@ fn removing_an_unrelated_parcel_leaves_a_clouds_sprites_unchanged() {
         fill: 1.0,
         cond_plane_z_m: 1350.0,
     };
-    let before = parcel_clouds(&[p(3, 0.0), p(4, 1000.0), p(5, 2000.0)]);
-    let after = parcel_clouds(&[p(4, 1000.0), p(5, 2000.0)]);
-    let grown = parcel_clouds(&[p(11, -900.0), p(4, 1000.0), p(5, 2000.0)]);
+    let before = parcel_clouds(&[p(3, 0.0), p(4, 1000.0), p(5, 2000.0)], Vec3::Z);
+    let after = parcel_clouds(&[p(4, 1000.0), p(5, 2000.0)], Vec3::Z);
+    let grown = parcel_clouds(&[p(11, -900.0), p(4, 1000.0), p(5, 2000.0)], Vec3::Z);
     assert_eq!(before[1], after[0]);
     assert_eq!(before[2], after[1]);
     assert_eq!(before[1], grown[1]);
-    let swapped = parcel_clouds(&[p(5, 1000.0)]);
+    let swapped = parcel_clouds(&[p(5, 1000.0)], Vec3::Z);
     assert_ne!(before[1].sprites, swapped[0].sprites);
 }
 

@@ -82,7 +82,7 @@ fn physics_clouds_beyond_the_radius_go_into_the_ring() {
 
     // A set starts: the far parcel (its block beyond 10 km, at the
     // camera's height) is in the faces, the near one is not.
-    scene.ring_started(&parcels, cam, RADIUS_M);
+    scene.ring_started(&parcels, cam, RADIUS_M, Vec3::Z);
     let in_faces: Vec<SpriteInstance> = (0..SECTORS)
         .flat_map(|k| scene.face_instances(cam, RADIUS_M, k, Vec3::Z))
         .collect();
@@ -101,12 +101,12 @@ fn physics_clouds_beyond_the_radius_go_into_the_ring() {
 
     // Same far clouds: no re-render. One evaporated, one condensed
     // beyond the radius, or the near one moved out: re-render.
-    assert!(!scene.ring_changed(&parcels, cam, RADIUS_M));
-    assert!(scene.ring_changed(&[near], cam, RADIUS_M));
+    assert!(!scene.ring_changed(&parcels, cam, RADIUS_M, Vec3::Z));
+    assert!(scene.ring_changed(&[near], cam, RADIUS_M, Vec3::Z));
     let born = parcel(9, -3000.0, -22_000.0);
-    assert!(scene.ring_changed(&[far, near, born], cam, RADIUS_M));
+    assert!(scene.ring_changed(&[far, near, born], cam, RADIUS_M, Vec3::Z));
     let moved = parcel(8, 0.0, 30_000.0);
-    assert!(scene.ring_changed(&[far, moved], cam, RADIUS_M));
+    assert!(scene.ring_changed(&[far, moved], cam, RADIUS_M, Vec3::Z));
     // A parcel 2000 ft above the camera stays out of the ring, as the
     // scene's clouds do: no change.
     let high = CloudParcel {
@@ -114,7 +114,7 @@ fn physics_clouds_beyond_the_radius_go_into_the_ring() {
         cond_plane_z_m: 3200.0,
         ..parcel(10, 0.0, 0.0)
     };
-    assert!(!scene.ring_changed(&[far, near, high], cam, RADIUS_M));
+    assert!(!scene.ring_changed(&[far, near, high], cam, RADIUS_M, Vec3::Z));
 }
 
 #[test]

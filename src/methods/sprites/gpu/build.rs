@@ -85,7 +85,7 @@ pub fn shade(
                 continue;
             }
             let c = corners(s.center_m, normal, s.width_m, s.height_m, s.rotation_rad);
-            let shade = c.map(|p| lighting.vertex_shade(&cloud.levels, p, cloud.shading_from(g, p), alpha));
+            let shade = c.map(|p| cloud.vertex_shade(lighting, g, p, alpha));
             out.push(SpriteInstance {
                 corners: c.map(|p| p.extend(1.0).to_array()),
                 colors: shade.map(|v| v.painted.to_array()),
@@ -159,6 +159,8 @@ pub struct SpriteScene {
     /// only when the parcels change).
     parcels_in: Vec<CloudParcel>,
     parcels: Vec<ParcelCloud>,
+    /// The sun their sunlit shares are for.
+    parcels_sun: Vec3,
     /// Physics clouds of the ring set being rendered (taken at its first
     /// face, so its 8 faces show one state of the field) and the ids of
     /// those in the newest complete set (left out of the direct draw).
@@ -257,7 +259,7 @@ impl SpriteScene {
             }
             all.extend_from_slice(&self.cache[i].as_ref().expect("filled above").instances);
         }
-        self.set_parcels(parcels);
+        self.set_parcels(parcels, sun_dir);
         let ring = self.impostored.is_some();
         let mut parcel_clouds = 0;
         for p in &self.parcels {
@@ -282,24 +284,24 @@ impl SpriteScene {
     }
 
     /// Builds the sprite clouds of `parcels` (full clouds, seeded by their
-    /// ids; formation follows the fill at draw time), unless they are the
-    /// last frame's.
-    fn set_parcels(&mut self, parcels: &[CloudParcel]) {
-        if parcels == self.parcels_in.as_slice() {
+    /// ids; formation follows the fill at draw time) with their sunlit
+    /// shares under `sun_dir`, unless they are the last frame's parcels
+    /// under a sun that has moved less than the scene's clouds' cache
+    /// allows (`SUN_COS`).
+    fn set_parcels(&mut self, parcels: &[CloudParcel], sun_dir: Vec3) {
+        if parcels == self.parcels_in.as_slice() && sun_dir.dot(self.parcels_sun) >= SUN_COS {
             return;
         }
         self.parcels_in = parcels.to_vec();
-        let drawn: Vec<&CloudParcel> = parcels
+        self.parcels_sun = sun_dir;
+        let drawn: Vec<CloudParcel> = parcels
             .iter()
             .filter(|p| p.fill > 0.0 && p.radius_m.is_finite() && p.center_m.is_finite())
-            .collect();
-        let full: Vec<CloudParcel> = drawn
-            .iter()
-            .map(|p| CloudParcel { fill: 1.0, ..**p })
+            .copied()
             .collect();
         self.parcels = drawn
             .iter()
-            .zip(parcel_clouds(&full))
+            .zip(parcel_clouds(&drawn, sun_dir))
             .map(|(p, cloud)| ParcelCloud {
                 id: p.id,
                 fill: p.fill,
@@ -318,9 +320,15 @@ impl SpriteScene {
     }
 
     /// A ring set starts at `ring_cam`: the physics clouds it will hold
-    /// are taken now, for all 8 of its faces.
-    pub fn ring_started(&mut self, parcels: &[CloudParcel], ring_cam: Vec3, radius_m: f32) {
-        self.set_parcels(parcels);
+    /// are taken now, shaded under `sun_dir`, for all 8 of its faces.
+    pub fn ring_started(
+        &mut self,
+        parcels: &[CloudParcel],
+        ring_cam: Vec3,
+        radius_m: f32,
+        sun_dir: Vec3,
+    ) {
+        self.set_parcels(parcels, sun_dir);
         self.ring_building = self.ring_parcels(ring_cam, radius_m).cloned().collect();
     }
 
@@ -332,9 +340,16 @@ impl SpriteScene {
 
     /// Whether the physics clouds a ring at `ring_cam` would hold now are
     /// not those of its newest set (one condensed or evaporated beyond
-    /// the radius, or crossed it): the ring must be re-rendered.
-    pub fn ring_changed(&mut self, parcels: &[CloudParcel], ring_cam: Vec3, radius_m: f32) -> bool {
-        self.set_parcels(parcels);
+    /// the radius, or crossed it): the ring must be re-rendered. `sun_dir`:
+    /// the frame's sun, which the parcels' sunlit shares are for.
+    pub fn ring_changed(
+        &mut self,
+        parcels: &[CloudParcel],
+        ring_cam: Vec3,
+        radius_m: f32,
+        sun_dir: Vec3,
+    ) -> bool {
+        self.set_parcels(parcels, sun_dir);
         !self
             .ring_parcels(ring_cam, radius_m)
             .map(|p| p.id)

@@ -7,7 +7,8 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use super::presets::CloudType;
-use super::shading::ColorLevel;
+use super::parcels::PARCEL_MAP;
+use super::shading::{ColorLevel, Lighting, VertexShade};
 use super::{finite_in, range_in};
 use crate::error::{Error, Result};
 use crate::physics::rng::SplitMix64;
@@ -135,18 +136,21 @@ pub struct ShadeCenters {
     pub cloud_m: Vec3,
     /// The parcel's billow's (the parcels around it).
     pub billow_m: Vec3,
+    /// The share of the sun's light that reaches the parcel past the
+    /// parcels between it and the sun ([`super::parcels::sunlit_shares`]),
+    /// in (0, 1].
+    pub sunlit: f32,
 }
 
 /// Weights of the directions from the cloud's, the billow's and the
-/// parcel's centre in [`SpriteCloud::shading_from`]: the billows carry the
-/// light and shade the path tracer shows (sunlit rims, shaded creases and
-/// undersides), the cloud a little of its sunlit and shaded sides, the
-/// parcel its own roundness. Chosen against the path tracer (issue 32,
-/// with [`super::parcels::BILLOW_ABOVE`]); the weights of before (1 : 0 : 1)
-/// with everything else as now cost about 0.003 FLIP on fair weather and on
-/// the towering cumulus before the billows were weighted upward, and more
-/// since (the billows carry the shade under the tower's upper parts).
-pub const SHADE_WEIGHTS: [f32; 3] = [0.5, 3.0, 2.0];
+/// parcel's centre in [`SpriteCloud::shading_from`]: the cloud gives a
+/// little of its sunlit and shaded sides, the billow its lit rim and
+/// shaded creases and undersides, the parcel its own roundness. Chosen
+/// against the path tracer (issue 32) together with the parcels' sunlit
+/// share ([`super::parcels::sunlit_shares`]), which now carries the shade
+/// under and behind the tower's upper parts: the billows count for a
+/// third of what they did before it (3 : 2 for billow : parcel).
+pub const SHADE_WEIGHTS: [f32; 3] = [0.5, 1.1, 1.15];
 
 impl SpriteCloud {
     /// The point the directional term (eq. 2) of `vertex_m` looks from:
@@ -164,6 +168,24 @@ impl SpriteCloud {
                     .map(|(&from, w)| w * (vertex_m - from).normalize_or_zero())
                     .sum::<Vec3>();
                 vertex_m - d.normalize_or_zero()
+            }
+        }
+    }
+
+    /// The shading of a sprite corner at `vertex_m` of shading group
+    /// centre `group_m` and formation alpha `alpha` (eq. 3 without the
+    /// texture): the paper's for an authored cloud; for a physics parcel's,
+    /// looking from [`Self::shading_from`] through
+    /// [`super::parcels::PARCEL_MAP`], its share of the sun × the parcel's
+    /// sunlit share.
+    pub fn vertex_shade(&self, lighting: &Lighting, group_m: Vec3, vertex_m: Vec3, alpha: f32) -> VertexShade {
+        match self.shade_center_m {
+            None => lighting.vertex_shade(&self.levels, vertex_m, group_m, alpha),
+            Some(c) => {
+                let from = self.shading_from(group_m, vertex_m);
+                let mut v = lighting.vertex_shade_mapped(&PARCEL_MAP, &self.levels, vertex_m, from, alpha);
+                v.sun *= c.sunlit;
+                v
             }
         }
     }

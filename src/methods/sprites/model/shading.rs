@@ -285,10 +285,16 @@ impl Lighting {
     /// Share of the sun's light of a vertex (eq. 2), from its shading
     /// group centre.
     pub fn sun_share(&self, vertex_m: Vec3, group_center_m: Vec3) -> f32 {
+        self.sun_share_mapped(&self.map, vertex_m, group_center_m)
+    }
+
+    /// [`Self::sun_share`] through the directional mapping `map` instead
+    /// of the frame's.
+    pub fn sun_share_mapped(&self, map: &DirectionalMap, vertex_m: Vec3, group_center_m: Vec3) -> f32 {
         let dot = (vertex_m - group_center_m)
             .normalize_or_zero()
             .dot(self.sun_dir);
-        self.sun.at(self.hour) * self.map.map(dot)
+        self.sun.at(self.hour) * map.map(dot)
     }
 
     /// A vertex's shading (eq. 3 without the texture): the painted level at
@@ -300,11 +306,23 @@ impl Lighting {
         group_center_m: Vec3,
         alpha_morph: f32,
     ) -> VertexShade {
+        self.vertex_shade_mapped(&self.map, levels, vertex_m, group_center_m, alpha_morph)
+    }
+
+    /// [`Self::vertex_shade`] through the directional mapping `map`.
+    pub fn vertex_shade_mapped(
+        &self,
+        map: &DirectionalMap,
+        levels: &[ColorLevel],
+        vertex_m: Vec3,
+        group_center_m: Vec3,
+        alpha_morph: f32,
+    ) -> VertexShade {
         let level = level_color(levels, vertex_m.z);
         VertexShade {
             painted: level.truncate().extend(level.w * alpha_morph),
             sky: self.sky_share(),
-            sun: self.sun_share(vertex_m, group_center_m),
+            sun: self.sun_share_mapped(map, vertex_m, group_center_m),
         }
     }
 }
