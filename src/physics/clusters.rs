@@ -50,28 +50,51 @@ pub fn touching_groups(
         .collect()
 }
 
-/// Calls `near(i, j)` for every point `i` and every point `j` (itself
-/// included) in the 27 grid cells of side `cell` around it: every pair
-/// closer than `cell` among others, each ordered pair once.
-pub fn near_pairs(centres: &[Vec3], cell: f32, mut near: impl FnMut(usize, usize)) {
-    let key = |v: Vec3| (v / cell).floor().as_ivec3();
-    let mut grid: std::collections::HashMap<IVec3, Vec<usize>> = Default::default();
-    for (i, &c) in centres.iter().enumerate() {
-        grid.entry(key(c)).or_default().push(i);
+/// Points on a uniform grid of side `cell`, to find those near a place.
+pub struct PointGrid {
+    cell: f32,
+    cells: std::collections::HashMap<IVec3, Vec<usize>>,
+}
+
+impl PointGrid {
+    /// The grid of `points` (indices into it) with cells of side `cell`.
+    pub fn new(points: &[Vec3], cell: f32) -> Self {
+        let mut grid = PointGrid {
+            cell,
+            cells: Default::default(),
+        };
+        for (i, &p) in points.iter().enumerate() {
+            grid.cells.entry(grid.key(p)).or_default().push(i);
+        }
+        grid
     }
-    for (i, &c) in centres.iter().enumerate() {
-        let k = key(c);
+
+    fn key(&self, p: Vec3) -> IVec3 {
+        (p / self.cell).floor().as_ivec3()
+    }
+
+    /// Calls `near(j)` for every point `j` in the 27 cells around `at`
+    /// (every point closer than `cell` among others), in a fixed order.
+    pub fn around(&self, at: Vec3, mut near: impl FnMut(usize)) {
+        let k = self.key(at);
         for dz in -1..=1 {
             for dy in -1..=1 {
                 for dx in -1..=1 {
-                    let Some(list) = grid.get(&(k + IVec3::new(dx, dy, dz))) else {
-                        continue;
-                    };
-                    for &j in list {
-                        near(i, j);
+                    if let Some(list) = self.cells.get(&(k + IVec3::new(dx, dy, dz))) {
+                        list.iter().for_each(|&j| near(j));
                     }
                 }
             }
         }
+    }
+}
+
+/// Calls `near(i, j)` for every point `i` and every point `j` (itself
+/// included) in the 27 grid cells of side `cell` around it: every pair
+/// closer than `cell` among others, each ordered pair once.
+pub fn near_pairs(centres: &[Vec3], cell: f32, mut near: impl FnMut(usize, usize)) {
+    let grid = PointGrid::new(centres, cell);
+    for (i, &c) in centres.iter().enumerate() {
+        grid.around(c, |j| near(i, j));
     }
 }

@@ -22,6 +22,7 @@ fn sprite(x: f32, y: f32, z: f32, h: f32) -> Sprite {
         rotation_rad: 0.0,
         texture: 10,
         group: 0,
+        sunlit: 1.0,
     }
 }
 
@@ -271,8 +272,14 @@ fn only_condensed_parcels_become_clouds() {
         Vec3::Z,
     );
     assert_eq!(clouds.len(), 2, "the dry parcel makes no cloud");
+    // Laid out as the parcel alone (its sunlit shares are the cloud's).
+    let laid_out: Vec<Sprite> = clouds[1]
+        .sprites
+        .iter()
+        .map(|s| Sprite { sunlit: 1.0, ..*s })
+        .collect();
     assert_eq!(
-        clouds[1].sprites,
+        laid_out,
         parcel_cloud(&p(9, 2000.0, 1.0), 9).sprites,
         "seeded by the parcel's id"
     );

@@ -85,7 +85,7 @@ pub fn shade(
                 continue;
             }
             let c = corners(s.center_m, normal, s.width_m, s.height_m, s.rotation_rad);
-            let shade = c.map(|p| cloud.vertex_shade(lighting, g, p, alpha));
+            let shade = c.map(|p| cloud.vertex_shade(lighting, s, g, p, alpha));
             out.push(SpriteInstance {
                 corners: c.map(|p| p.extend(1.0).to_array()),
                 colors: shade.map(|v| v.painted.to_array()),

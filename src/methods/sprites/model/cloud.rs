@@ -103,6 +103,11 @@ pub struct Sprite {
     pub texture: u8,
     /// Shading group index within its cloud.
     pub group: u32,
+    /// Share of the sun's light that reaches it past the cloud between it
+    /// and the sun, in (0, 1]: 1 for an authored cloud (its painter
+    /// shades it); for a physics parcel's,
+    /// [`super::parcels::sunlit_shares`].
+    pub sunlit: f32,
 }
 
 /// A filled sprite cloud.
@@ -136,21 +141,17 @@ pub struct ShadeCenters {
     pub cloud_m: Vec3,
     /// The parcel's billow's (the parcels around it).
     pub billow_m: Vec3,
-    /// The share of the sun's light that reaches the parcel past the
-    /// parcels between it and the sun ([`super::parcels::sunlit_shares`]),
-    /// in (0, 1].
-    pub sunlit: f32,
 }
 
 /// Weights of the directions from the cloud's, the billow's and the
 /// parcel's centre in [`SpriteCloud::shading_from`]: the cloud gives a
-/// little of its sunlit and shaded sides, the billow its lit rim and
-/// shaded creases and undersides, the parcel its own roundness. Chosen
-/// against the path tracer (issue 32) together with the parcels' sunlit
-/// share ([`super::parcels::sunlit_shares`]), which now carries the shade
-/// under and behind the tower's upper parts: the billows count for a
-/// third of what they did before it (3 : 2 for billow : parcel).
-pub const SHADE_WEIGHTS: [f32; 3] = [0.5, 1.1, 1.15];
+/// little of its sunlit and shaded sides, the parcel its own roundness,
+/// the billow a little of its lit rim. Chosen against the path tracer
+/// (issue 32) together with the sprites' sunlit shares
+/// ([`super::parcels::sunlit_shares`]), which now carry the shade behind
+/// and under the cloud's other parts, so the billows count for a tenth
+/// of what they did before them (3 : 2 for billow : parcel).
+pub const SHADE_WEIGHTS: [f32; 3] = [0.55, 0.2, 0.8];
 
 impl SpriteCloud {
     /// The point the directional term (eq. 2) of `vertex_m` looks from:
@@ -172,22 +173,29 @@ impl SpriteCloud {
         }
     }
 
-    /// The shading of a sprite corner at `vertex_m` of shading group
-    /// centre `group_m` and formation alpha `alpha` (eq. 3 without the
+    /// The shading of a corner at `vertex_m` of `sprite` (shading group
+    /// centre `group_m`, formation alpha `alpha`; eq. 3 without the
     /// texture): the paper's for an authored cloud; for a physics parcel's,
     /// looking from [`Self::shading_from`] through
-    /// [`super::parcels::PARCEL_MAP`], its share of the sun × the parcel's
-    /// sunlit share.
-    pub fn vertex_shade(&self, lighting: &Lighting, group_m: Vec3, vertex_m: Vec3, alpha: f32) -> VertexShade {
-        match self.shade_center_m {
+    /// [`super::parcels::PARCEL_MAP`]. Its share of the sun is then ×
+    /// the sprite's sunlit share.
+    pub fn vertex_shade(
+        &self,
+        lighting: &Lighting,
+        sprite: &Sprite,
+        group_m: Vec3,
+        vertex_m: Vec3,
+        alpha: f32,
+    ) -> VertexShade {
+        let mut v = match self.shade_center_m {
             None => lighting.vertex_shade(&self.levels, vertex_m, group_m, alpha),
-            Some(c) => {
+            Some(_) => {
                 let from = self.shading_from(group_m, vertex_m);
-                let mut v = lighting.vertex_shade_mapped(&PARCEL_MAP, &self.levels, vertex_m, from, alpha);
-                v.sun *= c.sunlit;
-                v
+                lighting.vertex_shade_mapped(&PARCEL_MAP, &self.levels, vertex_m, from, alpha)
             }
-        }
+        };
+        v.sun *= sprite.sunlit;
+        v
     }
 }
 
@@ -334,6 +342,7 @@ fn fill_box(rng: &mut SplitMix64, center: Vec3, b: &SpriteBox, out: &mut Vec<Spr
             rotation_rad: if square { rot.to_radians() } else { 0.0 },
             texture: b.textures[pick.min(b.textures.len() - 1)],
             group: b.group,
+            sunlit: 1.0,
         });
     }
 }

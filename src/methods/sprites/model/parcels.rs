@@ -9,6 +9,7 @@
 //! and each billow its own lit side and shaded creases.
 
 use glam::Vec3;
+use rayon::prelude::*;
 
 use super::atlas::{FLAT_BOTTOM_TILE, PUFFY_TILES};
 use super::cloud::{PRUNE_TYPICAL, ShadeCenters, SpriteBox, SpriteCloud, SpriteCloudSpec};
@@ -41,7 +42,7 @@ pub const BILLOW_REACH: f32 = 3.0;
 /// direction in place of straight up did no better (0.0815 against 0.0812
 /// on that frame): what lies between a parcel and the sun is
 /// [`sunlit_shares`]' part.
-pub const BILLOW_ABOVE: f32 = 8.0;
+pub const BILLOW_ABOVE: f32 = 13.0;
 
 /// The directional mapping (§5.2) of a physics cloud: a side-on sprite
 /// gets 0.6 of the sun (the paper's default 0.45 is for authored clouds,
@@ -49,27 +50,27 @@ pub const BILLOW_ABOVE: f32 = 8.0;
 /// a little more than the sun (the sunlit share dims it inside the cloud).
 pub const PARCEL_MAP: DirectionalMap = DirectionalMap {
     min: 0.0,
-    median: 0.6,
-    max: 1.09,
+    median: 0.55,
+    max: 1.0,
 };
 
-/// The sun a parcel keeps behind `d` parcel diameters of cloud
+/// The sun a sprite keeps behind `d` parcel diameters of cloud
 /// ([`sunlit_shares`]): 1 − `SUNLIT_DIM` + `SUNLIT_DIM`·exp(−`SUNLIT_FALLOFF`
 /// · max(d − `SUNLIT_FREE`, 0)). What lies behind a few parcels keeps a
-/// seventh of the sun: light scattered through the cloud and round it,
+/// twelfth of the sun: light scattered through the cloud and round it,
 /// which the painter leaves in the shade. Chosen against the path tracer
-/// (issue 32: towering cumulus 0.082 → 0.070 at 160×120, 0.084 → 0.074 at
-/// 320×240; fair weather unchanged).
-pub const SUNLIT_DIM: f32 = 0.865;
+/// (issue 32: towering cumulus 0.082 → 0.067 at 160×120, 0.084 → 0.071 at
+/// 320×240; fair weather 0.065 → 0.065).
+pub const SUNLIT_DIM: f32 = 0.92;
 /// Per parcel diameter of cloud toward the sun ([`SUNLIT_DIM`]).
-pub const SUNLIT_FALLOFF: f32 = 0.54;
-/// Diameters of cloud toward the sun that dim nothing: a parcel's
-/// neighbours overlap its edge ([`SUNLIT_DIM`]).
-pub const SUNLIT_FREE: f32 = 0.16;
+pub const SUNLIT_FALLOFF: f32 = 0.75;
+/// Diameters of cloud toward the sun that dim nothing: the fringe of a
+/// parcel's own sphere ([`SUNLIT_DIM`]).
+pub const SUNLIT_FREE: f32 = 0.11;
 
 /// The painted colour (sRGB-encoded, shaders/artist.wgsl) of a physics
 /// cloud from its base (first) to its top (last), over the cloud's height.
-pub const PARCEL_LEVELS: [f32; LEVELS] = [0.87, 0.92, 0.95, 0.975, 1.0];
+pub const PARCEL_LEVELS: [f32; LEVELS] = [0.87, 0.91, 0.945, 0.975, 1.0];
 
 /// Parcels whose spheres are closer than this × the sum of their radii
 /// belong to the same cloud.
@@ -154,7 +155,7 @@ pub fn clusters(parcels: &[CloudParcel]) -> Vec<usize> {
 /// from the cloud's lowest condensation plane to its top, one centre for
 /// the directional term (the mean of their centres, weighted by volume),
 /// a billow centre per parcel ([`billow_centers`]) and the share of the
-/// sun (along `sun_dir`) that reaches it ([`sunlit_shares`]).
+/// sun (along `sun_dir`) that reaches each sprite ([`sunlit_shares`]).
 pub fn parcel_clouds(parcels: &[CloudParcel], sun_dir: Vec3) -> Vec<SpriteCloud> {
     let owned: Vec<CloudParcel> = parcels
         .iter()
@@ -174,54 +175,67 @@ pub fn parcel_clouds(parcels: &[CloudParcel], sun_dir: Vec3) -> Vec<SpriteCloud>
         s.3 += w;
     }
     let billows = billow_centers(&owned);
-    let sunlit = sunlit_shares(&owned, sun_dir);
-    owned
+    let mut clouds: Vec<SpriteCloud> = owned
         .iter()
         .zip(&cluster)
-        .zip(billows.into_iter().zip(sunlit))
-        .map(|((p, &c), (billow, sunlit))| {
+        .zip(billows)
+        .map(|((p, &c), billow)| {
             let (bottom, top, sum, w) = span[c];
             let mut cloud = parcel_cloud(&CloudParcel { fill: 1.0, ..*p }, p.id);
             cloud.levels = levels(bottom, top);
             cloud.shade_center_m = Some(ShadeCenters {
                 cloud_m: sum / w,
                 billow_m: billow,
-                sunlit,
             });
             cloud
         })
-        .collect()
+        .collect();
+    let centres: Vec<Vec3> = clouds.iter().flat_map(|c| c.sprites.iter().map(|s| s.center_m)).collect();
+    let mut sunlit = sunlit_shares(&centres, &owned, sun_dir).into_iter();
+    for s in clouds.iter_mut().flat_map(|c| c.sprites.iter_mut()) {
+        s.sunlit = sunlit.next().unwrap_or(1.0);
+    }
+    clouds
 }
 
-/// The share of the sun that reaches each parcel's centre past the others
-/// ([`SUNLIT_DIM`]): `d` = Σ over the parcels whose sphere the ray from
-/// its centre toward the sun (`sun_dir`) crosses, of the chord through
-/// each over its diameter (0–1), × its fill (a parcel that has barely
+/// The share of the sun that reaches each of `points` through `parcels`
+/// ([`SUNLIT_DIM`]): `d` = Σ over the parcels, of the length of the ray
+/// from the point toward the sun (`sun_dir`) inside the parcel's sphere
+/// over its diameter (0–1), × its fill (a parcel that has barely
 /// condensed hides little). The painter's "what lies behind the cloud
 /// from the sun is in its shade", measured on the parcels, so a tower's
-/// far side and the parts under its upper billows are shaded whatever
-/// the sun's height. A zero or non-finite `sun_dir` is taken as straight up.
-pub fn sunlit_shares(parcels: &[CloudParcel], sun_dir: Vec3) -> Vec<f32> {
+/// far side, the parts under its upper billows and each parcel's own far
+/// side are shaded whatever the sun's height. A zero or non-finite
+/// `sun_dir` is taken as straight up.
+pub fn sunlit_shares(points: &[Vec3], parcels: &[CloudParcel], sun_dir: Vec3) -> Vec<f32> {
     let sun = sun_dir.try_normalize().unwrap_or(Vec3::Z);
-    // Centres projected onto the plane across the sun: a sphere crosses
-    // the ray from a centre when its projection lies within its radius,
-    // so the grid walk over the projections (cell = the largest radius)
-    // finds every sphere that can.
-    let across: Vec<Vec3> = parcels.iter().map(|p| p.center_m - sun * p.center_m.dot(sun)).collect();
+    // Projected onto the plane across the sun, a sphere meets the ray
+    // from a point when the point lies within its radius of its centre,
+    // so a grid of the projected centres (cell = the largest radius)
+    // holds every sphere that can.
+    let across = |v: Vec3| v - sun * v.dot(sun);
+    let projected: Vec<Vec3> = parcels.iter().map(|p| across(p.center_m)).collect();
     let r_max = parcels.iter().map(|p| p.radius_m).fold(1.0f32, f32::max);
-    let mut depth = vec![0.0f32; parcels.len()];
-    crate::physics::clusters::near_pairs(&across, r_max, |i, j| {
-        let (p, q) = (&parcels[i], &parcels[j]);
-        let toward = (q.center_m - p.center_m).dot(sun);
-        let r = q.radius_m.max(1.0);
-        let miss2 = across[i].distance_squared(across[j]);
-        if i != j && toward > 0.0 && miss2 < r * r {
-            depth[i] += q.fill.clamp(0.0, 1.0) * (r * r - miss2).sqrt() / r;
-        }
-    });
-    depth
-        .into_iter()
-        .map(|d| 1.0 - SUNLIT_DIM + SUNLIT_DIM * (-SUNLIT_FALLOFF * (d - SUNLIT_FREE).max(0.0)).exp())
+    let grid = crate::physics::clusters::PointGrid::new(&projected, r_max);
+    // Each point on its own: the same shares on any number of threads.
+    points
+        .par_iter()
+        .map(|&x| {
+            let at = across(x);
+            let mut d = 0.0f32;
+            grid.around(at, |j| {
+                let q = &parcels[j];
+                let r = q.radius_m.max(1.0);
+                let miss2 = at.distance_squared(projected[j]);
+                if miss2 < r * r {
+                    // The ray x + t·sun, t ≥ 0, inside the sphere.
+                    let (mid, half) = ((q.center_m - x).dot(sun), (r * r - miss2).sqrt());
+                    let inside = (mid + half - (mid - half).max(0.0)).max(0.0);
+                    d += q.fill.clamp(0.0, 1.0) * inside / (2.0 * r);
+                }
+            });
+            1.0 - SUNLIT_DIM + SUNLIT_DIM * (-SUNLIT_FALLOFF * (d - SUNLIT_FREE).max(0.0)).exp()
+        })
         .collect()
 }
 
@@ -312,35 +326,37 @@ mod tests {
         assert_eq!(b[3], ps[3].center_m);
     }
 
-    /// Under a parcel (sun straight up) a parcel keeps less of the sun
-    /// the more cloud lies above it, as much less as that cloud's fill;
-    /// one beside the ray, or above the others, keeps it all; under a
-    /// low sun the parcel on the tower's far side is the shaded one.
+    /// Under a sun straight up, a point keeps less of the sun the more
+    /// cloud lies above it, as much less as that cloud's fill; one beside
+    /// the column, or above the cloud, keeps it all; a parcel's far side
+    /// from the sun is darker than its near side; under a low sun the
+    /// parcel on the tower's far side is the shaded one.
     #[test]
     fn sunlit_share_falls_with_the_cloud_toward_the_sun() {
+        let share = |d: f32| 1.0 - SUNLIT_DIM + SUNLIT_DIM * (-SUNLIT_FALLOFF * (d - SUNLIT_FREE).max(0.0)).exp();
         let mut ps = vec![
             parcel(1, 0.0, 1200.0, 100.0),
             parcel(2, 0.0, 1400.0, 100.0),
             parcel(3, 0.0, 1600.0, 100.0),
             parcel(4, 250.0, 1200.0, 100.0),
         ];
-        let s = sunlit_shares(&ps, Vec3::Z);
-        assert!(s[0] < s[1] && s[1] < s[2], "{s:?}");
-        assert_eq!(s[2], 1.0);
-        assert_eq!(s[3], 1.0, "beside the column: nothing above");
-        // Two diameters of cloud above (less the free part).
-        let want = 1.0 - SUNLIT_DIM + SUNLIT_DIM * (-SUNLIT_FALLOFF * (2.0 - SUNLIT_FREE)).exp();
-        assert!((s[0] - want).abs() < 1e-5, "{} vs {want}", s[0]);
+        let at = |x: f32, z: f32| Vec3::new(x, 0.0, z);
+        let points = [at(0.0, 1200.0), at(0.0, 1700.0), at(250.0, 1200.0), at(0.0, 1290.0), at(0.0, 1110.0)];
+        let s = sunlit_shares(&points, &ps, Vec3::Z);
+        // Half its own sphere and the two above: 2.5 diameters.
+        assert!((s[0] - share(2.5)).abs() < 1e-5, "{} vs {}", s[0], share(2.5));
+        assert_eq!(s[1], 1.0, "on top of the cloud");
+        assert!((s[2] - share(0.5)).abs() < 1e-5, "beside the column: its own half");
+        assert!(s[3] > s[0] && s[0] > s[4], "near side, centre, far side: {s:?}");
         // Half-condensed parcels above hide half as much.
         ps[1].fill = 0.5;
         ps[2].fill = 0.5;
-        let half = sunlit_shares(&ps, Vec3::Z);
-        let want = 1.0 - SUNLIT_DIM + SUNLIT_DIM * (-SUNLIT_FALLOFF * (1.0 - SUNLIT_FREE)).exp();
-        assert!((half[0] - want).abs() < 1e-5, "{} vs {want}", half[0]);
+        let half = sunlit_shares(&points, &ps, Vec3::Z);
+        assert!((half[0] - share(1.5)).abs() < 1e-5, "{} vs {}", half[0], share(1.5));
         // A sun low in the west (−x): parcel 4, east of parcel 1, is behind it.
-        let low = sunlit_shares(&ps, Vec3::new(-1.0, 0.0, 0.05));
-        assert!(low[3] < 0.9 && low[0] == 1.0, "{low:?}");
+        let low = sunlit_shares(&points, &ps, Vec3::new(-1.0, 0.0, 0.05));
+        assert!(low[2] < low[0] - 0.1, "{low:?}");
         // A zero sun direction is straight up, never NaN.
-        assert_eq!(sunlit_shares(&ps, Vec3::ZERO), half);
+        assert_eq!(sunlit_shares(&points, &ps, Vec3::ZERO), half);
     }
 }

@@ -69,7 +69,7 @@ pub fn shade_cloud(
         for p in corners(s.center_m, normal, s.width_m, s.height_m, s.rotation_rad) {
             out.push(SpriteVertex {
                 position_m: p,
-                shade: cloud.vertex_shade(lighting, g, p, alpha),
+                shade: cloud.vertex_shade(lighting, s, g, p, alpha),
             });
         }
     }
