@@ -1,16 +1,20 @@
 //! The CPU work of Wang 2003's sprite clouds at the paper's sizes: filling
 //! and pruning clouds (5–400 sprites each) and a 200 km overcast deck,
 //! sorting its sprites back to front, and shading the 4 corners of every
-//! sprite of a 400-sprite cloud and of one 16 km² overcast block.
+//! sprite of a 400-sprite cloud and of one 16 km² overcast block; a
+//! physics tower (benches/fields/tower.csv) as parcel sprite clouds, and
+//! the sunlit shares of their sprites alone.
 
 use std::hint::black_box;
 use std::path::Path;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use cumulus::methods::sprites::model::order::back_to_front;
+use cumulus::methods::sprites::model::parcels::sunlit_shares;
 use cumulus::methods::sprites::model::shading::Lighting;
 use cumulus::methods::sprites::model::vertices::shade_cloud;
-use cumulus::methods::sprites::model::{CloudType, Sprite};
+use cumulus::methods::sprites::model::{CloudType, Sprite, parcel_clouds};
+use cumulus::physics::cloud_file;
 use cumulus::scene::SceneProfile;
 use glam::Vec3;
 
@@ -54,6 +58,22 @@ fn sprites(c: &mut Criterion) {
             }
         })
     });
+
+    let tower =
+        cloud_file::read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("benches/fields/tower.csv"))
+            .expect("the tower field loads");
+    let sun = Vec3::new(-0.35, -0.17, 0.92);
+    let parcel_sprites: Vec<Vec3> = parcel_clouds(&tower, sun)
+        .iter()
+        .flat_map(|c| c.sprites.iter().map(|s| s.center_m))
+        .collect();
+    group.bench_function(format!("parcels/tower_{}_parcels", tower.len()), |b| {
+        b.iter(|| black_box(parcel_clouds(black_box(&tower), sun)))
+    });
+    group.bench_function(
+        format!("sunlit/tower_{}_sprites", parcel_sprites.len()),
+        |b| b.iter(|| black_box(sunlit_shares(black_box(&parcel_sprites), &tower, sun))),
+    );
     group.finish();
 }
 

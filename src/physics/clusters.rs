@@ -64,19 +64,24 @@ impl PointGrid {
             cells: Default::default(),
         };
         for (i, &p) in points.iter().enumerate() {
-            grid.cells.entry(grid.key(p)).or_default().push(i);
+            grid.cells.entry(grid.cell_of(p)).or_default().push(i);
         }
         grid
     }
 
-    fn key(&self, p: Vec3) -> IVec3 {
+    /// The cell holding `p`.
+    pub fn cell_of(&self, p: Vec3) -> IVec3 {
         (p / self.cell).floor().as_ivec3()
     }
 
     /// Calls `near(j)` for every point `j` in the 27 cells around `at`
     /// (every point closer than `cell` among others), in a fixed order.
-    pub fn around(&self, at: Vec3, mut near: impl FnMut(usize)) {
-        let k = self.key(at);
+    pub fn around(&self, at: Vec3, near: impl FnMut(usize)) {
+        self.around_cell(self.cell_of(at), near);
+    }
+
+    /// [`Self::around`] for every place in the cell `k`.
+    pub fn around_cell(&self, k: IVec3, mut near: impl FnMut(usize)) {
         for dz in -1..=1 {
             for dy in -1..=1 {
                 for dx in -1..=1 {

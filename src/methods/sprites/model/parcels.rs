@@ -8,7 +8,7 @@
 //! parcel's, so a tower has a sunlit side, a shaded side and a dark base,
 //! and each billow its own lit side and shaded creases.
 
-use glam::Vec3;
+use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 
 use super::atlas::{FLAT_BOTTOM_TILE, PUFFY_TILES};
@@ -21,15 +21,19 @@ use crate::physics::CloudParcel;
 /// many sprites, fewer as its fill drops (never fewer than the paper's 5).
 /// 60 of [`PARCEL_ALPHA`] rather than 40 opaque ones: the edge of a sphere
 /// builds up over several sprites, softer, as the path-traced parcels'
-/// (issue 32: 0.071 → 0.066 FLIP on fair weather with the shading below;
+/// (issue 32: 0.071 → 0.066 FLIP on fair weather with the billow shading;
 /// 80 gave 0.063 for a third more sprites to draw).
 pub const PARCEL_SPRITES: u32 = 60;
 
-/// Alpha of every colour level of a physics cloud (eq. 3's level alpha).
-pub const PARCEL_ALPHA: f32 = 0.6;
+/// Alpha of every colour level of a physics cloud (eq. 3's level alpha):
+/// half, so a sphere's edge builds up over several sprites and its inside
+/// over many. With [`PARCEL_SPRITE_SIZE`] chosen against the path tracer
+/// together with the sunlit shares (issue 32; 0.6 and 0.75 before: the
+/// towering cumulus 0.0712 against 0.0703 at 320×240).
+pub const PARCEL_ALPHA: f32 = 0.5;
 
-/// Side of a parcel's sprites, × its (drawn) radius.
-pub const PARCEL_SPRITE_SIZE: f32 = 0.75;
+/// Side of a parcel's sprites, × its (drawn) radius ([`PARCEL_ALPHA`]).
+pub const PARCEL_SPRITE_SIZE: f32 = 0.83;
 
 /// A parcel's billow, for the directional term: the parcels whose centres
 /// lie within this × its (drawn) radius ([`billow_centers`]).
@@ -42,16 +46,16 @@ pub const BILLOW_REACH: f32 = 3.0;
 /// direction in place of straight up did no better (0.0815 against 0.0812
 /// on that frame): what lies between a parcel and the sun is
 /// [`sunlit_shares`]' part.
-pub const BILLOW_ABOVE: f32 = 13.0;
+pub const BILLOW_ABOVE: f32 = 16.0;
 
 /// The directional mapping (§5.2) of a physics cloud: a side-on sprite
-/// gets 0.6 of the sun (the paper's default 0.45 is for authored clouds,
+/// gets 0.54 of the sun (the paper's default 0.45 is for authored clouds,
 /// whose shading groups are the whole light/dark split), the sunward one
 /// a little more than the sun (the sunlit share dims it inside the cloud).
 pub const PARCEL_MAP: DirectionalMap = DirectionalMap {
     min: 0.0,
-    median: 0.55,
-    max: 1.0,
+    median: 0.54,
+    max: 1.07,
 };
 
 /// The sun a sprite keeps behind `d` parcel diameters of cloud
@@ -59,14 +63,15 @@ pub const PARCEL_MAP: DirectionalMap = DirectionalMap {
 /// · max(d − `SUNLIT_FREE`, 0)). What lies behind a few parcels keeps a
 /// twelfth of the sun: light scattered through the cloud and round it,
 /// which the painter leaves in the shade. Chosen against the path tracer
-/// (issue 32: towering cumulus 0.082 → 0.067 at 160×120, 0.084 → 0.071 at
-/// 320×240; fair weather 0.065 → 0.065).
+/// (issue 32, with the other constants of this file: towering cumulus
+/// 0.082 → 0.066 at 160×120, 0.084 → 0.070 at 320×240; fair weather 0.065
+/// → 0.066 and 0.069 → 0.069).
 pub const SUNLIT_DIM: f32 = 0.92;
 /// Per parcel diameter of cloud toward the sun ([`SUNLIT_DIM`]).
-pub const SUNLIT_FALLOFF: f32 = 0.75;
+pub const SUNLIT_FALLOFF: f32 = 0.85;
 /// Diameters of cloud toward the sun that dim nothing: the fringe of a
 /// parcel's own sphere ([`SUNLIT_DIM`]).
-pub const SUNLIT_FREE: f32 = 0.11;
+pub const SUNLIT_FREE: f32 = 0.18;
 
 /// The painted colour (sRGB-encoded, shaders/artist.wgsl) of a physics
 /// cloud from its base (first) to its top (last), over the cloud's height.
@@ -209,34 +214,53 @@ pub fn parcel_clouds(parcels: &[CloudParcel], sun_dir: Vec3) -> Vec<SpriteCloud>
 /// `sun_dir` is taken as straight up.
 pub fn sunlit_shares(points: &[Vec3], parcels: &[CloudParcel], sun_dir: Vec3) -> Vec<f32> {
     let sun = sun_dir.try_normalize().unwrap_or(Vec3::Z);
-    // Projected onto the plane across the sun, a sphere meets the ray
-    // from a point when the point lies within its radius of its centre,
-    // so a grid of the projected centres (cell = the largest radius)
-    // holds every sphere that can.
-    let across = |v: Vec3| v - sun * v.dot(sun);
+    // In the plane across the sun (coordinates along two axes in it), a
+    // sphere meets the ray from a point when the point lies within its
+    // radius of the sphere's centre, so a grid of the centres there
+    // (cell = the largest radius) holds every sphere that can.
+    let (e1, e2) = sun.any_orthonormal_pair();
+    let across = |v: Vec3| Vec3::new(v.dot(e1), v.dot(e2), 0.0);
     let projected: Vec<Vec3> = parcels.iter().map(|p| across(p.center_m)).collect();
     let r_max = parcels.iter().map(|p| p.radius_m).fold(1.0f32, f32::max);
     let grid = crate::physics::clusters::PointGrid::new(&projected, r_max);
-    // Each point on its own: the same shares on any number of threads.
-    points
+    // The points by the cell they fall in: each cell's candidate spheres
+    // are gathered once for all its points.
+    let mut by_cell: std::collections::BTreeMap<[i32; 3], Vec<usize>> = Default::default();
+    for (i, &x) in points.iter().enumerate() {
+        by_cell.entry(grid.cell_of(across(x)).to_array()).or_default().push(i);
+    }
+    let depth = |x: Vec3, candidates: &[usize]| {
+        let at = across(x);
+        let mut d = 0.0f32;
+        for &j in candidates {
+            let q = &parcels[j];
+            let r = q.radius_m.max(1.0);
+            let miss2 = at.distance_squared(projected[j]);
+            if miss2 < r * r {
+                // The ray x + t·sun, t ≥ 0, inside the sphere.
+                let (mid, half) = ((q.center_m - x).dot(sun), (r * r - miss2).sqrt());
+                let inside = (mid + half - (mid - half).max(0.0)).max(0.0);
+                d += q.fill.clamp(0.0, 1.0) * inside / (2.0 * r);
+            }
+        }
+        d
+    };
+    // Each point on its own, its spheres in a fixed order: the same shares
+    // on any number of threads.
+    let cells: Vec<([i32; 3], Vec<usize>)> = by_cell.into_iter().collect();
+    let per_cell: Vec<Vec<(usize, f32)>> = cells
         .par_iter()
-        .map(|&x| {
-            let at = across(x);
-            let mut d = 0.0f32;
-            grid.around(at, |j| {
-                let q = &parcels[j];
-                let r = q.radius_m.max(1.0);
-                let miss2 = at.distance_squared(projected[j]);
-                if miss2 < r * r {
-                    // The ray x + t·sun, t ≥ 0, inside the sphere.
-                    let (mid, half) = ((q.center_m - x).dot(sun), (r * r - miss2).sqrt());
-                    let inside = (mid + half - (mid - half).max(0.0)).max(0.0);
-                    d += q.fill.clamp(0.0, 1.0) * inside / (2.0 * r);
-                }
-            });
-            1.0 - SUNLIT_DIM + SUNLIT_DIM * (-SUNLIT_FALLOFF * (d - SUNLIT_FREE).max(0.0)).exp()
+        .map(|(k, idx)| {
+            let mut candidates = Vec::new();
+            grid.around_cell(IVec3::from_array(*k), |j| candidates.push(j));
+            idx.iter().map(|&i| (i, depth(points[i], &candidates))).collect()
         })
-        .collect()
+        .collect();
+    let mut shares = vec![1.0; points.len()];
+    for (i, d) in per_cell.into_iter().flatten() {
+        shares[i] = 1.0 - SUNLIT_DIM + SUNLIT_DIM * (-SUNLIT_FALLOFF * (d - SUNLIT_FREE).max(0.0)).exp();
+    }
+    shares
 }
 
 /// The centre of each parcel's billow (§5.2's shading group at the scale of
