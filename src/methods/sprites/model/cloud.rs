@@ -149,9 +149,9 @@ pub struct ShadeCenters {
 /// the billow a little of its lit rim. Chosen against the path tracer
 /// (issue 32) together with the sprites' sunlit shares
 /// ([`super::parcels::sunlit_shares`]), which now carry the shade behind
-/// and under the cloud's other parts, so the billows count for a tenth
-/// of what they did before them (3 : 2 for billow : parcel).
-pub const SHADE_WEIGHTS: [f32; 3] = [0.55, 0.2, 0.8];
+/// and under the cloud's other parts, so the billows count for a
+/// twenty-fifth of what they did before them (3 : 2 for billow : parcel).
+pub const SHADE_WEIGHTS: [f32; 3] = [0.55, 0.12, 0.8];
 
 impl SpriteCloud {
     /// The point the directional term (eq. 2) of `vertex_m` looks from:

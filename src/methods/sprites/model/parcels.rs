@@ -19,18 +19,17 @@ use crate::physics::CloudParcel;
 
 /// Sprites of a parcel at fill 1: a parcel sphere is drawn with up to this
 /// many sprites, fewer as its fill drops (never fewer than the paper's 5).
-/// 60 of [`PARCEL_ALPHA`] rather than 40 opaque ones: the edge of a sphere
-/// builds up over several sprites, softer, as the path-traced parcels'
-/// (issue 32: 0.071 → 0.066 FLIP on fair weather with the billow shading;
-/// 80 gave 0.063 for a third more sprites to draw).
-pub const PARCEL_SPRITES: u32 = 60;
+/// 80 of [`PARCEL_ALPHA`] rather than 40 opaque ones: the edge of a sphere
+/// builds up over several sprites, softer, as the path-traced parcels'.
+/// Chosen against the path tracer (issue 32) with the sunlit shares: 60
+/// of alpha 0.42 left the towering cumulus at 0.0701 at 320×240, 80 of
+/// 0.35 0.0695 (its sprite pass 1.2× as long), 100 of 0.3 0.0686 (1.4×).
+pub const PARCEL_SPRITES: u32 = 80;
 
 /// Alpha of every colour level of a physics cloud (eq. 3's level alpha):
-/// half, so a sphere's edge builds up over several sprites and its inside
-/// over many. With [`PARCEL_SPRITE_SIZE`] chosen against the path tracer
-/// together with the sunlit shares (issue 32; 0.6 and 0.75 before: the
-/// towering cumulus 0.0712 against 0.0703 at 320×240).
-pub const PARCEL_ALPHA: f32 = 0.5;
+/// about a third, so a sphere's edge builds up over several sprites and
+/// its inside over many ([`PARCEL_SPRITES`]).
+pub const PARCEL_ALPHA: f32 = 0.35;
 
 /// Side of a parcel's sprites, × its (drawn) radius ([`PARCEL_ALPHA`]).
 pub const PARCEL_SPRITE_SIZE: f32 = 0.83;
@@ -46,15 +45,15 @@ pub const BILLOW_REACH: f32 = 3.0;
 /// direction in place of straight up did no better (0.0815 against 0.0812
 /// on that frame): what lies between a parcel and the sun is
 /// [`sunlit_shares`]' part.
-pub const BILLOW_ABOVE: f32 = 16.0;
+pub const BILLOW_ABOVE: f32 = 18.0;
 
 /// The directional mapping (§5.2) of a physics cloud: a side-on sprite
-/// gets 0.54 of the sun (the paper's default 0.45 is for authored clouds,
+/// gets 0.63 of the sun (the paper's default 0.45 is for authored clouds,
 /// whose shading groups are the whole light/dark split), the sunward one
 /// a little more than the sun (the sunlit share dims it inside the cloud).
 pub const PARCEL_MAP: DirectionalMap = DirectionalMap {
     min: 0.0,
-    median: 0.54,
+    median: 0.63,
     max: 1.07,
 };
 
@@ -75,7 +74,7 @@ pub const SUNLIT_FREE: f32 = 0.18;
 
 /// The painted colour (sRGB-encoded, shaders/artist.wgsl) of a physics
 /// cloud from its base (first) to its top (last), over the cloud's height.
-pub const PARCEL_LEVELS: [f32; LEVELS] = [0.87, 0.91, 0.945, 0.975, 1.0];
+pub const PARCEL_LEVELS: [f32; LEVELS] = [0.87, 0.9, 0.935, 0.965, 1.0];
 
 /// Parcels whose spheres are closer than this × the sum of their radii
 /// belong to the same cloud.
