@@ -63,8 +63,8 @@ pub const PARCEL_MAP: DirectionalMap = DirectionalMap {
 /// twelfth of the sun: light scattered through the cloud and round it,
 /// which the painter leaves in the shade. Chosen against the path tracer
 /// (issue 32, with the other constants of this file: towering cumulus
-/// 0.082 → 0.066 at 160×120, 0.084 → 0.070 at 320×240; fair weather 0.065
-/// → 0.066 and 0.069 → 0.069).
+/// 0.082 → 0.065 at 160×120, 0.084 → 0.0695 at 320×240; fair weather
+/// 0.065 → 0.064 and 0.069 → 0.068).
 pub const SUNLIT_DIM: f32 = 0.92;
 /// Per parcel diameter of cloud toward the sun ([`SUNLIT_DIM`]).
 pub const SUNLIT_FALLOFF: f32 = 0.85;
