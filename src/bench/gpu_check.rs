@@ -18,7 +18,7 @@ use crate::error::Result;
 use crate::render::GpuContext;
 use crate::render::headless::Headless;
 
-use super::measure::{Measured, Repeats, Source, measure};
+use super::measure::{Measured, Repeats, Source, measure, measure_at};
 use super::methods::{Loaded, load, load_at, run_case};
 
 /// The goals' frame size. units: px
@@ -113,11 +113,10 @@ fn scene_case(
     hl.renderer
         .set_authored(&l.profile.ellipsoids, &l.profile.particles);
     hl.renderer.set_always_bake(true);
-    measure(
+    measure_at(
         ctx,
         &mut hl,
-        l.camera,
-        l.sun,
+        (l.camera, l.sun, l.time_s as f32),
         Source::Parcels(&l.parcels),
         REPEATS,
     )

@@ -74,6 +74,7 @@ pub fn march_steps(
         ..cfg.clone()
     };
     let mut hl = Headless::new(ctx, &cfg, w, h)?;
+    hl.renderer.set_scene_whole(true);
     hl.render(ctx, input)?;
     let hdr = hl.read_hdr(ctx)?;
     let steps: Vec<f64> = hdr.chunks_exact(3).map(|p| p[0] as f64).collect();

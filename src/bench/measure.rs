@@ -108,6 +108,19 @@ pub fn measure(
     source: Source<'_>,
     reps: Repeats,
 ) -> Result<Measured> {
+    measure_at(ctx, hl, (camera, sun, 0.0), source, reps)
+}
+
+/// [`measure`] from `camera` under `sun` at the simulated time `time_s`
+/// (what an authored scene's animation and its sprite clouds show then;
+/// a scene is measured at the time it opens on). units: s
+pub fn measure_at(
+    ctx: &GpuContext,
+    hl: &mut Headless,
+    (camera, sun, time_s): (Camera, Sun, f32),
+    source: Source<'_>,
+    reps: Repeats,
+) -> Result<Measured> {
     let mut physics = Vec::new();
     let mut upload = Vec::new();
     let mut gpu = Vec::new();
@@ -123,7 +136,7 @@ pub fn measure(
         camera,
         parcels: &first[..first.len().min(1)],
         sun,
-        time_s: 0.0,
+        time_s,
     };
     hl.render(ctx, &compile)?;
     // `march = "auto"` measures both paths in its first frames with clouds:
@@ -166,7 +179,7 @@ pub fn measure(
             camera,
             parcels: &parcels,
             sun,
-            time_s: 0.0,
+            time_s,
         };
         let (img, t) = hl.render(ctx, &input)?;
         if t.passes.iter().any(|(_, ms)| !ms.is_finite()) {

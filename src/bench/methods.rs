@@ -19,7 +19,7 @@ use crate::render::headless::Headless;
 use crate::scene::SceneProfile;
 use crate::sky::Sun;
 
-use super::measure::{Repeats, Source, measure};
+use super::measure::{Repeats, Source, measure_at};
 use super::stats::{mean_flip, rgb};
 
 /// One measured configuration.
@@ -85,6 +85,9 @@ pub(super) struct Loaded {
     pub parcels: Vec<CloudParcel>,
     pub camera: Camera,
     pub sun: Sun,
+    /// The simulated time it was loaded at (the authored animation's and
+    /// the sprite clouds' clock in the measured frames). units: s
+    pub time_s: f64,
 }
 
 /// Where the shipped scenes are: the first of `$CUMULUS_PROFILES`,
@@ -171,11 +174,10 @@ impl Loaded {
         hl: &mut Headless,
         reps: Repeats,
     ) -> Result<super::measure::Measured> {
-        measure(
+        measure_at(
             ctx,
             hl,
-            self.camera,
-            self.sun,
+            (self.camera, self.sun, self.time_s as f32),
             Source::Parcels(&self.parcels),
             reps,
         )
@@ -207,6 +209,7 @@ pub(super) fn load_at(name: &str, time_s: Option<f64>, overrides: &[String]) -> 
         parcels,
         camera,
         sun,
+        time_s: t,
     })
 }
 
@@ -300,7 +303,7 @@ pub(super) fn run_case(
             camera: l.camera,
             parcels: &l.parcels,
             sun: l.sun,
-            time_s: 0.0,
+            time_s: l.time_s as f32,
         };
         for _ in 0..crate::methods::sprites::model::impostor::SECTORS + 1 {
             hl.render(ctx, &input)?;

@@ -295,6 +295,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         cfg.method = method;
     }
     let mut headless = Headless::new(&ctx, &cfg, args.width, args.height)?;
+    // An .exr is the HDR scene target read back: keep the clouds in it.
+    headless.renderer.set_scene_whole(is_exr(&args.out));
     let sprite_clouds = scene.build_sprite_clouds();
     if !sprite_clouds.is_empty() {
         eprintln!(

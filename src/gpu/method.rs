@@ -184,6 +184,13 @@ pub trait CloudMethod {
         shared.cloud_image.map(|c| &c.composite_in)
     }
 
+    /// Whether the tone map may blend this frame's cloud image instead of
+    /// a composite pass (false while the method tells its frames apart by
+    /// that pass's timing).
+    fn composite_foldable(&self, _cfg: &RenderConfig, _around: Around) -> bool {
+        true
+    }
+
     /// Whether the shadow map of an earlier frame still shows its clouds.
     fn shadow_reusable(&self, _cfg: &RenderConfig) -> bool {
         false

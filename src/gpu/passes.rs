@@ -77,12 +77,14 @@ pub static COMPOSITE: PassSpec = PassSpec {
 };
 
 /// The HDR scene target, tone-mapped once into the output
-/// (shaders/tonemap.wgsl).
+/// (shaders/tonemap.wgsl); group 2 is the method's cloud image, which it
+/// blends first in the frames that have no composite pass (else the
+/// scene target again, unread).
 pub static TONEMAP: PassSpec = PassSpec {
     name: "tonemap",
     root: "tonemap.wgsl",
     files: &[],
-    groups: &[Some(&COMMON), Some(&TEXTURE_IN)],
+    groups: &[Some(&COMMON), Some(&TEXTURE_IN), Some(&TEXTURE_IN)],
     slotted: false,
     kind: FULLSCREEN,
 };

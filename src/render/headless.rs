@@ -106,7 +106,16 @@ impl Headless {
     /// The last rendered frame's linear HDR scene (before the tone map) as
     /// RGB floats, top row first: radiance in the renderer's units (sun
     /// irradiance ~2 is daylight). What `render --out x.exr` writes.
+    /// Needs [`Renderer::set_scene_whole`] before the frame (else the
+    /// tone map blended the clouds and the target lacks them: an error).
     pub fn read_hdr(&self, ctx: &GpuContext) -> Result<Vec<f32>> {
+        if self.renderer.scene_folded() {
+            return Err(Error::Gpu(
+                "the HDR scene target of the last frame lacks its clouds (the tone map blended them); \
+                 call renderer.set_scene_whole(true) before rendering a frame to read back"
+                    .into(),
+            ));
+        }
         let texture = self.renderer.scene_texture();
         let (w, h) = self.renderer.size();
         // Rgba16Float: 8 bytes per texel.

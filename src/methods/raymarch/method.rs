@@ -424,6 +424,11 @@ impl CloudMethod for Raymarch {
         }
     }
 
+    fn composite_foldable(&self, cfg: &RenderConfig, around: Around) -> bool {
+        // Undecided `auto` knows a compute frame by its composite pass.
+        self.march_path(cfg, around).is_some()
+    }
+
     fn shadow_reusable(&self, cfg: &RenderConfig) -> bool {
         // The map shows the `baked` clouds of the last bake until the
         // parcels, the shell or the sun move.

@@ -153,16 +153,16 @@ impl Renderer {
                 .view
                 .clone()
         };
-        let views = (target, &scene_view, clouds_only);
+        let views = (target, &scene_view, clouds_only, self.folds(self.features));
         let mut methods = std::mem::take(&mut self.methods);
         let method = methods[crate::methods::index_of(self.cfg.method)].as_mut();
         let mode = self.timing_mode();
         let mut ts = self.timestamps.take();
-        let shadow_drawn;
+        let (shadow_drawn, folded);
         match (mode, ts.as_mut()) {
             (TimingMode::GpuBlocking, Some(ts)) => {
                 let mut rec = Recorder::gpu(ctx, Some(&ts.set));
-                shadow_drawn = self.encode_frame(&mut rec, method, views);
+                (shadow_drawn, folded) = self.encode_frame(&mut rec, method, views);
                 let (enc, names) = rec.finish();
                 let mut enc = enc.expect("GPU timing records into one encoder");
                 ts.resolve(&mut enc, names.len() as u32);
@@ -174,7 +174,7 @@ impl Renderer {
                 let measure = ts.lagged_ready();
                 let (enc, names) = {
                     let mut rec = Recorder::gpu(ctx, measure.then_some(&ts.set));
-                    shadow_drawn = self.encode_frame(&mut rec, method, views);
+                    (shadow_drawn, folded) = self.encode_frame(&mut rec, method, views);
                     rec.finish()
                 };
                 let mut enc = enc.expect("GPU timing records into one encoder");
@@ -188,13 +188,14 @@ impl Renderer {
             }
             _ => {
                 let mut rec = Recorder::cpu(ctx);
-                shadow_drawn = self.encode_frame(&mut rec, method, views);
+                (shadow_drawn, folded) = self.encode_frame(&mut rec, method, views);
                 timings.passes = rec.cpu.take().unwrap_or_default();
                 timings.frame_ms = timings.total_ms();
             }
         }
         self.timestamps = ts;
         self.shadow_fresh |= shadow_drawn;
+        self.scene_folded = folded;
         let rebuild = method.frame_drawn(&self.cfg, self.features.around, &timings);
         self.methods = methods;
         if rebuild {

@@ -135,6 +135,13 @@ pub struct Renderer {
     /// The shadow map holds what the current frame would draw into it if
     /// the method's clouds did not move (see `Renderer::shadow_reusable`).
     shadow_fresh: bool,
+    /// Keep the HDR scene target whole (the clouds composited into it by
+    /// a pass of their own) for a read-back; else the tone map blends the
+    /// cloud image where nothing is drawn after it (see `folds`).
+    scene_whole: bool,
+    /// The last frame left its clouds to the tone map: the HDR scene
+    /// target lacks them.
+    scene_folded: bool,
     white_view: wgpu::TextureView,
     terrain: Option<TerrainGpu>,
 
@@ -249,6 +256,8 @@ impl Renderer {
             dummy_depth_view,
             shadow_view: None,
             shadow_fresh: false,
+            scene_whole: false,
+            scene_folded: false,
             white_view,
             terrain: None,
             pipelines: PipelineCache::default(),
@@ -380,6 +389,20 @@ impl Renderer {
     pub fn march_path(&self) -> Option<MarchPath> {
         self.method_of::<Raymarch>()
             .march_path(&self.cfg, self.features.around)
+    }
+
+    /// Keep the HDR scene target whole from the next frame on (true:
+    /// the clouds are composited into it by a pass of their own, as a
+    /// read-back of it needs) or let the tone map blend them (false, the
+    /// default: one full-screen pass less).
+    pub fn set_scene_whole(&mut self, whole: bool) {
+        self.scene_whole = whole;
+    }
+
+    /// Whether the last frame's HDR scene target lacks its clouds (the
+    /// tone map blended them; see [`Renderer::set_scene_whole`]).
+    pub fn scene_folded(&self) -> bool {
+        self.scene_folded
     }
 
     /// Frame size in pixels.

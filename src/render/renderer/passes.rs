@@ -165,11 +165,36 @@ impl Renderer {
             names.push("sprites");
         }
         names.extend(m.pass_names(cfg, f.around, Phase::Resolve));
-        if f.method.composite {
+        if f.method.composite && !self.folds(f) {
             names.push("composite");
         }
         names.push("tonemap");
         names
+    }
+
+    /// Whether a frame of features `f` leaves the method's cloud image to
+    /// the tone map instead of a composite pass: when the image is the
+    /// last thing drawn into the scene target (no sprite in front of the
+    /// clouds, which the composite pass draws after it) and the target is
+    /// not read back ([`Renderer::set_scene_whole`]). The blend is the
+    /// same, in the tone map's registers instead of the scene target: one
+    /// full-screen pass and one write and read of the target less.
+    pub(super) fn folds(&self, f: Features) -> bool {
+        f.method.composite
+            && !(f.method.cloud_depth && f.around.layers)
+            && !self.scene_whole
+            && self.method().composite_foldable(&self.cfg, f.around)
+    }
+
+    /// The tone map's key, blending the cloud image (`fold`) or not.
+    pub(super) fn tonemap_key(&self, cfg: &RenderConfig, fold: bool) -> PipelineKey {
+        // Only the tone map depends on the output format; the scene
+        // passes are the same pipelines for every target.
+        let own = [
+            ("ENCODE_SRGB", flag(!self.format.is_srgb())),
+            ("WITH_CLOUDS", flag(fold)),
+        ];
+        TONEMAP.key(slots(cfg.method), cfg, &own, self.format)
     }
 
     /// The key of shared pass `spec` under `cfg` and features `f`.
@@ -194,12 +219,7 @@ impl Renderer {
                 SCENE_FORMAT,
             )
         } else if std::ptr::eq(spec, &TONEMAP) {
-            // Only the tone map depends on the output format; the scene
-            // passes are the same pipelines for every target.
-            (
-                vec![("ENCODE_SRGB", flag(!self.format.is_srgb()))],
-                self.format,
-            )
+            return self.tonemap_key(cfg, self.folds(f));
         } else {
             (Vec::new(), SCENE_FORMAT)
         };
@@ -238,10 +258,7 @@ impl Renderer {
     /// The pipelines of one frame's features `f` under `cfg`: the shared
     /// passes', the sprite layer's and the method's.
     pub(super) fn frame_keys(&self, cfg: &RenderConfig, f: Features) -> Vec<PipelineKey> {
-        let mut keys = vec![
-            self.shared_key(&SKY, cfg, f),
-            self.shared_key(&TONEMAP, cfg, f),
-        ];
+        let mut keys = vec![self.shared_key(&SKY, cfg, f), self.tonemap_key(cfg, false)];
         if f.around.terrain {
             keys.push(self.shared_key(&TERRAIN, cfg, f));
         }
@@ -264,6 +281,12 @@ impl Renderer {
         }
         let method = self.methods[crate::methods::index_of(cfg.method)].as_ref();
         keys.extend(method.pipeline_keys(cfg, f.around));
+        // Wherever a composite may run, the tone map that blends the
+        // clouds instead, so that neither keeping the scene target whole
+        // nor `auto` deciding waits for a build.
+        if keys.iter().any(|k| std::ptr::eq(k.pass, &COMPOSITE)) {
+            keys.push(self.tonemap_key(cfg, true));
+        }
         keys
     }
 

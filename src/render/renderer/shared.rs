@@ -6,12 +6,13 @@ use super::*;
 use crate::gpu::begin_pass as begin;
 use crate::gpu::method::{Phase, Shared};
 use crate::gpu::pass::{SLOT_GROUP, flag};
-use crate::gpu::passes::{COMPOSITE, SHADOW, SKY, TERRAIN, TONEMAP};
+use crate::gpu::passes::{COMPOSITE, SHADOW, SKY, TERRAIN};
 use crate::gpu::pipelines::{Pipeline, PipelineKey};
 use crate::gpu::timing::Recorder;
 
-/// The output view, the scene view and whether only the clouds are drawn.
-pub(super) type Views<'v> = (&'v wgpu::TextureView, &'v wgpu::TextureView, bool);
+/// The output view, the scene view, whether only the clouds are drawn and
+/// whether the tone map may blend the cloud image (`Renderer::folds`).
+pub(super) type Views<'v> = (&'v wgpu::TextureView, &'v wgpu::TextureView, bool, bool);
 
 const WHITE: wgpu::LoadOp<wgpu::Color> = wgpu::LoadOp::Clear(wgpu::Color::WHITE);
 
@@ -26,13 +27,14 @@ impl Renderer {
 
     /// Records the frame's passes with `method` (taken out of the
     /// renderer while it encodes); returns whether the shadow map was
-    /// drawn.
+    /// drawn and whether the tone map blended the clouds (no composite
+    /// pass: the scene target lacks them).
     pub(super) fn encode_frame(
         &self,
         rec: &mut Recorder<'_>,
         method: &mut dyn CloudMethod,
-        (target, scene_view, clouds_only): Views<'_>,
-    ) -> bool {
+        (target, scene_view, clouds_only, folds): Views<'_>,
+    ) -> (bool, bool) {
         let (cfg, f) = (&self.cfg, self.features);
         let shared = Shared {
             cfg,
@@ -102,9 +104,10 @@ impl Renderer {
             });
         }
         method.encode(Phase::Resolve, rec, &shared);
-        if f.method.composite {
+        let input = method.composite_input(&shared);
+        let fold = !clouds_only && folds && input.is_some();
+        if f.method.composite && !fold {
             let composite = self.render_pipeline(&self.shared_key(&COMPOSITE, cfg, f));
-            let input = method.composite_input(&shared);
             rec.pass("composite", |enc, ts| {
                 let mut rp = begin(
                     enc,
@@ -127,17 +130,20 @@ impl Renderer {
             });
         }
         if !clouds_only {
-            let tonemap = self.render_pipeline(&self.shared_key(&TONEMAP, cfg, f));
+            let tonemap = self.render_pipeline(&self.tonemap_key(cfg, fold));
             let scene = self.scene.as_ref().expect("ensure made the scene target");
+            // Without clouds to blend, group 2 is the scene (unread).
+            let clouds = input.filter(|_| fold).unwrap_or(&scene.bind);
             rec.pass("tonemap", |enc, ts| {
                 let mut rp = begin(enc, "tonemap", target, WHITE, None, writes(ts));
                 rp.set_pipeline(tonemap.expect("ensure built the tone map"));
                 rp.set_bind_group(0, &self.bind_common, &[]);
                 rp.set_bind_group(1, &scene.bind, &[]);
+                rp.set_bind_group(2, clouds, &[]);
                 rp.draw(0..3, 0..1);
             });
         }
-        shadow
+        (shadow, fold)
     }
 
     /// The cloud-shadow map: the method's field marched into it, then the

@@ -27,6 +27,7 @@ pub fn hdr_frames(
     scenes: &[&[CloudParcel]],
 ) -> Vec<Vec<f32>> {
     let mut hl = Headless::new(ctx, cfg, w, h).unwrap();
+    hl.renderer.set_scene_whole(true);
     scenes
         .iter()
         .map(|parcels| {

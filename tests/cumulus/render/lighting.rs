@@ -190,6 +190,7 @@ fn terrain_in_a_cloud_shadow_is_darkened_by_the_volume_transmittance() {
         // a few metres around it) under `cfg`; and whether a shadow map ran.
         let centre = |cfg: &RenderConfig| {
             let mut hl = Headless::new(&ctx, cfg, w, h).unwrap();
+            hl.renderer.set_scene_whole(true);
             let input = FrameInput {
                 camera,
                 parcels: std::slice::from_ref(&cloud),

@@ -5,6 +5,7 @@
 
 mod cli;
 mod clipmap;
+mod composite;
 mod embed;
 mod gl;
 mod lighting;

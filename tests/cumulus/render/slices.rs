@@ -45,6 +45,8 @@ pub(super) fn render_at(
     size: (u32, u32),
 ) -> (Headless, Vec<u8>) {
     let mut hl = Headless::new(ctx, cfg, size.0, size.1).unwrap();
+    // Some callers read the HDR scene back.
+    hl.renderer.set_scene_whole(true);
     hl.renderer
         .set_authored(&scene.ellipsoids, &scene.particles);
     let input = FrameInput {
@@ -190,7 +192,15 @@ fn only_the_slices_method_builds_the_slices_pass() {
     }
     let Some(ctx) = context() else { return };
     let scene = authored(&[]);
-    let hl = Headless::new(&ctx, &scene.render, 32, 24).unwrap();
+    let mut hl = Headless::new(&ctx, &scene.render, 32, 24).unwrap();
+    // The tone map blends the slices' image (nothing is drawn after it),
+    // unless the HDR scene is kept whole for a read-back.
+    let names = hl.renderer.pass_names();
+    assert!(
+        names.contains(&"slices") && !names.contains(&"composite"),
+        "{names:?}"
+    );
+    hl.renderer.set_scene_whole(true);
     let names = hl.renderer.pass_names();
     assert!(
         names.contains(&"slices") && names.contains(&"composite"),

@@ -44,6 +44,7 @@ fn with_and_without_air(
 ) -> (Vec<f32>, Vec<f32>) {
     let render = |cfg: &RenderConfig| {
         let mut hl = Headless::new(ctx, cfg, w, h).unwrap();
+        hl.renderer.set_scene_whole(true);
         let input = FrameInput {
             camera,
             parcels,
@@ -347,6 +348,7 @@ fn sky_pass_draws_the_cpu_twin_of_sky_color() {
             ..CameraConfig::default()
         });
         let mut hl = Headless::new(&ctx, &cfg, w, h).unwrap();
+        hl.renderer.set_scene_whole(true);
         let input = FrameInput {
             camera,
             parcels: &[],
