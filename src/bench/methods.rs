@@ -276,6 +276,20 @@ pub(super) fn run_case(
     size: (u32, u32),
     reps: Repeats,
 ) -> Result<(super::measure::Measured, usize)> {
+    let mut hl = case_headless(ctx, l, method, impostors, size)?;
+    let m = l.measure(ctx, &mut hl, reps)?;
+    Ok((m, hl.renderer.sprite_stats().sprites))
+}
+
+/// The renderer of scene `l` drawn by `method` at `size`, with its sprite
+/// clouds and authored ellipsoids, the impostor ring (`impostors`) built.
+pub(super) fn case_headless(
+    ctx: &GpuContext,
+    l: &Loaded,
+    method: RenderMethod,
+    impostors: bool,
+    size: (u32, u32),
+) -> Result<Headless> {
     let mut cfg = crate::config::RenderConfig {
         method,
         ..l.profile.render.clone()
@@ -309,8 +323,7 @@ pub(super) fn run_case(
             hl.render(ctx, &input)?;
         }
     }
-    let m = l.measure(ctx, &mut hl, reps)?;
-    Ok((m, hl.renderer.sprite_stats().sprites))
+    Ok(hl)
 }
 
 /// `methods.csv`: scene, method, impostors (on/off), frame_ms,

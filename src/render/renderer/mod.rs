@@ -9,7 +9,9 @@
 //! (the impostor ring's face first; behind the clouds' depth when both
 //! draw) → the method's Resolve passes (temporal resolve, slicing planes)
 //! → composite (the method's cloud image, then the sprites in front of
-//! the clouds) → tonemap. Sky, terrain and clouds write linear radiance
+//! the clouds) → tonemap (which blends the cloud image itself where
+//! nothing follows it and the scene is not read back: see
+//! `passes::folds`). Sky, terrain and clouds write linear radiance
 //! into one HDR scene target ([`SCENE_FORMAT`]) and composite there in
 //! linear light; the tone-map pass alone writes the output (window surface
 //! or headless texture, the same path for both).
