@@ -56,6 +56,9 @@ pub struct CheckRow {
     pub parcels: usize,
     /// The clouds' passes (see the module docs). units: ms
     pub clouds_ms: f64,
+    /// What `clouds_ms` is made of: (pass, median ms), the tone map's
+    /// blend as "blend". units: ms
+    pub parts: Vec<(String, f64)>,
     /// The whole GPU frame, first to last timestamp. units: ms
     pub gpu_ms: f64,
     /// The goal on the clouds' time, if this case has one. units: ms
@@ -80,26 +83,38 @@ struct Case {
 }
 
 /// The clouds' passes of `c` (see the module docs), the tone map's blend
-/// of their image included.
-fn clouds_ms(c: &Case) -> f64 {
-    c.m.passes
-        .iter()
-        .filter(|(n, _)| !SHARED.contains(&n.as_str()))
-        .map(|(_, ms)| ms)
-        .sum::<f64>()
-        + c.blend_ms
+/// of their image as "blend".
+fn cloud_parts(c: &Case) -> Vec<(String, f64)> {
+    let mut parts: Vec<(String, f64)> =
+        c.m.passes
+            .iter()
+            .filter(|(n, _)| !SHARED.contains(&n.as_str()))
+            .cloned()
+            .collect();
+    if c.blend_ms > 0.0 {
+        parts.push(("blend".to_string(), c.blend_ms));
+    }
+    parts
 }
 
 fn row(case: &str, size: (u32, u32), parcels: usize, c: &Case, goal_ms: Option<f64>) -> CheckRow {
+    let parts = cloud_parts(c);
     CheckRow {
         case: case.to_string(),
         width: size.0,
         height: size.1,
         parcels,
-        clouds_ms: clouds_ms(c),
+        clouds_ms: parts.iter().map(|(_, ms)| ms).sum(),
+        parts,
         gpu_ms: c.m.gpu_ms,
         goal_ms,
     }
+}
+
+/// `parts` as "bake 0.100 · clouds 0.800".
+fn parts_text(parts: &[(String, f64)]) -> String {
+    let text: Vec<String> = parts.iter().map(|(n, ms)| format!("{n} {ms:.3}")).collect();
+    text.join(" · ")
 }
 
 /// Frames of `hl` from `view` (camera, sun, time) drawing `parcels`; then,
@@ -247,8 +262,8 @@ pub fn check_md(info: &super::RunInfo, date: &str, rows: &[CheckRow]) -> String 
         info.profile,
         super::measure::timing_label(info.gpu_timestamps),
     );
-    s += "| case | size | parcels | clouds (ms) | GPU frame (ms) | goal (clouds) | result |\n";
-    s += "|---|---|---:|---:|---:|---|---|\n";
+    s += "| case | size | parcels | clouds (ms) | of which (ms) | GPU frame (ms) | goal (clouds) | result |\n";
+    s += "|---|---|---:|---:|---|---:|---|---|\n";
     for r in rows {
         let goal = r.goal_ms.map_or("–".to_string(), |g| format!("≤ {g} ms"));
         let verdict = match (r.goal_ms, r.verdict(judged)) {
@@ -258,8 +273,14 @@ pub fn check_md(info: &super::RunInfo, date: &str, rows: &[CheckRow]) -> String 
             (Some(_), Some(false)) => "**FAIL**",
         };
         s += &format!(
-            "| {} | {}×{} | {} | {:.3} | {:.3} | {goal} | {verdict} |\n",
-            r.case, r.width, r.height, r.parcels, r.clouds_ms, r.gpu_ms
+            "| {} | {}×{} | {} | {:.3} | {} | {:.3} | {goal} | {verdict} |\n",
+            r.case,
+            r.width,
+            r.height,
+            r.parcels,
+            r.clouds_ms,
+            parts_text(&r.parts),
+            r.gpu_ms
         );
     }
     let goals = rows.iter().filter(|r| r.goal_ms.is_some()).count();
@@ -292,6 +313,7 @@ pub fn check_csv(rows: &[CheckRow]) -> Result<Vec<u8>> {
                 format!("{:.4}", r.clouds_ms),
                 format!("{:.4}", r.gpu_ms),
                 r.goal_ms.map_or(String::new(), |g| g.to_string()),
+                parts_text(&r.parts),
             ]
         })
         .collect();
@@ -304,6 +326,7 @@ pub fn check_csv(rows: &[CheckRow]) -> Result<Vec<u8>> {
             "clouds_ms",
             "gpu_ms",
             "goal_ms",
+            "clouds_parts",
         ],
         &body,
     )
@@ -336,6 +359,7 @@ mod tests {
             height: 1,
             parcels: 0,
             clouds_ms: 1.5,
+            parts: vec![("clouds".into(), 1.5)],
             gpu_ms: 2.0,
             goal_ms: Some(1.0),
         };

@@ -54,6 +54,18 @@ fn gpu_check_writes_the_goals_table() {
             let v: f64 = row[i].parse().unwrap();
             assert!(v.is_finite() && v > 0.0, "{row:?}");
         }
+        // The parts add up to the clouds' time (each written to 3
+        // decimals: within half a thousandth each).
+        let parts: Vec<f64> = row[7]
+            .split(" · ")
+            .map(|p| p.rsplit_once(' ').unwrap().1.parse().unwrap())
+            .collect();
+        let clouds: f64 = row[4].parse().unwrap();
+        let sum: f64 = parts.iter().sum();
+        assert!(
+            (sum - clouds).abs() <= 5e-4 * parts.len() as f64 + 1e-9,
+            "{row:?}"
+        );
     }
     // Six goals, each with its verdict: judged on a GPU, not on a CPU one.
     let goals = rows.iter().filter(|r| !r[6].is_empty()).count();
