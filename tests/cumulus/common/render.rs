@@ -52,6 +52,16 @@ pub fn render(
     hl.render(ctx, &input).unwrap().0
 }
 
+/// `parcels` from the default camera under `cfg`'s sun, at t = 0.
+pub fn default_view<'a>(cfg: &RenderConfig, parcels: &'a [CloudParcel]) -> FrameInput<'a> {
+    FrameInput {
+        camera: Camera::from(&cumulus::config::CameraConfig::default()),
+        parcels,
+        sun: cfg.sun(),
+        time_s: 0.0,
+    }
+}
+
 /// `n` full parcels of `radius_m` stacked on the z axis every `spacing_m`
 /// from `base_m` up, each cut at the condensation plane `plane(centre z)`.
 pub fn column(

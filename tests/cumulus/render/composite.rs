@@ -4,7 +4,7 @@
 
 use crate::common;
 
-use cumulus::config::{Camera, CameraConfig, RenderConfig};
+use cumulus::config::RenderConfig;
 use cumulus::methods::standin;
 use cumulus::render::FrameInput;
 use cumulus::render::headless::Headless;
@@ -23,12 +23,7 @@ fn the_tone_map_blends_the_clouds_as_the_composite_pass_does() {
     };
     let (w, h) = (96, 72);
     let parcels = standin::default_field(300.0);
-    let input = FrameInput {
-        camera: Camera::from(&CameraConfig::default()),
-        parcels: &parcels,
-        sun: cfg.sun(),
-        time_s: 0.0,
-    };
+    let input = common::render::default_view(&cfg, &parcels);
     let mut hl = Headless::new(&ctx, &cfg, w, h).unwrap();
     let (folded, t) = hl.render(&ctx, &input).unwrap();
     assert!(t.pass_ms("composite").is_none(), "{:?}", t.passes);

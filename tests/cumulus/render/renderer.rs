@@ -405,12 +405,7 @@ fn timings_name_every_pass() {
     };
     let mut hl = Headless::new(&ctx, &cfg, 64, 48).unwrap();
     let parcels = standin::default_field(300.0);
-    let input = FrameInput {
-        camera: Camera::from(&CameraConfig::default()),
-        parcels: &parcels,
-        sun: cfg.sun(),
-        time_s: 0.0,
-    };
+    let input = common::render::default_view(&cfg, &parcels);
     let (_, t) = hl.render(&ctx, &input).unwrap();
     let names: Vec<&str> = t.passes.iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(names, hl.renderer.pass_names());
@@ -555,12 +550,7 @@ fn the_most_parcels_the_uniforms_hold_render() {
         ..RenderConfig::default()
     };
     let mut hl = Headless::new(&ctx, &cfg, 64, 48).unwrap();
-    let input = FrameInput {
-        camera: Camera::from(&CameraConfig::default()),
-        parcels: &parcels,
-        sun: cfg.sun(),
-        time_s: 0.0,
-    };
+    let input = common::render::default_view(&cfg, &parcels);
     hl.render(&ctx, &input).unwrap();
     assert_eq!(hl.renderer.grid_info().parcel_count as usize, MAX_PARCELS);
     // One more is refused with an error, not drawn truncated.
