@@ -10,8 +10,11 @@ use crate::gpu::pass::LayoutSpec;
 
 /// Format of the internal depth buffer (written by terrain, read by clouds).
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-/// Format of the cloud-shadow map (sun transmittance 0..1).
-pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
+/// Format of the cloud-shadow map (sun transmittance 0..1 in red): four
+/// 8-bit channels, since the compute march writes it as a storage texture
+/// (which R8Unorm cannot be without an optional feature) and the sprites
+/// blend their shadows into it.
+pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
 /// Stages that read the shared bindings: the passes' vertex and fragment
 /// shaders and the compute march.
@@ -189,6 +192,12 @@ pub static DEPTH: LayoutSpec = LayoutSpec {
 pub static TEXTURE_IN: LayoutSpec = LayoutSpec {
     label: "composite/tonemap: input texture",
     entries: &[float2d_entry(0, true)],
+};
+
+/// Group 2 of the compute shadow march: the cloud-shadow map it writes.
+pub static SHADOW_OUT: LayoutSpec = LayoutSpec {
+    label: "shadow: compute output",
+    entries: &[storage_texture_entry(0, SHADOW_FORMAT)],
 };
 
 /// Group 2 of a compute pass writing the shared float cloud image: the

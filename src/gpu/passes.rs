@@ -4,7 +4,7 @@
 //! ([`crate::render::Renderer`]) encodes them around the method's own
 //! passes; the terrain and the shadow map import the method's slots.
 
-use crate::gpu::layouts::{COMMON, SHADOW_FORMAT, SHADOW_TEX, TEXTURE_IN};
+use crate::gpu::layouts::{COMMON, SHADOW_FORMAT, SHADOW_OUT, SHADOW_TEX, TEXTURE_IN};
 use crate::gpu::pass::{PassKind, PassSpec, VertexLayout};
 use crate::landscape::terrain::TerrainVertex;
 
@@ -60,6 +60,19 @@ pub static SHADOW: PassSpec = PassSpec {
     },
 };
 
+/// The cloud-shadow map marched in a compute shader (`cs_main`, the same
+/// routine per texel as [`SHADOW`]) where the adapter runs compute: on
+/// GPUs with few raster units (an H100 runs the same march 26× slower as
+/// a fragment shader) it is most of the pass.
+pub static SHADOW_COMPUTE: PassSpec = PassSpec {
+    name: "shadow (compute)",
+    root: "shadow.wgsl",
+    files: &[],
+    groups: &[Some(&COMMON), None, Some(&SHADOW_OUT)],
+    slotted: true,
+    kind: PassKind::Compute { entry: "cs_main" },
+};
+
 /// A method's cloud image blended over the scene, premultiplied
 /// (shaders/composite.wgsl).
 pub static COMPOSITE: PassSpec = PassSpec {
@@ -90,4 +103,11 @@ pub static TONEMAP: PassSpec = PassSpec {
 };
 
 /// Every shared pass.
-pub static ALL: [&PassSpec; 5] = [&SKY, &TERRAIN, &SHADOW, &COMPOSITE, &TONEMAP];
+pub static ALL: [&PassSpec; 6] = [
+    &SKY,
+    &TERRAIN,
+    &SHADOW,
+    &SHADOW_COMPUTE,
+    &COMPOSITE,
+    &TONEMAP,
+];

@@ -55,19 +55,41 @@ impl Renderer {
         let shadow_n = self.cfg.shadow_texels;
         if f.shadow_map {
             if self.shadow_view.as_ref().map(|(n, _)| *n) != Some(shadow_n) {
+                // Storage where the adapter marches the map in compute
+                // for some method (the sprites splat into it either way).
+                let compute = self.shadow_compute_ok.iter().any(|c| *c);
+                let storage = if compute {
+                    wgpu::TextureUsages::STORAGE_BINDING
+                } else {
+                    wgpu::TextureUsages::empty()
+                };
                 let tex = texture_2d(
                     device,
                     "cloud shadow map",
                     shadow_n,
                     shadow_n,
                     SHADOW_FORMAT,
-                    wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                    wgpu::TextureUsages::RENDER_ATTACHMENT
+                        | wgpu::TextureUsages::TEXTURE_BINDING
+                        | storage,
                 );
-                self.shadow_view = Some((shadow_n, tex.create_view(&Default::default())));
+                let view = tex.create_view(&Default::default());
+                self.bind_shadow_out = compute.then(|| {
+                    device.create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some("shadow: compute output"),
+                        layout: &self.layouts.get(&crate::gpu::layouts::SHADOW_OUT),
+                        entries: &[wgpu::BindGroupEntry {
+                            binding: 0,
+                            resource: wgpu::BindingResource::TextureView(&view),
+                        }],
+                    })
+                });
+                self.shadow_view = Some((shadow_n, view));
                 self.shadow_fresh = false;
                 self.bind_terrain = None;
             }
         } else if self.shadow_view.take().is_some() {
+            self.bind_shadow_out = None;
             self.bind_terrain = None;
         }
 

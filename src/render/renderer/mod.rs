@@ -134,6 +134,14 @@ pub struct Renderer {
     depth_view: Option<wgpu::TextureView>,
     dummy_depth_view: wgpu::TextureView,
     shadow_view: Option<(u32, wgpu::TextureView)>,
+    /// Group 2 of the compute shadow march: the map it writes (with the
+    /// map, where the adapter marches it in compute).
+    bind_shadow_out: Option<wgpu::BindGroup>,
+    /// Per registered method ([`METHODS`]): the adapter can march its
+    /// shadow map in a compute shader, and whether it does (else a
+    /// full-screen fragment one; see `Renderer::set_compute_shadow`).
+    shadow_compute_ok: Vec<bool>,
+    shadow_compute: Vec<bool>,
     /// The shadow map holds what the current frame would draw into it if
     /// the method's clouds did not move (see `Renderer::shadow_reusable`).
     shadow_fresh: bool,
@@ -218,6 +226,11 @@ impl Renderer {
             noise::texture(&NoiseVolume::new(cfg.noise_texels), &ctx.device, &ctx.queue);
         let (dummy_depth_view, dummy_cloud_depth_view, white_view) = resources::placeholders(ctx);
         let timestamps = ctx.timestamps.then(|| Timestamps::new(device, MAX_PASSES));
+        let caps = crate::gpu::requires::Capabilities::of(ctx);
+        let shadow_compute_ok: Vec<bool> = METHODS
+            .iter()
+            .map(|e| passes::compute_shadow(&caps, (e.slots)(e.methods[0])))
+            .collect();
         let bind_common = make_bind_common(
             device,
             &layouts,
@@ -257,6 +270,9 @@ impl Renderer {
             depth_view: None,
             dummy_depth_view,
             shadow_view: None,
+            bind_shadow_out: None,
+            shadow_compute: shadow_compute_ok.clone(),
+            shadow_compute_ok,
             shadow_fresh: false,
             scene_whole: false,
             scene_folded: false,
@@ -405,6 +421,21 @@ impl Renderer {
     /// tone map blended them; see [`Renderer::set_scene_whole`]).
     pub fn scene_folded(&self) -> bool {
         self.scene_folded
+    }
+
+    /// March the cloud-shadow map in a compute shader where the adapter
+    /// can (true, the default) or always in the full-screen fragment
+    /// shader (false): the same routine per texel, so the same map.
+    pub fn set_compute_shadow(&mut self, ctx: &GpuContext, on: bool) -> Result<()> {
+        self.shadow_compute = self.shadow_compute_ok.iter().map(|ok| on && *ok).collect();
+        // Drawn again by the path now chosen (the same map).
+        self.shadow_fresh = false;
+        self.ensure(ctx)
+    }
+
+    /// Whether this frame's shadow map is marched in a compute shader.
+    pub fn compute_shadow(&self) -> bool {
+        self.shadow_compute[crate::methods::index_of(self.cfg.method)]
     }
 
     /// Frame size in pixels.

@@ -7,7 +7,7 @@
 use super::*;
 use crate::gpu::method::Phase;
 use crate::gpu::pass::{PassSpec, Slots, flag};
-use crate::gpu::passes::{COMPOSITE, SHADOW, SKY, TERRAIN, TONEMAP};
+use crate::gpu::passes::{COMPOSITE, SHADOW, SHADOW_COMPUTE, SKY, TERRAIN, TONEMAP};
 use crate::gpu::pipelines::{PipelineKey, SHADOW_FORMAT};
 use crate::gpu::requires::Requirement;
 use crate::methods::sprites::gpu::passes::{SPRITES, SPRITES_SHADOW};
@@ -78,6 +78,15 @@ pub fn requirements(method: RenderMethod) -> &'static [Requirement] {
         .position(|m| *m == method)
         .expect("every method is in RenderMethod::ALL");
     &ALL[i]
+}
+
+/// Whether an adapter of capabilities `caps` runs the compute shadow
+/// march under a method's `slots` ([`SHADOW_COMPUTE`]'s requirement).
+pub(super) fn compute_shadow(
+    caps: &crate::gpu::requires::Capabilities,
+    slots: &'static Slots,
+) -> bool {
+    SHADOW_COMPUTE.requirement(slots).check(caps).is_ok()
 }
 
 /// Every shader file of `shaders/`: the shared ones and each method's.
@@ -170,6 +179,16 @@ impl Renderer {
         }
         names.push("tonemap");
         names
+    }
+
+    /// The shadow march under `cfg`: in compute where the adapter runs it
+    /// for the method, else the full-screen fragment pass.
+    pub(super) fn shadow_spec(&self, cfg: &RenderConfig) -> &'static PassSpec {
+        if self.shadow_compute[crate::methods::index_of(cfg.method)] {
+            &SHADOW_COMPUTE
+        } else {
+            &SHADOW
+        }
     }
 
     /// Whether a frame of features `f` leaves the method's cloud image to
@@ -265,7 +284,7 @@ impl Renderer {
         // The shadow pass marches only the method's field; the sprites
         // splat into it with a pipeline of their own.
         if f.shadow_map && f.method.marches_shadow {
-            keys.push(self.shared_key(&SHADOW, cfg, f));
+            keys.push(self.shared_key(self.shadow_spec(cfg), cfg, f));
         }
         if f.method.composite {
             keys.push(self.shared_key(&COMPOSITE, cfg, f));

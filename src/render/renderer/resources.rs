@@ -64,10 +64,10 @@ pub(super) fn placeholders(
     );
     ctx.queue.write_texture(
         white.as_image_copy(),
-        &[255],
+        &[255; 4],
         wgpu::TexelCopyBufferLayout {
             offset: 0,
-            bytes_per_row: Some(1),
+            bytes_per_row: Some(4),
             rows_per_image: None,
         },
         wgpu::Extent3d {

@@ -6,7 +6,7 @@ use super::*;
 use crate::gpu::begin_pass as begin;
 use crate::gpu::method::{Phase, Shared};
 use crate::gpu::pass::{SLOT_GROUP, flag};
-use crate::gpu::passes::{COMPOSITE, SHADOW, SKY, TERRAIN};
+use crate::gpu::passes::{COMPOSITE, SKY, TERRAIN};
 use crate::gpu::pipelines::{Pipeline, PipelineKey};
 use crate::gpu::timing::Recorder;
 
@@ -146,25 +146,58 @@ impl Renderer {
         (shadow, fold)
     }
 
-    /// The cloud-shadow map: the method's field marched into it, then the
-    /// sprites' shadows splatted in.
+    /// The cloud-shadow map: the method's field marched into it (in a
+    /// compute pass where the adapter runs one, else a full-screen
+    /// fragment pass), then the sprites' shadows splatted in. One timed
+    /// pass: its timestamps span both.
     fn encode_shadow(&self, rec: &mut Recorder<'_>, method: &dyn CloudMethod) {
         let (cfg, f) = (&self.cfg, self.features);
         let view = &self.shadow_view.as_ref().expect("shadow map exists").1;
         let march = self
-            .render_pipeline(&self.shared_key(&SHADOW, cfg, f))
+            .pipelines
+            .get(&self.shared_key(self.shadow_spec(cfg), cfg, f))
             .filter(|_| f.method.marches_shadow)
             .zip(method.slot_group(cfg));
         let splat = self.render_pipeline(&self.sprite_shadow_key(cfg));
+        let layers = f.around.layers;
         rec.pass("shadow", |enc, ts| {
-            let mut rp = begin(enc, "shadow", view, WHITE, None, writes(ts));
+            let mut load = WHITE;
+            let mut render_ts = writes(ts);
+            if let Some((Pipeline::Compute(p), slot)) = march {
+                let n = self.cfg.shadow_texels;
+                let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("shadow"),
+                    timestamp_writes: ts.map(|(set, i)| wgpu::ComputePassTimestampWrites {
+                        query_set: set,
+                        beginning_of_pass_write_index: Some(i),
+                        end_of_pass_write_index: (!layers).then_some(i + 1),
+                    }),
+                });
+                cp.set_pipeline(p);
+                cp.set_bind_group(0, &self.bind_common, &[]);
+                cp.set_bind_group(2, self.bind_shadow_out.as_ref(), &[]);
+                cp.set_bind_group(SLOT_GROUP, slot, &[]);
+                cp.dispatch_workgroups(n.div_ceil(8), n.div_ceil(8), 1);
+                drop(cp);
+                if !layers {
+                    return;
+                }
+                // The splat blends over what the march wrote.
+                load = wgpu::LoadOp::Load;
+                render_ts = ts.map(|(set, i)| wgpu::RenderPassTimestampWrites {
+                    query_set: set,
+                    beginning_of_pass_write_index: None,
+                    end_of_pass_write_index: Some(i + 1),
+                });
+            }
+            let mut rp = begin(enc, "shadow", view, load, None, render_ts);
             rp.set_bind_group(0, &self.bind_common, &[]);
-            if let Some((p, slot)) = march {
+            if let Some((Pipeline::Render(p), slot)) = march {
                 rp.set_pipeline(p);
                 rp.set_bind_group(SLOT_GROUP, slot, &[]);
                 rp.draw(0..3, 0..1);
             }
-            if f.around.layers {
+            if layers {
                 rp.set_bind_group(1, self.bind_sprites.as_ref(), &[]);
                 self.draw_sprites(&mut rp, splat);
             }

@@ -5,12 +5,12 @@
 
 mod cli;
 mod clipmap;
-mod composite;
 mod embed;
 mod gl;
 mod lighting;
 mod methods;
 mod noise;
+mod pass_paths;
 mod pathtraced;
 mod renderer;
 mod shaders;
