@@ -216,7 +216,8 @@ impl Renderer {
         TONEMAP.key(slots(cfg.method), cfg, &own, self.format)
     }
 
-    /// The key of shared pass `spec` under `cfg` and features `f`.
+    /// The key of shared pass `spec` under `cfg` and features `f` (the
+    /// tone map's: [`Renderer::tonemap_key`]).
     pub(super) fn shared_key(
         &self,
         spec: &'static PassSpec,
@@ -237,9 +238,11 @@ impl Renderer {
                 ],
                 SCENE_FORMAT,
             )
-        } else if std::ptr::eq(spec, &TONEMAP) {
-            return self.tonemap_key(cfg, self.folds(f));
         } else {
+            debug_assert!(
+                !std::ptr::eq(spec, &TONEMAP),
+                "the tone map has tonemap_key"
+            );
             (Vec::new(), SCENE_FORMAT)
         };
         spec.key(slots, cfg, &own, format)
