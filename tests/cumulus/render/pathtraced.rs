@@ -95,27 +95,25 @@ fn tiny_path_traced_comparison_runs_and_agrees_roughly() {
     }
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("pt");
-    let stderr = pathtraced(
-        &[
-            "--quick",
-            "--stand-in",
-            "--time",
-            "1200",
-            "--width",
-            "64",
-            "--height",
-            "48",
-            "--spp",
-            "8",
-            "--voxel",
-            "60",
-            "--max-depth",
-            "64",
-            "--settings",
-            "default",
-        ],
-        &out,
-    );
+    let quick = [
+        "--quick",
+        "--stand-in",
+        "--time",
+        "1200",
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--spp",
+        "8",
+        "--voxel",
+        "60",
+        "--max-depth",
+        "64",
+        "--settings",
+        "default",
+    ];
+    let stderr = pathtraced(&quick, &out);
     for f in [
         "pathtraced.png",
         "ours.png",
@@ -151,6 +149,35 @@ fn tiny_path_traced_comparison_runs_and_agrees_roughly() {
     assert!(
         flip < MAX_MEAN_FLIP,
         "mean FLIP {flip} against the path tracer\n{stderr}"
+    );
+
+    // Over the cloud pixels only (the same reference, reused): the mean
+    // leaves out the sky, where both pictures agree, so it is larger; and
+    // the measure's floor, the reference against itself blurred, is
+    // printed and grows with the blur.
+    let args = [&quick[..], &["--cloud-only", "--reuse-reference"]].concat();
+    let stderr = pathtraced(&args, &out);
+    assert!(stderr.contains("path-traced radiance reused"), "{stderr}");
+    let csv = std::fs::read_to_string(out.join("error_vs_pathtraced.csv")).unwrap();
+    let cloud_flip: f64 = csv
+        .lines()
+        .find(|l| l.starts_with("default"))
+        .and_then(|l| l.split(',').nth(2))
+        .and_then(|v| v.parse().ok())
+        .expect("a default row");
+    assert!(
+        cloud_flip > flip,
+        "cloud pixels {cloud_flip} vs frame {flip}"
+    );
+    let floors: Vec<f64> = stderr
+        .lines()
+        .filter(|l| l.starts_with("floor: "))
+        .filter_map(|l| l.rsplit(' ').next()?.parse().ok())
+        .collect();
+    assert_eq!(floors.len(), 3, "{stderr}");
+    assert!(
+        floors[0] > 0.0 && floors.windows(2).all(|w| w[0] < w[1]),
+        "floors {floors:?}\n{stderr}"
     );
 }
 
