@@ -486,17 +486,25 @@ fn profile_path() -> std::path::PathBuf {
 #[test]
 fn authored_profile_loads_animates_and_round_trips() {
     let p = SceneProfile::load(&profile_path()).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(p.ellipsoids.len(), 8);
-    // A mature cumulonimbus: a flat-based foot at the condensation level,
-    // three rising cells and an anvil already spreading at the tropopause.
-    assert_eq!(p.ellipsoids[0].base_m, Some(1500.0));
+    let e = &p.ellipsoids;
+    assert_eq!(e.len(), 18);
+    // A cumulonimbus: flat-based at the condensation level, rising cells,
+    // and an anvil already spreading at the tropopause; fair-weather
+    // cumulus around it, the last one keyframed.
+    assert_eq!(e[0].base_m, Some(1500.0));
+    let rising: Vec<usize> = (0..e.len())
+        .filter(|&i| e[i].motion == Motion::Rising)
+        .collect();
+    let anvils: Vec<usize> = (0..e.len())
+        .filter(|&i| e[i].motion == Motion::Anvil)
+        .collect();
+    assert!(rising.len() >= 5, "{rising:?}");
+    assert_eq!(anvils.len(), 2);
     assert!(
-        p.ellipsoids[1..4]
-            .iter()
-            .all(|e| e.motion == Motion::Rising)
+        anvils.iter().all(|&i| e[i].strength > 1.0
+            && e[i].keyframes.is_empty()
+            && e[i].centre_m[2] > 9000.0)
     );
-    let anvil = &p.ellipsoids[4];
-    assert!(anvil.motion == Motion::Anvil && anvil.strength > 1.0 && anvil.keyframes.is_empty());
     let s = &p.render.slices;
     assert_eq!(
         s.tiers.iter().map(|t| t.media).collect::<Vec<_>>(),
@@ -506,13 +514,33 @@ fn authored_profile_loads_animates_and_round_trips() {
             MediaFilter::Cirrus
         ]
     );
-    assert!(p.ellipsoids[7].keyframes.len() == 2 && p.particles.wind_m_s[0] > 0.0);
-    // It animates: the tower rises, the anvil spreads, the keyframed
-    // cumulus moves.
-    let at = |t| states_at(&p.ellipsoids, &p.particles, t);
-    assert!(at(900.0)[3].centre_m.z > at(0.0)[3].centre_m.z + 2000.0);
-    assert!(at(900.0)[4].radii_m.x > 2.0 * at(0.0)[4].radii_m.x);
-    assert!(at(900.0)[7].centre_m.y > at(0.0)[7].centre_m.y + 1000.0);
+    let last = e.len() - 1;
+    assert!(e[last].keyframes.len() == 2 && p.particles.wind_m_s[0] > 0.0);
+    // It animates: the cells rise, the anvil spreads, the keyframed
+    // cumulus moves; and the tower stays whole: some cell below 6 km has
+    // its full strength at the start, at 600 s and at the end.
+    let at = |t| states_at(e, &p.particles, t);
+    let (t0, t1) = (at(0.0), at(900.0));
+    assert!(
+        rising
+            .iter()
+            .all(|&i| t1[i].centre_m.z > t0[i].centre_m.z + 2000.0)
+    );
+    assert!(
+        anvils
+            .iter()
+            .all(|&i| t1[i].radii_m.x > 2.0 * t0[i].radii_m.x)
+    );
+    assert!(t1[last].centre_m.y > t0[last].centre_m.y + 1000.0);
+    for t in [0.0, 600.0, 900.0] {
+        let now = at(t);
+        assert!(
+            rising
+                .iter()
+                .any(|&i| now[i].strength >= 1.0 && now[i].centre_m.z < 6000.0),
+            "no full cell low in the tower at {t} s"
+        );
+    }
     // Saved and reloaded, it is the same scene.
     let text = p.to_toml().unwrap();
     let back = SceneProfile::from_toml(&text, Path::new("saved.toml")).unwrap();
@@ -579,13 +607,16 @@ fn authored_frame_gathers_geometry_and_octaves_for_the_renderer() {
     let s = &p.render.slices;
     let at = |t| authored_frame(&p.ellipsoids, &p.particles, s, t, sun, eye, view).unwrap();
     let f = at(600.0);
-    assert_eq!(f.states.len(), 8);
-    // A stack per cloud, every primitive in one, each of Quality planes
+    assert_eq!(f.states.len(), 18);
+    // A stack per cloud, every primitive with strength in one (two of
+    // the storm's cells have faded out by 600 s), each of Quality planes
     // of square grids with vertices no farther apart than the floor,
     // farthest first.
     let stacks = &f.slices.stacks;
     assert!(stacks.len() >= 2, "the storm and the cumulus apart");
-    assert_eq!(f.slices.states.len(), 8);
+    let live = f.states.iter().filter(|e| e.strength > 0.0).count();
+    assert!(live < 18);
+    assert_eq!(f.slices.states.len(), live);
     for st in stacks {
         let g = &st.geometry;
         assert_eq!(g.plane_offsets_m.len(), 128);

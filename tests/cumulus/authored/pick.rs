@@ -165,10 +165,10 @@ fn the_window_selects_drags_resizes_and_outlines_through_the_model() {
         &m.profile.particles,
         m.world.time_s() as f32,
     );
-    // Aim at the cumulus west of the tower as it is drawn now (nothing
+    // Aim at the cumulus west of the storm as it is drawn now (nothing
     // stands in front of it).
-    let target = 5;
-    assert_eq!(m.profile.ellipsoids[target].centre_m[0], -6000.0);
+    let target = 15;
+    assert_eq!(m.profile.ellipsoids[target].centre_m[0], -11500.0);
     let aim = |p: Vec3| (camera.position, (p - camera.position).normalize());
     let mut selected = 0;
     let mut d = press(&m, aim(now[target].centre_m), &mut selected).expect("a hit");

@@ -81,9 +81,9 @@ fn bad_overrides_name_the_key_the_value_and_what_is_allowed() {
             && e.contains("unknown field `qualty`"),
         "{e}"
     );
-    let e = err(&["ellipsoids[9].strength=1"]);
+    let e = err(&["ellipsoids[18].strength=1"]);
     assert!(
-        e.contains("--set ellipsoids[9].strength") && e.contains("has 8 entries"),
+        e.contains("--set ellipsoids[18].strength") && e.contains("has 18 entries"),
         "{e}"
     );
     let e = err(&["render.sun_azimuth_deg.x=1"]);
