@@ -100,11 +100,13 @@ fn check_time(time: f64) -> anyhow::Result<()> {
 /// Runs `cumulus export`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     // Before anything else: the format comes from the name.
-    let Some(format) = GridFormat::of_path(&args.out) else {
-        anyhow::bail!(
-            "invalid --out {}: the file name must end in .vol (Mitsuba 3 gridvolume) or .vdb (OpenVDB)",
-            args.out.display()
-        );
+    let format = match super::output_extension(
+        "--out",
+        &args.out,
+        &[("vol", "Mitsuba 3 gridvolume"), ("vdb", "OpenVDB")],
+    )? {
+        "vdb" => GridFormat::Vdb,
+        _ => GridFormat::Vol,
     };
     if let Some(t) = args.time {
         // Checked before loading the scene; the default is checked below.

@@ -253,6 +253,9 @@ fn write_trajectory_csv(path: &std::path::Path, run: &SingleRun) -> anyhow::Resu
 
 /// Runs `cumulus parcel`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    if let Some(path) = &args.plot {
+        super::output_extension("--plot", path, &[("png", "")])?;
+    }
     let sounding = Sounding::load(&args.sounding)?;
     let thermo = match args.thermo {
         ThermoChoice::Standard => Thermo::Standard,

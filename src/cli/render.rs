@@ -89,13 +89,7 @@ pub struct Args {
 
 /// Whether `path` names an OpenEXR file (extension `exr`, any case).
 fn is_exr(path: &Path) -> bool {
-    has_extension(path, "exr")
-}
-
-/// Whether `path`'s extension is `ext` (any case).
-pub fn has_extension(path: &Path, ext: &str) -> bool {
-    path.extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case(ext))
+    super::has_extension(path, "exr")
 }
 
 /// `FILE.png` → `FILE-0007.png`.
@@ -242,11 +236,14 @@ fn summary(parcels: &[CloudParcel]) -> String {
 
 /// Runs `cumulus render`.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    anyhow::ensure!(
-        has_extension(&args.out, "png") || is_exr(&args.out),
-        "invalid --out {}: the file name must end in .png (the tone-mapped frame) or .exr (the linear HDR scene)",
-        args.out.display()
-    );
+    super::output_extension(
+        "--out",
+        &args.out,
+        &[
+            ("png", "the tone-mapped frame"),
+            ("exr", "the linear HDR scene"),
+        ],
+    )?;
     anyhow::ensure!(args.frames >= 1, "--frames must be at least 1");
     anyhow::ensure!(
         args.every.is_finite() && args.every > 0.0,

@@ -287,6 +287,29 @@ fn image_output_of_another_format() {
         &["--screenshot", "x.jpg", ".png"],
     );
     assert!(!jpg.exists());
+    // `atlas` and `parcel --plot` wrote PNG bytes under any name and
+    // exited 0; a name without an extension is refused too.
+    let bare = dir.path().join("atlas");
+    for out in [&jpg, &bare] {
+        let name = out.file_name().unwrap().to_str().unwrap();
+        fails_cleanly(
+            &["atlas", "--out", out.to_str().unwrap()],
+            &["invalid --out", name, "must end in .png"],
+        );
+        assert!(!out.exists());
+    }
+    let s = shipped_sounding();
+    fails_cleanly(
+        &[
+            "parcel",
+            "--sounding",
+            s.to_str().unwrap(),
+            "--plot",
+            jpg.to_str().unwrap(),
+        ],
+        &["invalid --plot", "x.jpg", "must end in .png"],
+    );
+    assert!(!jpg.exists());
 }
 
 #[test]
