@@ -26,6 +26,7 @@ pub struct Args {
 /// Runs `cumulus atlas`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     super::output_extension("--out", &args.out, &[("png", "")])?;
+    super::writable_output("--out", &args.out)?;
     let atlas = Atlas::generate(args.tile, args.seed);
     atlas
         .write_png(&args.out)

@@ -76,18 +76,6 @@ pub fn sidecar_path(out: &Path) -> PathBuf {
     out.with_extension("json")
 }
 
-/// Fails early (before minutes of sampling) when `path`'s directory cannot
-/// take a new file; nothing is left behind.
-fn check_writable(path: &Path) -> anyhow::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    std::fs::create_dir_all(dir)
-        .and_then(|_| tempfile::NamedTempFile::new_in(dir).map(drop))
-        .with_context(|| format!("{}: cannot write there", path.display()))
-}
-
 /// A frame time `export` accepts. units: s
 fn check_time(time: f64) -> anyhow::Result<()> {
     anyhow::ensure!(
@@ -130,7 +118,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     let sidecar_out = sidecar_path(&args.out);
-    check_writable(&args.out)?;
+    // Before minutes of sampling: the first frame's grid and sidecar.
+    let first = if args.frames > 1 {
+        super::render::numbered(&args.out, 0)
+    } else {
+        args.out.clone()
+    };
+    super::writable_output("--out", &first)?;
+    super::writable_output("--out", &sidecar_path(&first))?;
 
     let (scene, source) =
         cumulus::scene::load_scene_with(args.scene.as_deref(), &args.overrides.set)?;

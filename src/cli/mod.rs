@@ -56,3 +56,25 @@ pub fn output_extension(
         names.join(" or ")
     )
 }
+
+/// Checks, before any work, that the output file `path` (the value of
+/// `flag`) can be written (`cumulus::output::check_writable`): the error
+/// names the option and the path as given, and says what is wrong.
+pub fn writable_output(flag: &str, path: &Path) -> anyhow::Result<()> {
+    named_output(flag, path, cumulus::output::check_writable(path))
+}
+
+/// [`writable_output`] for an option naming a folder that files are
+/// written into (`cumulus::output::check_folder_writable`).
+pub fn writable_folder(flag: &str, dir: &Path) -> anyhow::Result<()> {
+    named_output(flag, dir, cumulus::output::check_folder_writable(dir))
+}
+
+fn named_output(flag: &str, path: &Path, checked: cumulus::Result<()>) -> anyhow::Result<()> {
+    match checked {
+        Err(cumulus::Error::Io { source, .. }) => {
+            anyhow::bail!("invalid {flag} {}: {source}", path.display())
+        }
+        other => Ok(other?),
+    }
+}

@@ -255,6 +255,10 @@ fn write_trajectory_csv(path: &std::path::Path, run: &SingleRun) -> anyhow::Resu
 pub fn run(args: Args) -> anyhow::Result<()> {
     if let Some(path) = &args.plot {
         super::output_extension("--plot", path, &[("png", "")])?;
+        super::writable_output("--plot", path)?;
+    }
+    if let Some(path) = &args.csv {
+        super::writable_output("--csv", path)?;
     }
     let sounding = Sounding::load(&args.sounding)?;
     let thermo = match args.thermo {

@@ -250,6 +250,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "--every must be a positive number of seconds"
     );
     args.clouds.validate()?;
+    // Before the simulation and the render: the first file written.
+    let first = if args.frames > 1 {
+        numbered(&args.out, 0)
+    } else {
+        args.out.clone()
+    };
+    super::writable_output("--out", &first)?;
+    if let Some(path) = &args.save_parcels {
+        super::writable_output("--save-parcels", path)?;
+    }
     let (mut scene, source) =
         cumulus::scene::load_scene_with(args.scene.as_deref(), &args.overrides.set)?;
     let time = args.time.unwrap_or(scene.simulation.start_s);

@@ -121,6 +121,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     let frames = frames as u64;
+    if let Some(out) = &args.out {
+        super::writable_output("--out", out)?;
+    }
     let (profile, source) = load_scene_with(args.scene.as_deref(), &args.overrides.set)?;
     // Validation errors name the field; say which file (and line) it is in.
     let scene_text = args

@@ -70,6 +70,7 @@ impl Default for Args {
 pub fn run(args: Args) -> anyhow::Result<()> {
     if let Some(path) = &args.screenshot {
         super::output_extension("--screenshot", path, &[("png", "")])?;
+        super::writable_output("--screenshot", path)?;
     }
     if let Some(w) = args.warmup
         && !(w.is_finite() && (0.0..=cumulus::scene::MAX_START_S).contains(&w))
