@@ -128,12 +128,21 @@ pub struct CloudArgs {
 impl CloudArgs {
     /// Checks the values before any work (the error names the flag).
     pub fn validate(&self) -> anyhow::Result<()> {
-        anyhow::ensure!(
-            self.dt.is_finite() && self.dt > 0.0 && self.dt <= 600.0,
-            "--dt must be a positive number of seconds up to 600"
-        );
-        Ok(())
+        check_frame_dt(self.dt)
     }
+}
+
+/// Longest physics frame `--dt` of the commands that simulate a scene
+/// (each frame is sub-stepped as the physics needs). units: s
+const MAX_FRAME_DT_S: f64 = 600.0;
+
+/// Checks a scene simulation's `--dt` (`render`, `export`, `simulate`).
+pub(crate) fn check_frame_dt(dt: f64) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        dt.is_finite() && dt > 0.0 && dt <= MAX_FRAME_DT_S,
+        "invalid --dt {dt}: a positive number of seconds up to {MAX_FRAME_DT_S}"
+    );
+    Ok(())
 }
 
 /// Where the clouds come from: the parcel physics, the stand-in field or a

@@ -106,12 +106,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             args.duration
         );
     }
-    if !(args.dt.is_finite() && args.dt > 0.0 && args.dt <= 600.0) {
-        bail!(
-            "invalid --dt {}: a positive number of seconds up to 600",
-            args.dt
-        );
-    }
+    super::render::check_frame_dt(args.dt)?;
     let frames = (args.duration / args.dt).ceil();
     if frames > MAX_FRAMES {
         bail!(

@@ -393,6 +393,50 @@ fn parcel_absurd_surface_values() {
 }
 
 #[test]
+fn parcel_dynamic_options_are_named_with_their_real_ranges() {
+    let s = shipped_sounding();
+    let s = s.to_str().unwrap();
+    let dynamic = |extra: &[&str], expect: &[&str]| {
+        let mut args = vec!["parcel", "--sounding", s, "--dynamic"];
+        args.extend_from_slice(extra);
+        let err = fails_cleanly(&args, expect);
+        // Not the release's field names (surface_t_k, dt_s, surface_qv).
+        assert!(!err.contains("_k =") && !err.contains("_s =") && !err.contains("_qv"), "{err}");
+    };
+    // The surface-based parcel of this sounding starts at 22.20 °C, so
+    // 150 to 400 K leave an excess of -145.35 to 104.65 K.
+    for v in ["1e6", "-200", "nan"] {
+        dynamic(
+            &["--temp-excess", v],
+            &["invalid --temp-excess", "from -145.35 to 104.65 K"],
+        );
+    }
+    // The parser said "> 0 and ≤ 1e7 s", then the release refused 1e6.
+    for v in ["1e6", "nan", "1e-5"] {
+        dynamic(&["--dt", v], &["--dt", "from 0.0001 to 600 s"]);
+    }
+    dynamic(&["--duration", "1e8"], &["--duration", "from 0.001 to 1e7 s"]);
+    for v in ["0", "-5", "1e9"] {
+        dynamic(&["--radius", v], &["--radius", "from 5 to 3000 m"]);
+    }
+    // This aborted allocating 13 TB for the trajectory.
+    dynamic(
+        &["--duration", "1e7", "--dt", "1e-4"],
+        &["--duration", "--dt", "frames", "at most 1e7"],
+    );
+    dynamic(
+        &["--surface-temp", "65", "--surface-dewpoint", "65"],
+        &["invalid --surface-dewpoint 65 °C", "at most 100 g/kg", "dewpoint up to"],
+    );
+    // The stated bounds are accepted.
+    cli::run([
+        "parcel", "--sounding", s, "--dynamic", "--dt", "600", "--duration", "1200",
+        "--radius", "3000", "--temp-excess", "104",
+    ])
+    .expect_success();
+}
+
+#[test]
 fn stability_unwritable_report_directory() {
     // Fails at once, before running the matrix.
     fails_cleanly(
