@@ -144,7 +144,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if !args.clouds.stand_in && args.clouds.parcels.is_none() {
         eprintln!("simulating {start:.0} s …");
     }
-    let mut clouds = Clouds::new(&args.clouds, &scene, &source.base_dir())?;
+    let mut clouds = Clouds::new(&args.clouds, &scene, &source)?;
     let mut parcels = Vec::new();
     for i in 0..args.frames {
         let time = start + args.every * i as f64;

@@ -155,11 +155,11 @@ pub(crate) enum Clouds {
 
 impl Clouds {
     /// The stand-in field, the parcels of `--parcels`, or `scene`'s world at
-    /// t = 0 with `args`' seed.
+    /// t = 0 with `args`' seed (`source` says where the scene came from).
     pub(crate) fn new(
         args: &CloudArgs,
         scene: &cumulus::scene::SceneProfile,
-        base_dir: &Path,
+        source: &cumulus::scene::SceneSource,
     ) -> anyhow::Result<Self> {
         if args.stand_in {
             return Ok(Clouds::StandIn);
@@ -168,10 +168,9 @@ impl Clouds {
             return Ok(Clouds::File(cumulus::physics::cloud_file::read(path)?));
         }
         let env = scene
-            .atmosphere
-            .build(base_dir)
+            .build_atmosphere(source)
             .context("building the atmosphere")?;
-        let world = ParcelWorld::new(env, scene.world_config(base_dir)?, args.seed)?;
+        let world = ParcelWorld::new(env, scene.world_config(&source.base_dir())?, args.seed)?;
         Ok(Clouds::World {
             world: Box::new(world),
             dt: args.dt,
@@ -301,7 +300,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .validate()
         .with_context(|| format!("{scene_name}: checking [camera]"))?;
     let camera = Camera::from(&scene.camera);
-    let mut clouds = Clouds::new(&args.clouds, &scene, &source.base_dir())?;
+    let mut clouds = Clouds::new(&args.clouds, &scene, &source)?;
 
     let ctx = GpuContext::new_headless(args.adapter.as_deref())?;
     eprintln!("adapter: {} ({})", ctx.describe(), ctx.choice());

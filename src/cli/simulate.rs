@@ -5,7 +5,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::bail;
+use anyhow::{Context as _, bail};
 use cumulus::physics::{Diagnostics, ParcelWorld, StepReport};
 use cumulus::scene::{load_scene_with, locate_key};
 
@@ -140,11 +140,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             _ => file,
         }
     };
-    // The error stays the source, so `{:#}` prints its own chain (I/O causes).
-    let env = profile.atmosphere.build(&source.base_dir()).map_err(|e| {
-        let at = place(&e);
-        anyhow::Error::new(e).context(format!("{at}: building the atmosphere"))
-    })?;
+    let env = profile
+        .build_atmosphere(&source)
+        .context("building the atmosphere")?;
     let world_cfg = profile.world_config(&source.base_dir()).map_err(|e| {
         anyhow::Error::new(e).context("reading the terrain ([ground] follow_terrain)")
     })?;

@@ -166,15 +166,34 @@ fn profile_binary_file() {
 
 #[test]
 fn profile_sounding_missing_or_broken() {
-    // The sounding's own path is named; the profile's too.
-    profile_fails(
-        "missing_sounding.toml",
-        &["no_such_sounding.txt", "No such file"],
-    );
-    profile_fails(
-        "profile_with_bad_sounding.toml",
-        &["text_in_number.txt:5:18:", "\"warm\"", "TEMP"],
-    );
+    // The profile's line with `sounding`, then the sounding's own path
+    // (and line); `render` named neither the profile nor the line.
+    let missing = [
+        "missing_sounding.toml:2:1: sounding = \"no_such_sounding.txt\": ",
+        "no_such_sounding.txt: No such file",
+    ];
+    let broken = [
+        "profile_with_bad_sounding.toml:2:1: sounding = \"text_in_number.txt\": ",
+        "text_in_number.txt:5:18:",
+        "\"warm\"",
+        "TEMP",
+    ];
+    profile_fails("missing_sounding.toml", &missing);
+    profile_fails("profile_with_bad_sounding.toml", &broken);
+    let dir = tempfile::tempdir().unwrap();
+    for (name, expect) in [
+        ("missing_sounding.toml", &missing[..]),
+        ("profile_with_bad_sounding.toml", &broken[..]),
+    ] {
+        let profile = bad(name);
+        let p = profile.to_str().unwrap();
+        let png = dir.path().join("never.png");
+        let vol = dir.path().join("never.vol");
+        for (command, out) in [("render", &png), ("export", &vol)] {
+            fails_cleanly(&[command, p, "--out", out.to_str().unwrap()], expect);
+            assert!(!out.exists(), "{command} wrote {}", out.display());
+        }
+    }
 }
 
 #[test]
