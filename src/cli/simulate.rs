@@ -217,20 +217,27 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     let d = world.diagnostics();
     let c = world.counters();
+    let cloud = match (d.cloud_base_m, d.cloud_top_m) {
+        (Some(base), Some(top)) => format!("cloud base {base:.0} m, top {top:.0} m"),
+        _ => "no cloud at the end".to_string(),
+    };
     eprintln!(
-        "{written}; {} parcels, {} condensed, cloud base {} m, top {} m; {} sub-steps",
-        d.parcels,
-        d.condensed_parcels,
-        opt(d.cloud_base_m),
-        opt(d.cloud_top_m),
-        c.substeps,
+        "{written}; {} parcels, {} condensed, {cloud}; {} sub-steps",
+        d.parcels, d.condensed_parcels, c.substeps,
     );
     eprintln!("{}", held_back(&d));
+    let history = match first_cloud_s {
+        Some(t) => format!(
+            "first condensed parcel at t = {t:.0} s; peak {} condensed parcels at t = {:.0} s",
+            peak.0, peak.1
+        ),
+        None => format!(
+            "no cloud formed: no parcel condensed in {} s",
+            args.duration
+        ),
+    };
     eprintln!(
-        "first condensed parcel at t = {}; peak {} condensed parcels at t = {:.0} s; {:.1} s of wall time",
-        first_cloud_s.map_or("never".to_string(), |t| format!("{t:.0} s")),
-        peak.0,
-        peak.1,
+        "{history}; {:.1} s of wall time",
         bar.elapsed().as_secs_f64()
     );
     eprintln!(
