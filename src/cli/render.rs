@@ -1,5 +1,5 @@
-//! `cumulus render`: simulate a scene, then render PNG frame(s) headless with
-//! the same renderer the window uses.
+//! `cumulus render`: simulate a scene, then render frame(s) headless with the
+//! same renderer the window uses, as PNG or linear HDR OpenEXR.
 
 use std::path::{Path, PathBuf};
 
