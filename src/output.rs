@@ -38,30 +38,57 @@ pub fn write_atomic_with(
             .set_permissions(std::fs::Permissions::from_mode(mode))
             .map_err(|e| Error::io(path, e))?;
     }
-    tmp.persist(path)
-        .map_err(|e| Error::io(path, std::io::Error::new(e.error.kind(), os_reason(&e.error))))?;
+    tmp.persist(path).map_err(|e| {
+        Error::io(
+            path,
+            std::io::Error::new(e.error.kind(), os_reason(&e.error)),
+        )
+    })?;
     Ok(())
 }
 
 /// Checks, before the work that produces it, that the file `path` can be
-/// written: it is not a directory, its folder exists or can be created
-/// (it is created, as writing would), and a file can be created in that
-/// folder. Nothing else is left behind. The error is an [`Error::Io`] on
-/// `path` whose source says what is wrong and the OS's reason.
+/// written: it is not a directory, its folder exists or can be created,
+/// and a file can be created in that folder. It leaves nothing behind
+/// (folders it made to try are removed again). The error is an
+/// [`Error::Io`] on `path` whose source says what is wrong and the OS's
+/// reason, as writing it would give.
 pub fn check_writable(path: &Path) -> Result<()> {
-    temp_beside(path).map(drop)
+    not_a_directory(path)?;
+    probe(folder_of(path)).map_err(|e| Error::io(path, e))
 }
 
-/// Checks that files can be written into the folder `dir` (created when
-/// missing, as writing would): for outputs that are a folder of files.
-/// The error is an [`Error::Io`] on `dir`, as [`check_writable`]'s.
+/// Checks that files can be written into the folder `dir` (which may not
+/// exist yet): for outputs that are a folder of files. The error is an
+/// [`Error::Io`] on `dir`, as [`check_writable`]'s.
 pub fn check_folder_writable(dir: &Path) -> Result<()> {
-    temp_in(dir).map(drop).map_err(|e| Error::io(dir, e))
+    probe(dir).map_err(|e| Error::io(dir, e))
+}
+
+/// Creates a temporary file in `dir` as writing would (making `dir` when
+/// missing), then removes it and the folders it made.
+fn probe(dir: &Path) -> std::io::Result<()> {
+    // Innermost first, so each is empty when removed.
+    let missing: Vec<&Path> = dir
+        .ancestors()
+        .take_while(|a| !a.as_os_str().is_empty() && !a.exists())
+        .collect();
+    let probed = temp_in(dir).map(drop);
+    for made in missing {
+        let _ = std::fs::remove_dir(made);
+    }
+    probed
 }
 
 /// A new temporary file beside `path`, for writing it whole or not at all;
 /// errors name `path` and say what is wrong, never the temporary name.
 fn temp_beside(path: &Path) -> Result<tempfile::NamedTempFile> {
+    not_a_directory(path)?;
+    temp_in(folder_of(path)).map_err(|e| Error::io(path, e))
+}
+
+/// An output file's name must not be an existing directory's.
+fn not_a_directory(path: &Path) -> Result<()> {
     if path.is_dir() {
         return Err(Error::io(
             path,
@@ -71,11 +98,15 @@ fn temp_beside(path: &Path) -> Result<tempfile::NamedTempFile> {
             ),
         ));
     }
-    let dir = match path.parent() {
+    Ok(())
+}
+
+/// The folder a file `path` goes into: its parent, or `.` for a bare name.
+fn folder_of(path: &Path) -> &Path {
+    match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
-    };
-    temp_in(dir).map_err(|e| Error::io(path, e))
+    }
 }
 
 /// A new temporary file in `dir`, creating `dir` when missing. The error
@@ -175,7 +206,10 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         // An existing directory is not a file name (it used to fail only at
         // the rename, as "Not a directory").
-        let msg = format!("{:#}", anyhow::Error::new(check_writable(dir.path()).unwrap_err()));
+        let msg = format!(
+            "{:#}",
+            anyhow::Error::new(check_writable(dir.path()).unwrap_err())
+        );
         assert!(msg.contains("existing directory"), "{msg}");
         let err = write_atomic(dir.path(), b"x").unwrap_err();
         assert!(matches!(err, Error::Io { ref path, .. } if path == dir.path()));
@@ -199,11 +233,15 @@ mod tests {
             anyhow::Error::new(check_folder_writable(&file.join("report")).unwrap_err())
         );
         assert!(msg.contains("cannot create the folder"), "{msg}");
-        // A new folder is made, as writing would, and nothing is left in it.
-        let sub = dir.path().join("a/b");
-        check_writable(&sub.join("out.csv")).unwrap();
-        check_folder_writable(&dir.path().join("c")).unwrap();
-        assert_eq!(std::fs::read_dir(&sub).unwrap().count(), 0);
-        assert_eq!(std::fs::read_dir(dir.path().join("c")).unwrap().count(), 0);
+        // Missing folders pass, and the check leaves nothing behind: not
+        // the folders it made to try, not its temporary file.
+        check_writable(&dir.path().join("a/b/out.csv")).unwrap();
+        check_folder_writable(&dir.path().join("c/d")).unwrap();
+        check_writable(&dir.path().join("e.png")).unwrap();
+        let left: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(left, ["file"], "left behind");
     }
 }
