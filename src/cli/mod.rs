@@ -46,7 +46,7 @@ pub fn output_extension(
     let names: Vec<String> = allowed
         .iter()
         .map(|(ext, what)| match what {
-            w if w.is_empty() => format!(".{ext}"),
+            &"" => format!(".{ext}"),
             w => format!(".{ext} ({w})"),
         })
         .collect();

@@ -211,7 +211,12 @@ fn radius_metres(s: &str) -> Result<f64, String> {
 /// Checks the `--dynamic` release of `start` (the chosen parcel at the
 /// ground) against [`single::release`]'s bounds, in terms of the options
 /// that set them; `p0` is the ground's pressure. units: Pa
-fn check_release(args: &Args, kind: ParcelKind, start: &ParcelStart, p0: f64) -> anyhow::Result<()> {
+fn check_release(
+    args: &Args,
+    kind: ParcelKind,
+    start: &ParcelStart,
+    p0: f64,
+) -> anyhow::Result<()> {
     anyhow::ensure!(
         single::frames(args.duration, args.dt).is_some(),
         "--duration {} s with --dt {} s makes {:.0} frames: at most {:e} are allowed (use a larger --dt)",
@@ -239,7 +244,11 @@ fn check_release(args: &Args, kind: ParcelKind, start: &ParcelStart, p0: f64) ->
         let td_max = Thermo::Model.dewpoint_from_mixing_ratio_k(q_max, p0) - 273.15;
         let dewpoint = match (args.surface_dewpoint, kind) {
             (Some(td), ParcelKind::Surface) => format!("--surface-dewpoint {td}"),
-            _ => format!("the {} parcel's dewpoint {:.2}", kind.name(), start.td_k - 273.15),
+            _ => format!(
+                "the {} parcel's dewpoint {:.2}",
+                kind.name(),
+                start.td_k - 273.15
+            ),
         };
         anyhow::bail!(
             "invalid {dewpoint} °C with --dynamic: the released parcel's vapour mixing ratio \

@@ -359,7 +359,11 @@ fn draw(
             .collect();
         let runs = clipped(pts);
         if !runs.is_empty() {
-            legend.push(("released parcel (full dynamics)", color.stroke_width(2), false));
+            legend.push((
+                "released parcel (full dynamics)",
+                color.stroke_width(2),
+                false,
+            ));
         }
         for run in runs {
             chart

@@ -179,8 +179,7 @@ impl SceneProfile {
             let profile = PathBuf::from(source.name());
             match &self.atmosphere.sounding {
                 Some(sounding) if !matches!(e, Error::InvalidParameter { .. }) => {
-                    let (line, column) =
-                        locate_key(&text, "atmosphere.sounding").unwrap_or((0, 0));
+                    let (line, column) = locate_key(&text, "atmosphere.sounding").unwrap_or((0, 0));
                     Error::parse(
                         profile,
                         line,

@@ -420,7 +420,10 @@ fn parcel_dynamic_options_are_named_with_their_real_ranges() {
         args.extend_from_slice(extra);
         let err = fails_cleanly(&args, expect);
         // Not the release's field names (surface_t_k, dt_s, surface_qv).
-        assert!(!err.contains("_k =") && !err.contains("_s =") && !err.contains("_qv"), "{err}");
+        assert!(
+            !err.contains("_k =") && !err.contains("_s =") && !err.contains("_qv"),
+            "{err}"
+        );
     };
     // The surface-based parcel of this sounding starts at 22.20 °C, so
     // 150 to 400 K leave an excess of -145.35 to 104.65 K.
@@ -434,7 +437,10 @@ fn parcel_dynamic_options_are_named_with_their_real_ranges() {
     for v in ["1e6", "nan", "1e-5"] {
         dynamic(&["--dt", v], &["--dt", "from 0.0001 to 600 s"]);
     }
-    dynamic(&["--duration", "1e8"], &["--duration", "from 0.001 to 1e7 s"]);
+    dynamic(
+        &["--duration", "1e8"],
+        &["--duration", "from 0.001 to 1e7 s"],
+    );
     for v in ["0", "-5", "1e9"] {
         dynamic(&["--radius", v], &["--radius", "from 5 to 3000 m"]);
     }
@@ -445,12 +451,26 @@ fn parcel_dynamic_options_are_named_with_their_real_ranges() {
     );
     dynamic(
         &["--surface-temp", "65", "--surface-dewpoint", "65"],
-        &["invalid --surface-dewpoint 65 °C", "at most 100 g/kg", "dewpoint up to"],
+        &[
+            "invalid --surface-dewpoint 65 °C",
+            "at most 100 g/kg",
+            "dewpoint up to",
+        ],
     );
     // The stated bounds are accepted.
     cli::run([
-        "parcel", "--sounding", s, "--dynamic", "--dt", "600", "--duration", "1200",
-        "--radius", "3000", "--temp-excess", "104",
+        "parcel",
+        "--sounding",
+        s,
+        "--dynamic",
+        "--dt",
+        "600",
+        "--duration",
+        "1200",
+        "--radius",
+        "3000",
+        "--temp-excess",
+        "104",
     ])
     .expect_success();
 }

@@ -144,8 +144,8 @@ fn simulate_reports_clamps_by_kind_and_suppressed_emissions() {
 /// t = 0 s". A cloudy run keeps its numbers.
 #[test]
 fn simulate_says_when_no_cloud_formed() {
-    let stderr = cli::run(["simulate", "profiles/stable_dry.toml", "--duration", "600"])
-        .expect_success();
+    let stderr =
+        cli::run(["simulate", "profiles/stable_dry.toml", "--duration", "600"]).expect_success();
     assert!(
         stderr.contains("0 condensed, no cloud at the end;"),
         "{stderr}"
@@ -159,5 +159,8 @@ fn simulate_says_when_no_cloud_formed() {
     }
     let stderr = cli::run(["simulate", "--duration", "600"]).expect_success();
     assert!(stderr.contains("cloud base "), "{stderr}");
-    assert!(stderr.contains("first condensed parcel at t = "), "{stderr}");
+    assert!(
+        stderr.contains("first condensed parcel at t = "),
+        "{stderr}"
+    );
 }

@@ -335,7 +335,13 @@ fn an_adapter_name_that_matches_none_lists_the_adapters_without_the_driver_advic
     let out = dir.path().join("never.png");
     let run = cli::run_command(
         cli::command()
-            .args(["render", "--stand-in", "--adapter", "no-such-gpu-x9", "--out"])
+            .args([
+                "render",
+                "--stand-in",
+                "--adapter",
+                "no-such-gpu-x9",
+                "--out",
+            ])
             .arg(&out),
     );
     // It said "no GPU adapter: …" and advised installing Mesa's driver,
