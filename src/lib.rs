@@ -8,7 +8,8 @@
 //!   every table and names the file, line and key of a bad value;
 //!   [`scene::SceneProfile::embedded_default`] is the built-in one.
 //! - The physics: [`physics::ParcelWorld::new`] from the scene's
-//!   atmosphere (`scene.atmosphere.build(dir)`) and
+//!   atmosphere ([`scene::SceneProfile::build_atmosphere`], whose errors
+//!   name the profile and its `sounding` line) and
 //!   [`scene::SceneProfile::world_config`]; [`physics::ParcelWorld::step`]
 //!   advances it, [`physics::ParcelWorld::cloud_parcels`] gives the
 //!   condensed parcels the renderer draws.

@@ -18,17 +18,17 @@ struct Cli {
 enum Command {
     /// Open the live window: watch clouds form and edit the profile.
     Watch(cli::watch::Args),
-    /// Simulate a scene and render PNG frame(s) headless.
+    /// Simulate a scene and render frame(s) headless: PNG, or linear HDR .exr.
     Render(cli::render::Args),
-    /// Run a scene headless and write per-step diagnostics as CSV.
+    /// Run a scene headless: a summary, and per-frame diagnostics as CSV with --out.
     Simulate(cli::simulate::Args),
-    /// Lift a surface parcel through a sounding: LCL, LFC, EL, diagram.
+    /// Lift parcels through a sounding: LCL, LFC, EL, CAPE, CIN, Skew-T diagram.
     Parcel(cli::parcel::Args),
     /// Record performance tables and error against run time.
     Bench(cli::bench::Args),
     /// Run the matrix of stiff and extreme cases.
     Stability(cli::stability::Args),
-    /// Write a frame's cloud density as a Mitsuba 3 .vol grid plus a JSON sidecar.
+    /// Write a frame's cloud density as a Mitsuba 3 .vol or OpenVDB .vdb grid, plus a JSON sidecar.
     Export(cli::export::Args),
     /// Write the sprite method's 16-tile texture atlas as a PNG.
     Atlas(cli::atlas::Args),

@@ -78,7 +78,12 @@ impl ProfileEditor {
     /// given by relative humidity get the equivalent dewpoint); a sounding is
     /// sampled into [`SOUNDING_POINTS`] points, with hydrostatic pressure.
     pub fn from_spec(spec: &AtmosphereSpec, base_dir: &Path) -> Result<Self> {
-        let env = spec.build(base_dir)?;
+        Self::from_environment(spec, spec.build(base_dir)?)
+    }
+
+    /// [`ProfileEditor::from_spec`] on `spec`'s environment, built already
+    /// (`SceneProfile::build_atmosphere`).
+    pub fn from_environment(spec: &AtmosphereSpec, env: Environment) -> Result<Self> {
         let mut spec = if spec.sounding.is_some() {
             AtmosphereSpec::inline_points_from(&env, SOUNDING_POINTS)
         } else {

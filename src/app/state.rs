@@ -145,7 +145,8 @@ pub struct Model {
 impl Model {
     /// A model on a loaded scene.
     pub fn new(profile: SceneProfile, source: SceneSource) -> Result<Self> {
-        let mut editor = ProfileEditor::from_spec(&profile.atmosphere, &source.base_dir())?;
+        let env = profile.build_atmosphere(&source)?;
+        let mut editor = ProfileEditor::from_environment(&profile.atmosphere, env)?;
         let world_cfg = profile.world_config(&source.base_dir())?;
         let clock = profile.clock()?;
         editor.set_lift_options(crate::atmosphere::lifting::LiftOptions {

@@ -193,7 +193,7 @@ pub(super) fn load(name: &str, overrides: &[String]) -> Result<Loaded> {
 pub(super) fn load_at(name: &str, time_s: Option<f64>, overrides: &[String]) -> Result<Loaded> {
     let dir = profiles_dir()?;
     let profile = load_profile(name, overrides)?;
-    let env = profile.atmosphere.build(&dir)?;
+    let env = profile.build_atmosphere(&crate::scene::SceneSource::File(dir.join(name)))?;
     let mut world = ParcelWorld::new(env, profile.world_config(&dir)?, 1)?;
     let t = time_s.unwrap_or(profile.simulation.start_s);
     while world.time_s() < t - 1e-9 {

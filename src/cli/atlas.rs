@@ -25,6 +25,8 @@ pub struct Args {
 
 /// Runs `cumulus atlas`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    super::output_extension("--out", &args.out, &[("png", "")])?;
+    super::writable_output("--out", &args.out)?;
     let atlas = Atlas::generate(args.tile, args.seed);
     atlas
         .write_png(&args.out)

@@ -62,6 +62,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             "--width and --height must be 16 to 8192 pixels (got {w}×{h})"
         );
     }
+    // Before minutes of measuring.
+    super::writable_folder("--out", &args.out)?;
     if args.gpu_check {
         let start = std::time::Instant::now();
         let (md, rows) = cumulus::bench::run_gpu_check(

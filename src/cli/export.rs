@@ -76,18 +76,6 @@ pub fn sidecar_path(out: &Path) -> PathBuf {
     out.with_extension("json")
 }
 
-/// Fails early (before minutes of sampling) when `path`'s directory cannot
-/// take a new file; nothing is left behind.
-fn check_writable(path: &Path) -> anyhow::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    std::fs::create_dir_all(dir)
-        .and_then(|_| tempfile::NamedTempFile::new_in(dir).map(drop))
-        .with_context(|| format!("{}: cannot write there", path.display()))
-}
-
 /// A frame time `export` accepts. units: s
 fn check_time(time: f64) -> anyhow::Result<()> {
     anyhow::ensure!(
@@ -100,11 +88,13 @@ fn check_time(time: f64) -> anyhow::Result<()> {
 /// Runs `cumulus export`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     // Before anything else: the format comes from the name.
-    let Some(format) = GridFormat::of_path(&args.out) else {
-        anyhow::bail!(
-            "invalid --out {}: the file name must end in .vol (Mitsuba 3 gridvolume) or .vdb (OpenVDB)",
-            args.out.display()
-        );
+    let format = match super::output_extension(
+        "--out",
+        &args.out,
+        &[("vol", "Mitsuba 3 gridvolume"), ("vdb", "OpenVDB")],
+    )? {
+        "vdb" => GridFormat::Vdb,
+        _ => GridFormat::Vol,
     };
     if let Some(t) = args.time {
         // Checked before loading the scene; the default is checked below.
@@ -128,7 +118,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     let sidecar_out = sidecar_path(&args.out);
-    check_writable(&args.out)?;
+    // Before minutes of sampling: the first frame's grid and sidecar.
+    let first = if args.frames > 1 {
+        super::render::numbered(&args.out, 0)
+    } else {
+        args.out.clone()
+    };
+    super::writable_output("--out", &first)?;
+    super::writable_output("--out", &sidecar_path(&first))?;
 
     let (scene, source) =
         cumulus::scene::load_scene_with(args.scene.as_deref(), &args.overrides.set)?;
@@ -147,7 +144,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if !args.clouds.stand_in && args.clouds.parcels.is_none() {
         eprintln!("simulating {start:.0} s …");
     }
-    let mut clouds = Clouds::new(&args.clouds, &scene, &source.base_dir())?;
+    let mut clouds = Clouds::new(&args.clouds, &scene, &source)?;
     let mut parcels = Vec::new();
     for i in 0..args.frames {
         let time = start + args.every * i as f64;

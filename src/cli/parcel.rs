@@ -5,6 +5,7 @@
 //! table, as JSON, or as a Skew-T log-p diagram of the chosen one.
 
 use std::io::Write as _;
+use std::ops::RangeInclusive;
 use std::path::PathBuf;
 
 use anyhow::Context as _;
@@ -97,18 +98,20 @@ pub struct Args {
     /// water and decays, paper figs 3–4).
     #[arg(long, requires = "dynamic")]
     pub mixing: bool,
-    /// With --dynamic: how long to follow the parcel, in seconds.
+    /// With --dynamic: how long to follow the parcel, in seconds (0.001 to
+    /// 1e7, at most 1e7 frames of --dt).
     #[arg(long, value_name = "S", default_value_t = 3600.0, requires = "dynamic",
-          value_parser = positive_seconds)]
+          value_parser = duration_seconds)]
     pub duration: f64,
-    /// With --dynamic: frame time step in seconds (the integrator sub-steps it
-    /// when the CFL or force limits ask for less).
+    /// With --dynamic: frame time step in seconds, 0.0001 to 600 (the
+    /// integrator sub-steps it when the CFL or force limits ask for less).
     #[arg(long, value_name = "S", default_value_t = 1.0, requires = "dynamic",
-          value_parser = positive_seconds)]
+          value_parser = step_seconds)]
     pub dt: f64,
     /// With --dynamic: temperature excess of the released parcel over the
     /// surface air, in K (a parcel at exactly the surface temperature is
-    /// neutral and stays put).
+    /// neutral and stays put; the parcel's temperature must stay within
+    /// 150 to 400 K).
     #[arg(
         long,
         value_name = "K",
@@ -117,8 +120,10 @@ pub struct Args {
         allow_negative_numbers = true
     )]
     pub temp_excess: f64,
-    /// With --dynamic: radius of the released parcel, in metres.
-    #[arg(long, value_name = "M", default_value_t = 150.0, requires = "dynamic")]
+    /// With --dynamic: radius of the released parcel, in metres (5 to 3000,
+    /// the simulation's parcel sizes).
+    #[arg(long, value_name = "M", default_value_t = 150.0, requires = "dynamic",
+          allow_negative_numbers = true, value_parser = radius_metres)]
     pub radius: f64,
     /// With --dynamic: write the whole trajectory (time, z, T, θ, θ_v of parcel
     /// and environment, q_v, q_l, radius, mass) to this CSV file.
@@ -167,15 +172,94 @@ impl ParcelChoice {
     }
 }
 
-fn positive_seconds(s: &str) -> Result<f64, String> {
+/// A number within `range` (the bounds the release itself checks, so the
+/// option's message is the real range), in `unit`.
+fn number_in(s: &str, range: RangeInclusive<f64>, unit: &str) -> Result<f64, String> {
     let v: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
-    if v.is_finite() && v > 0.0 && v <= 1e7 {
+    if v.is_finite() && range.contains(&v) {
         Ok(v)
     } else {
+        // 1e7 rather than 10000000.
+        let show = |v: f64| match v {
+            v if v >= 1e5 => format!("{v:e}"),
+            v => v.to_string(),
+        };
         Err(format!(
-            "{s} s is not allowed: give a finite time > 0 and ≤ 1e7 s"
+            "{s} {unit} is not allowed: give a finite number from {} to {} {unit}",
+            show(*range.start()),
+            show(*range.end())
         ))
     }
+}
+
+/// `--duration`: [`single::DURATION_S`].
+fn duration_seconds(s: &str) -> Result<f64, String> {
+    number_in(s, single::DURATION_S, "s")
+}
+
+/// `--dt`: [`single::DT_S`].
+fn step_seconds(s: &str) -> Result<f64, String> {
+    number_in(s, single::DT_S, "s")
+}
+
+/// `--radius`: the simulation's parcel radii (its default `[physics]`).
+fn radius_metres(s: &str) -> Result<f64, String> {
+    let p = PhysicsConfig::default();
+    number_in(s, p.min_radius_m..=p.max_radius_m, "m")
+}
+
+/// Checks the `--dynamic` release of `start` (the chosen parcel at the
+/// ground) against [`single::release`]'s bounds, in terms of the options
+/// that set them; `p0` is the ground's pressure. units: Pa
+fn check_release(
+    args: &Args,
+    kind: ParcelKind,
+    start: &ParcelStart,
+    p0: f64,
+) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        single::frames(args.duration, args.dt).is_some(),
+        "--duration {} s with --dt {} s makes {:.0} frames: at most {:e} are allowed (use a larger --dt)",
+        args.duration,
+        args.dt,
+        args.duration / args.dt,
+        single::MAX_FRAMES
+    );
+    let t = &single::SURFACE_T_K;
+    let (lo, hi) = (t.start() - start.t_k, t.end() - start.t_k);
+    anyhow::ensure!(
+        args.temp_excess.is_finite() && (lo..=hi).contains(&args.temp_excess),
+        "invalid --temp-excess {} K: the released parcel starts at the {} parcel's {:.2} °C \
+         plus the excess, and its temperature must stay within {} to {} K: give an excess \
+         from {lo:.2} to {hi:.2} K",
+        args.temp_excess,
+        kind.name(),
+        start.t_k - 273.15,
+        t.start(),
+        t.end()
+    );
+    let qv = Thermo::Model.mixing_ratio_from_dewpoint(start.td_k, p0);
+    if !single::SURFACE_QV.contains(&qv) {
+        let q_max = *single::SURFACE_QV.end();
+        let td_max = Thermo::Model.dewpoint_from_mixing_ratio_k(q_max, p0) - 273.15;
+        let dewpoint = match (args.surface_dewpoint, kind) {
+            (Some(td), ParcelKind::Surface) => format!("--surface-dewpoint {td}"),
+            _ => format!(
+                "the {} parcel's dewpoint {:.2}",
+                kind.name(),
+                start.td_k - 273.15
+            ),
+        };
+        anyhow::bail!(
+            "invalid {dewpoint} °C with --dynamic: the released parcel's vapour mixing ratio \
+             would be {:.0} g/kg, and the dynamics take at most {:.0} g/kg: a dewpoint up to \
+             {td_max:.2} °C at {:.0} hPa",
+            qv * 1000.0,
+            q_max * 1000.0,
+            p0 / 100.0
+        );
+    }
+    Ok(())
 }
 
 /// Releases the surface parcel with the full dynamics (`--dynamic`).
@@ -185,9 +269,11 @@ fn positive_seconds(s: &str) -> Result<f64, String> {
 fn release_dynamic(
     args: &Args,
     env: &cumulus::atmosphere::Environment,
+    kind: ParcelKind,
     start: &ParcelStart,
 ) -> anyhow::Result<SingleRun> {
     let p0 = env.pressure_pa(start.z_m);
+    check_release(args, kind, start, p0)?;
     let run = single::release(
         env.clone(),
         &PhysicsConfig::default(),
@@ -253,6 +339,13 @@ fn write_trajectory_csv(path: &std::path::Path, run: &SingleRun) -> anyhow::Resu
 
 /// Runs `cumulus parcel`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    if let Some(path) = &args.plot {
+        super::output_extension("--plot", path, &[("png", "")])?;
+        super::writable_output("--plot", path)?;
+    }
+    if let Some(path) = &args.csv {
+        super::writable_output("--csv", path)?;
+    }
     let sounding = Sounding::load(&args.sounding)?;
     let thermo = match args.thermo {
         ThermoChoice::Standard => Thermo::Standard,
@@ -302,7 +395,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let dynamic = if args.dynamic {
         // The simulation runs on its own thermodynamics' environment.
         let sim_env = sounding.to_environment()?;
-        Some(release_dynamic(&args, &sim_env, &chosen.start)?)
+        Some(release_dynamic(&args, &sim_env, kind, &chosen.start)?)
     } else {
         None
     };

@@ -1,5 +1,5 @@
-//! `cumulus render`: simulate a scene, then render PNG frame(s) headless with
-//! the same renderer the window uses.
+//! `cumulus render`: simulate a scene, then render frame(s) headless with the
+//! same renderer the window uses, as PNG or linear HDR OpenEXR.
 
 use std::path::{Path, PathBuf};
 
@@ -89,13 +89,7 @@ pub struct Args {
 
 /// Whether `path` names an OpenEXR file (extension `exr`, any case).
 fn is_exr(path: &Path) -> bool {
-    has_extension(path, "exr")
-}
-
-/// Whether `path`'s extension is `ext` (any case).
-pub fn has_extension(path: &Path, ext: &str) -> bool {
-    path.extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case(ext))
+    super::has_extension(path, "exr")
 }
 
 /// `FILE.png` → `FILE-0007.png`.
@@ -134,12 +128,21 @@ pub struct CloudArgs {
 impl CloudArgs {
     /// Checks the values before any work (the error names the flag).
     pub fn validate(&self) -> anyhow::Result<()> {
-        anyhow::ensure!(
-            self.dt.is_finite() && self.dt > 0.0 && self.dt <= 600.0,
-            "--dt must be a positive number of seconds up to 600"
-        );
-        Ok(())
+        check_frame_dt(self.dt)
     }
+}
+
+/// Longest physics frame `--dt` of the commands that simulate a scene
+/// (each frame is sub-stepped as the physics needs). units: s
+const MAX_FRAME_DT_S: f64 = 600.0;
+
+/// Checks a scene simulation's `--dt` (`render`, `export`, `simulate`).
+pub(crate) fn check_frame_dt(dt: f64) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        dt.is_finite() && dt > 0.0 && dt <= MAX_FRAME_DT_S,
+        "invalid --dt {dt}: a positive number of seconds up to {MAX_FRAME_DT_S}"
+    );
+    Ok(())
 }
 
 /// Where the clouds come from: the parcel physics, the stand-in field or a
@@ -152,11 +155,11 @@ pub(crate) enum Clouds {
 
 impl Clouds {
     /// The stand-in field, the parcels of `--parcels`, or `scene`'s world at
-    /// t = 0 with `args`' seed.
+    /// t = 0 with `args`' seed (`source` says where the scene came from).
     pub(crate) fn new(
         args: &CloudArgs,
         scene: &cumulus::scene::SceneProfile,
-        base_dir: &Path,
+        source: &cumulus::scene::SceneSource,
     ) -> anyhow::Result<Self> {
         if args.stand_in {
             return Ok(Clouds::StandIn);
@@ -165,10 +168,9 @@ impl Clouds {
             return Ok(Clouds::File(cumulus::physics::cloud_file::read(path)?));
         }
         let env = scene
-            .atmosphere
-            .build(base_dir)
+            .build_atmosphere(source)
             .context("building the atmosphere")?;
-        let world = ParcelWorld::new(env, scene.world_config(base_dir)?, args.seed)?;
+        let world = ParcelWorld::new(env, scene.world_config(&source.base_dir())?, args.seed)?;
         Ok(Clouds::World {
             world: Box::new(world),
             dt: args.dt,
@@ -242,17 +244,30 @@ fn summary(parcels: &[CloudParcel]) -> String {
 
 /// Runs `cumulus render`.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    anyhow::ensure!(
-        has_extension(&args.out, "png") || is_exr(&args.out),
-        "invalid --out {}: the file name must end in .png (the tone-mapped frame) or .exr (the linear HDR scene)",
-        args.out.display()
-    );
+    super::output_extension(
+        "--out",
+        &args.out,
+        &[
+            ("png", "the tone-mapped frame"),
+            ("exr", "the linear HDR scene"),
+        ],
+    )?;
     anyhow::ensure!(args.frames >= 1, "--frames must be at least 1");
     anyhow::ensure!(
         args.every.is_finite() && args.every > 0.0,
         "--every must be a positive number of seconds"
     );
     args.clouds.validate()?;
+    // Before the simulation and the render: the first file written.
+    let first = if args.frames > 1 {
+        numbered(&args.out, 0)
+    } else {
+        args.out.clone()
+    };
+    super::writable_output("--out", &first)?;
+    if let Some(path) = &args.save_parcels {
+        super::writable_output("--save-parcels", path)?;
+    }
     let (mut scene, source) =
         cumulus::scene::load_scene_with(args.scene.as_deref(), &args.overrides.set)?;
     let time = args.time.unwrap_or(scene.simulation.start_s);
@@ -285,7 +300,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .validate()
         .with_context(|| format!("{scene_name}: checking [camera]"))?;
     let camera = Camera::from(&scene.camera);
-    let mut clouds = Clouds::new(&args.clouds, &scene, &source.base_dir())?;
+    let mut clouds = Clouds::new(&args.clouds, &scene, &source)?;
 
     let ctx = GpuContext::new_headless(args.adapter.as_deref())?;
     eprintln!("adapter: {} ({})", ctx.describe(), ctx.choice());

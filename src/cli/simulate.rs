@@ -5,7 +5,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::bail;
+use anyhow::{Context as _, bail};
 use cumulus::physics::{Diagnostics, ParcelWorld, StepReport};
 use cumulus::scene::{load_scene_with, locate_key};
 
@@ -106,12 +106,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             args.duration
         );
     }
-    if !(args.dt.is_finite() && args.dt > 0.0 && args.dt <= 600.0) {
-        bail!(
-            "invalid --dt {}: a positive number of seconds up to 600",
-            args.dt
-        );
-    }
+    super::render::check_frame_dt(args.dt)?;
     let frames = (args.duration / args.dt).ceil();
     if frames > MAX_FRAMES {
         bail!(
@@ -121,6 +116,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     let frames = frames as u64;
+    if let Some(out) = &args.out {
+        super::writable_output("--out", out)?;
+    }
     let (profile, source) = load_scene_with(args.scene.as_deref(), &args.overrides.set)?;
     // Validation errors name the field; say which file (and line) it is in.
     let scene_text = args
@@ -142,11 +140,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             _ => file,
         }
     };
-    // The error stays the source, so `{:#}` prints its own chain (I/O causes).
-    let env = profile.atmosphere.build(&source.base_dir()).map_err(|e| {
-        let at = place(&e);
-        anyhow::Error::new(e).context(format!("{at}: building the atmosphere"))
-    })?;
+    let env = profile
+        .build_atmosphere(&source)
+        .context("building the atmosphere")?;
     let world_cfg = profile.world_config(&source.base_dir()).map_err(|e| {
         anyhow::Error::new(e).context("reading the terrain ([ground] follow_terrain)")
     })?;
@@ -221,20 +217,27 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     let d = world.diagnostics();
     let c = world.counters();
+    let cloud = match (d.cloud_base_m, d.cloud_top_m) {
+        (Some(base), Some(top)) => format!("cloud base {base:.0} m, top {top:.0} m"),
+        _ => "no cloud at the end".to_string(),
+    };
     eprintln!(
-        "{written}; {} parcels, {} condensed, cloud base {} m, top {} m; {} sub-steps",
-        d.parcels,
-        d.condensed_parcels,
-        opt(d.cloud_base_m),
-        opt(d.cloud_top_m),
-        c.substeps,
+        "{written}; {} parcels, {} condensed, {cloud}; {} sub-steps",
+        d.parcels, d.condensed_parcels, c.substeps,
     );
     eprintln!("{}", held_back(&d));
+    let history = match first_cloud_s {
+        Some(t) => format!(
+            "first condensed parcel at t = {t:.0} s; peak {} condensed parcels at t = {:.0} s",
+            peak.0, peak.1
+        ),
+        None => format!(
+            "no cloud formed: no parcel condensed in {} s",
+            args.duration
+        ),
+    };
     eprintln!(
-        "first condensed parcel at t = {}; peak {} condensed parcels at t = {:.0} s; {:.1} s of wall time",
-        first_cloud_s.map_or("never".to_string(), |t| format!("{t:.0} s")),
-        peak.0,
-        peak.1,
+        "{history}; {:.1} s of wall time",
         bar.elapsed().as_secs_f64()
     );
     eprintln!(

@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context as _, bail};
+use anyhow::bail;
 use cumulus::stability::{self, Size};
 
 /// Arguments of `cumulus stability`.
@@ -22,9 +22,7 @@ pub struct Args {
 /// Runs `cumulus stability`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     // Fail before minutes of work if the report cannot be written.
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| cumulus::Error::io(&args.out, e))
-        .context("creating the report directory")?;
+    super::writable_folder("--out", &args.out)?;
     let size = if args.quick { Size::Quick } else { Size::Full };
     let cases = stability::matrix(size)?;
     let total: u64 = cases.iter().map(|c| c.frames as u64).sum();

@@ -69,11 +69,8 @@ impl Default for Args {
 /// Runs `cumulus watch`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     if let Some(path) = &args.screenshot {
-        anyhow::ensure!(
-            crate::cli::render::has_extension(path, "png"),
-            "invalid --screenshot {}: the file name must end in .png",
-            path.display()
-        );
+        super::output_extension("--screenshot", path, &[("png", "")])?;
+        super::writable_output("--screenshot", path)?;
     }
     if let Some(w) = args.warmup
         && !(w.is_finite() && (0.0..=cumulus::scene::MAX_START_S).contains(&w))

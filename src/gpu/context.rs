@@ -58,17 +58,28 @@ impl GpuContext {
             })
             .collect();
         let adapter = match prefer {
-            Some(want) => {
+            Some(want) if !adapters.is_empty() => {
                 let want_l = want.to_lowercase();
+                // Adapters exist, just none by that name: a usage error,
+                // not a missing driver.
                 adapters
                     .into_iter()
                     .find(|a| a.get_info().name.to_lowercase().contains(&want_l))
                     .ok_or_else(|| {
-                        Error::NoAdapter(format!(
-                            "no adapter named like {want:?} among [{}]",
-                            names.join(", ")
-                        ))
+                        Error::invalid(
+                            "adapter name",
+                            format!("{want:?}"),
+                            format!(
+                                "no adapter's name contains it (any case); the adapters here are: {}",
+                                names.join(", ")
+                            ),
+                        )
                     })?
+            }
+            Some(want) => {
+                return Err(Error::NoAdapter(format!(
+                    "none found, so none named like {want:?}"
+                )));
             }
             None => adapters
                 .into_iter()

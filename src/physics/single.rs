@@ -3,6 +3,8 @@
 //! a [`ParcelWorld`] with one parcel and no emission, so the trajectory is
 //! exactly what the scene physics does to a lone thermal.
 
+use std::ops::RangeInclusive;
+
 use glam::DVec3;
 
 use super::config::{EmissionConfig, PhysicsConfig, WorldConfig};
@@ -10,6 +12,25 @@ use super::parcel::ParcelSpec;
 use super::world::ParcelWorld;
 use crate::atmosphere::{Environment, thermo};
 use crate::error::{Error, Result};
+
+/// The parcel's temperature at the ground that [`release`] accepts. units: K
+pub const SURFACE_T_K: RangeInclusive<f64> = 150.0..=400.0;
+/// Its vapour mixing ratio at the ground. units: kg/kg
+pub const SURFACE_QV: RangeInclusive<f64> = 0.0..=0.1;
+/// How long it may be followed. units: s
+pub const DURATION_S: RangeInclusive<f64> = 1e-3..=1e7;
+/// Its frame step (the physics' own `max_dt_s` range). units: s
+pub const DT_S: RangeInclusive<f64> = 1e-4..=600.0;
+/// Most frames (duration over step) one release may take: the trajectory
+/// keeps a point of about 140 bytes per frame, so 10⁷ is ~1.4 GB.
+pub const MAX_FRAMES: f64 = 1.0e7;
+
+/// The number of frames of `duration_s` over `dt_s` (at least 1), None
+/// when more than [`MAX_FRAMES`].
+pub fn frames(duration_s: f64, dt_s: f64) -> Option<usize> {
+    let n = (duration_s / dt_s).round().max(1.0);
+    (n <= MAX_FRAMES).then_some(n as usize)
+}
 
 /// What to release.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -83,21 +104,33 @@ pub struct SingleRun {
 
 /// Releases one parcel at z = 0 and follows it for `duration_s`.
 pub fn release(env: Environment, physics: &PhysicsConfig, r: SingleRelease) -> Result<SingleRun> {
-    let pos = |name: &str, v: f64, lo: f64, hi: f64| {
-        if v.is_finite() && v >= lo && v <= hi {
+    let pos = |name: &str, v: f64, range: RangeInclusive<f64>| {
+        if v.is_finite() && range.contains(&v) {
             Ok(())
         } else {
             Err(Error::invalid(
                 name,
                 v,
-                format!("a finite number between {lo} and {hi}"),
+                format!(
+                    "a finite number between {} and {}",
+                    range.start(),
+                    range.end()
+                ),
             ))
         }
     };
-    pos("surface_t_k", r.surface_t_k, 150.0, 400.0)?;
-    pos("surface_qv", r.surface_qv, 0.0, 0.1)?;
-    pos("duration_s", r.duration_s, 1e-3, 1e7)?;
-    pos("dt_s", r.dt_s, 1e-4, 600.0)?;
+    pos("surface_t_k", r.surface_t_k, SURFACE_T_K)?;
+    pos("surface_qv", r.surface_qv, SURFACE_QV)?;
+    pos("duration_s", r.duration_s, DURATION_S)?;
+    pos("dt_s", r.dt_s, DT_S)?;
+    // The trajectory's memory is allocated up front.
+    let steps = frames(r.duration_s, r.dt_s).ok_or_else(|| {
+        Error::invalid(
+            "duration_s / dt_s",
+            r.duration_s / r.dt_s,
+            format!("at most {MAX_FRAMES:e} frames"),
+        )
+    })?;
     let mut cfg = WorldConfig {
         physics: PhysicsConfig {
             mixing: r.mixing,
@@ -123,7 +156,6 @@ pub fn release(env: Environment, physics: &PhysicsConfig, r: SingleRelease) -> R
         ql_kg_per_kg: 0.0,
         radius_m: r.radius_m,
     })?;
-    let steps = (r.duration_s / r.dt_s).round().max(1.0) as usize;
     let mut trajectory = Vec::with_capacity(steps + 1);
     let mut ended_early = false;
     trajectory.push(point(&world));

@@ -25,12 +25,13 @@ const TRACE_DZ_M: f64 = 100.0;
 const TRACE_TOP_M: f64 = 12_000.0;
 
 /// Draws the hodograph in the upper part of `area` (a square) and `summary`
-/// below it. Without a wind profile it says so instead.
+/// below it. Without a wind profile it says so instead. Returns the first
+/// row of `area`'s pixels below the summary, where more can go.
 pub fn draw_side_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     wind: Option<&WindProfile>,
     summary: &[String],
-) -> Result<(), String> {
+) -> Result<i32, String> {
     let e = |x: &dyn std::fmt::Display| x.to_string();
     let (w, h) = area.dim_in_pixel();
     let (top, bottom) = area.split_vertically(w.min(h));
@@ -49,10 +50,11 @@ pub fn draw_side_panel<DB: DrawingBackend>(
             text(&top, "(DRCT/SKNT blank): no hodograph", 84, 16)?;
         }
     }
+    let row = |i: usize| 8 + 22 * i as i32;
     for (i, line) in summary.iter().enumerate() {
-        text(&bottom, line, 8 + 22 * i as i32, 16)?;
+        text(&bottom, line, row(i), 16)?;
     }
-    Ok(())
+    Ok(w.min(h) as i32 + row(summary.len()))
 }
 
 /// The hodograph itself: rings every 10 m/s, the trace, a legend of layers.

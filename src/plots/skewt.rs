@@ -127,7 +127,11 @@ fn draw(
     let full = BitMapBackend::with_buffer(buf, (width, height)).into_drawing_area();
     full.fill(&WHITE).map_err(|x| e(&x))?;
     let (root, side) = full.split_horizontally(width.saturating_sub(SIDE_PANEL_PX));
-    super::hodograph::draw_side_panel(&side, chart_data.wind, chart_data.summary)?;
+    let below_summary =
+        super::hodograph::draw_side_panel(&side, chart_data.wind, chart_data.summary)?;
+    // The curves' legend, filled as they are drawn and drawn in the side
+    // panel (inside the diagram it hid the traces near its top).
+    let mut legend: Vec<LegendEntry> = Vec::new();
     let mut chart = ChartBuilder::on(&root)
         .caption(&chart_data.title, ("sans-serif", 24))
         .margin(12)
@@ -336,17 +340,14 @@ fn draw(
     ];
     for (name, pts, color) in series {
         let style = color.stroke_width(3);
-        let mut first = true;
-        for run in clipped(pts) {
-            let s = chart
+        let runs = clipped(pts);
+        if !runs.is_empty() {
+            legend.push((name, style, false));
+        }
+        for run in runs {
+            chart
                 .draw_series(LineSeries::new(run, style))
                 .map_err(|x| e(&x))?;
-            if first {
-                s.label(name).legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(3))
-                });
-                first = false;
-            }
         }
     }
 
@@ -356,18 +357,18 @@ fn draw(
             .iter()
             .map(|&(p_pa, t_k)| to_xy(t_k - 273.15, p_pa / 100.0))
             .collect();
-        let mut first = true;
-        for run in clipped(pts) {
-            let s = chart
+        let runs = clipped(pts);
+        if !runs.is_empty() {
+            legend.push((
+                "released parcel (full dynamics)",
+                color.stroke_width(2),
+                false,
+            ));
+        }
+        for run in runs {
+            chart
                 .draw_series(LineSeries::new(run, color.stroke_width(2)))
                 .map_err(|x| e(&x))?;
-            if first {
-                s.label("released parcel (full dynamics)")
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(2))
-                    });
-                first = false;
-            }
         }
     }
 
@@ -377,17 +378,15 @@ fn draw(
         .iter()
         .map(|l| to_xy(l.tv_k - 273.15, l.p_pa / 100.0))
         .collect();
-    let mut first = true;
-    for run in clipped(tv) {
-        let style = RGBColor(90, 90, 90).stroke_width(1);
-        let s = chart
+    let style = RGBColor(90, 90, 90).stroke_width(1);
+    let runs = clipped(tv);
+    if !runs.is_empty() {
+        legend.push(("parcel virtual temperature", style, true));
+    }
+    for run in runs {
+        chart
             .draw_series(DashedLineSeries::new(run, 5, 4, style))
             .map_err(|x| e(&x))?;
-        if first {
-            s.label("parcel virtual temperature")
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], style));
-            first = false;
-        }
     }
 
     // LCL, LFC, EL: a tick across the parcel curve and a label beside it.
@@ -427,35 +426,77 @@ fn draw(
         .map_err(|x| e(&x))?;
     }
 
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.9))
-        .border_style(BLACK.mix(0.5))
-        .label_font(("sans-serif", 16))
-        .draw()
-        .map_err(|x| e(&x))?;
-    // Key to the background lines, under the legend.
-    let (kx, ky) = chart.backend_coord(&(T_RANGE_C.1, -P_TOP_HPA.ln()));
-    let key = [
-        ("isotherms (10 °C)", RGBColor(40, 40, 160)),
-        ("dry adiabats (10 K)", RGBColor(200, 100, 0)),
-        ("moist adiabats (dashed)", RGBColor(0, 130, 60)),
-        ("mixing ratio g/kg (dotted)", RGBColor(120, 0, 120)),
-        ("shaded: CAPE (orange), CIN (blue)", RGBColor(200, 90, 40)),
-    ];
-    for (i, (text, color)) in key.iter().enumerate() {
-        root.draw_text(
-            text,
-            &TextStyle::from(("sans-serif", 14).into_font())
-                .pos(Pos::new(HPos::Right, VPos::Top))
-                .color(color),
-            (kx - 8, ky + 110 + 18 * i as i32),
-        )
-        .map_err(|x| e(&x))?;
+    let bottom = draw_legend(&side, below_summary + LEGEND_GAP_PX, &legend)?;
+    if bottom > height as i32 {
+        return Err(format!(
+            "the legend ends at row {bottom}, below the image's {height} rows"
+        ));
     }
     full.present().map_err(|x| e(&x))?;
     Ok(())
+}
+
+/// A curve's legend line: its name, its style, whether it is dashed.
+type LegendEntry = (&'static str, ShapeStyle, bool);
+
+/// Space between the side panel's summary and the legend, and between the
+/// legend's curves and its key to the background lines. units: px
+const LEGEND_GAP_PX: i32 = 14;
+
+/// Key to the background lines, each in its colour.
+const BACKGROUND_KEY: [(&str, RGBColor); 5] = [
+    ("isotherms (10 °C)", RGBColor(40, 40, 160)),
+    ("dry adiabats (10 K)", RGBColor(200, 100, 0)),
+    ("moist adiabats (dashed)", RGBColor(0, 130, 60)),
+    ("mixing ratio g/kg (dotted)", RGBColor(120, 0, 120)),
+    ("shaded: CAPE (orange), CIN (blue)", RGBColor(200, 90, 40)),
+];
+
+/// Draws the curves' legend from row `top` of the side panel `area`, one
+/// row per curve (a sample of its line, then its name), then the key to
+/// the background lines, each below the last so none overlaps. Returns
+/// the row below the key.
+fn draw_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    top: i32,
+    entries: &[LegendEntry],
+) -> std::result::Result<i32, String> {
+    let e = |e: &dyn std::fmt::Display| e.to_string();
+    let (x0, x1, text_x) = (12, 40, 48);
+    let mut y = top;
+    for &(name, style, dashed) in entries {
+        let mid = y + 10;
+        let segments: Vec<[(i32, i32); 2]> = if dashed {
+            vec![[(x0, mid), (x0 + 9, mid)], [(x0 + 14, mid), (x0 + 23, mid)]]
+        } else {
+            vec![[(x0, mid), (x1, mid)]]
+        };
+        for seg in segments {
+            area.draw(&PathElement::new(seg.to_vec(), style))
+                .map_err(|x| e(&x))?;
+        }
+        area.draw_text(
+            name,
+            &TextStyle::from(("sans-serif", 16).into_font())
+                .pos(Pos::new(HPos::Left, VPos::Center)),
+            (text_x, mid),
+        )
+        .map_err(|x| e(&x))?;
+        y += 21;
+    }
+    y += LEGEND_GAP_PX;
+    for (text, color) in BACKGROUND_KEY {
+        area.draw_text(
+            text,
+            &TextStyle::from(("sans-serif", 14).into_font())
+                .pos(Pos::new(HPos::Left, VPos::Top))
+                .color(&color),
+            (x0, y),
+        )
+        .map_err(|x| e(&x))?;
+        y += 18;
+    }
+    Ok(y)
 }
 
 /// Draws the diagram and writes it atomically as a PNG of `width`×`height`

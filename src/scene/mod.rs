@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::atmosphere::AtmosphereSpec;
+use crate::atmosphere::{AtmosphereSpec, Environment};
 use crate::config::{CameraConfig, RenderConfig};
 use crate::error::{Error, Result, line_col};
 use crate::methods::slices::model::{Ellipsoid, ParticleConfig};
@@ -165,6 +165,33 @@ impl SceneProfile {
         self.camera.validate()
     }
 
+    /// Builds the scene's atmosphere ([`AtmosphereSpec::build`], a relative
+    /// sounding against `source`'s directory), for every command and the
+    /// window alike. Its errors name the profile: a sounding file that
+    /// cannot be read or parsed at the line of the profile's `sounding`
+    /// key, before the sounding's own message (its path, line, cause).
+    pub fn build_atmosphere(&self, source: &SceneSource) -> Result<Environment> {
+        self.atmosphere.build(&source.base_dir()).map_err(|e| {
+            let text = match source {
+                SceneSource::File(p) => std::fs::read_to_string(p).unwrap_or_default(),
+                SceneSource::Embedded => DEFAULT_SCENE_TOML.to_string(),
+            };
+            let profile = PathBuf::from(source.name());
+            match &self.atmosphere.sounding {
+                Some(sounding) if !matches!(e, Error::InvalidParameter { .. }) => {
+                    let (line, column) = locate_key(&text, "atmosphere.sounding").unwrap_or((0, 0));
+                    Error::parse(
+                        profile,
+                        line,
+                        column,
+                        format!("sounding = \"{}\": {}", sounding.display(), with_causes(&e)),
+                    )
+                }
+                _ => locate(e, &text, &profile),
+            }
+        })
+    }
+
     /// The sun's clock, when the scene has a `[sun]` table.
     pub fn clock(&self) -> Result<Option<SolarClock>> {
         self.sun.as_ref().map(SunConfig::clock).transpose()
@@ -222,6 +249,17 @@ impl SceneProfile {
     pub fn to_toml(&self) -> Result<String> {
         toml::to_string_pretty(self).map_err(|e| Error::invalid("scene", &self.name, e.to_string()))
     }
+}
+
+/// `e` and its causes, as `{:#}` prints them: "path: No such file …".
+fn with_causes(e: &dyn std::error::Error) -> String {
+    let mut text = e.to_string();
+    let mut cause = e.source();
+    while let Some(c) = cause {
+        text.push_str(&format!(": {c}"));
+        cause = c.source();
+    }
+    text
 }
 
 /// Reads a profile file as UTF-8 text.

@@ -166,15 +166,34 @@ fn profile_binary_file() {
 
 #[test]
 fn profile_sounding_missing_or_broken() {
-    // The sounding's own path is named; the profile's too.
-    profile_fails(
-        "missing_sounding.toml",
-        &["no_such_sounding.txt", "No such file"],
-    );
-    profile_fails(
-        "profile_with_bad_sounding.toml",
-        &["text_in_number.txt:5:18:", "\"warm\"", "TEMP"],
-    );
+    // The profile's line with `sounding`, then the sounding's own path
+    // (and line); `render` named neither the profile nor the line.
+    let missing = [
+        "missing_sounding.toml:2:1: sounding = \"no_such_sounding.txt\": ",
+        "no_such_sounding.txt: No such file",
+    ];
+    let broken = [
+        "profile_with_bad_sounding.toml:2:1: sounding = \"text_in_number.txt\": ",
+        "text_in_number.txt:5:18:",
+        "\"warm\"",
+        "TEMP",
+    ];
+    profile_fails("missing_sounding.toml", &missing);
+    profile_fails("profile_with_bad_sounding.toml", &broken);
+    let dir = tempfile::tempdir().unwrap();
+    for (name, expect) in [
+        ("missing_sounding.toml", &missing[..]),
+        ("profile_with_bad_sounding.toml", &broken[..]),
+    ] {
+        let profile = bad(name);
+        let p = profile.to_str().unwrap();
+        let png = dir.path().join("never.png");
+        let vol = dir.path().join("never.vol");
+        for (command, out) in [("render", &png), ("export", &vol)] {
+            fails_cleanly(&[command, p, "--out", out.to_str().unwrap()], expect);
+            assert!(!out.exists(), "{command} wrote {}", out.display());
+        }
+    }
 }
 
 #[test]
@@ -287,6 +306,29 @@ fn image_output_of_another_format() {
         &["--screenshot", "x.jpg", ".png"],
     );
     assert!(!jpg.exists());
+    // `atlas` and `parcel --plot` wrote PNG bytes under any name and
+    // exited 0; a name without an extension is refused too.
+    let bare = dir.path().join("atlas");
+    for out in [&jpg, &bare] {
+        let name = out.file_name().unwrap().to_str().unwrap();
+        fails_cleanly(
+            &["atlas", "--out", out.to_str().unwrap()],
+            &["invalid --out", name, "must end in .png"],
+        );
+        assert!(!out.exists());
+    }
+    let s = shipped_sounding();
+    fails_cleanly(
+        &[
+            "parcel",
+            "--sounding",
+            s.to_str().unwrap(),
+            "--plot",
+            jpg.to_str().unwrap(),
+        ],
+        &["invalid --plot", "x.jpg", "must end in .png"],
+    );
+    assert!(!jpg.exists());
 }
 
 #[test]
@@ -370,10 +412,77 @@ fn parcel_absurd_surface_values() {
 }
 
 #[test]
+fn parcel_dynamic_options_are_named_with_their_real_ranges() {
+    let s = shipped_sounding();
+    let s = s.to_str().unwrap();
+    let dynamic = |extra: &[&str], expect: &[&str]| {
+        let mut args = vec!["parcel", "--sounding", s, "--dynamic"];
+        args.extend_from_slice(extra);
+        let err = fails_cleanly(&args, expect);
+        // Not the release's field names (surface_t_k, dt_s, surface_qv).
+        assert!(
+            !err.contains("_k =") && !err.contains("_s =") && !err.contains("_qv"),
+            "{err}"
+        );
+    };
+    // The surface-based parcel of this sounding starts at 22.20 °C, so
+    // 150 to 400 K leave an excess of -145.35 to 104.65 K.
+    for v in ["1e6", "-200", "nan"] {
+        dynamic(
+            &["--temp-excess", v],
+            &["invalid --temp-excess", "from -145.35 to 104.65 K"],
+        );
+    }
+    // The parser said "> 0 and ≤ 1e7 s", then the release refused 1e6.
+    for v in ["1e6", "nan", "1e-5"] {
+        dynamic(&["--dt", v], &["--dt", "from 0.0001 to 600 s"]);
+    }
+    dynamic(
+        &["--duration", "1e8"],
+        &["--duration", "from 0.001 to 1e7 s"],
+    );
+    for v in ["0", "-5", "1e9"] {
+        dynamic(&["--radius", v], &["--radius", "from 5 to 3000 m"]);
+    }
+    // This aborted allocating 13 TB for the trajectory.
+    dynamic(
+        &["--duration", "1e7", "--dt", "1e-4"],
+        &["--duration", "--dt", "frames", "at most 1e7"],
+    );
+    dynamic(
+        &["--surface-temp", "65", "--surface-dewpoint", "65"],
+        &[
+            "invalid --surface-dewpoint 65 °C",
+            "at most 100 g/kg",
+            "dewpoint up to",
+        ],
+    );
+    // The stated bounds are accepted.
+    cli::run([
+        "parcel",
+        "--sounding",
+        s,
+        "--dynamic",
+        "--dt",
+        "600",
+        "--duration",
+        "1200",
+        "--radius",
+        "3000",
+        "--temp-excess",
+        "104",
+    ])
+    .expect_success();
+}
+
+#[test]
 fn stability_unwritable_report_directory() {
     // Fails at once, before running the matrix.
     fails_cleanly(
         &["stability", "--quick", "--out", "/dev/null/report"],
-        &["/dev/null/report", "report directory"],
+        &[
+            "invalid --out /dev/null/report",
+            "cannot create the folder /dev/null/report",
+        ],
     );
 }

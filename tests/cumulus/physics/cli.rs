@@ -138,3 +138,29 @@ fn simulate_reports_clamps_by_kind_and_suppressed_emissions() {
         "{err}"
     );
 }
+
+/// A scene that forms no cloud says so: it printed "cloud base  m, top  m"
+/// and "first condensed parcel at t = never; peak 0 condensed parcels at
+/// t = 0 s". A cloudy run keeps its numbers.
+#[test]
+fn simulate_says_when_no_cloud_formed() {
+    let stderr =
+        cli::run(["simulate", "profiles/stable_dry.toml", "--duration", "600"]).expect_success();
+    assert!(
+        stderr.contains("0 condensed, no cloud at the end;"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("no cloud formed: no parcel condensed in 600 s"),
+        "{stderr}"
+    );
+    for empty in [" m, top ", "never", "peak 0"] {
+        assert!(!stderr.contains(empty), "{empty:?} in {stderr}");
+    }
+    let stderr = cli::run(["simulate", "--duration", "600"]).expect_success();
+    assert!(stderr.contains("cloud base "), "{stderr}");
+    assert!(
+        stderr.contains("first condensed parcel at t = "),
+        "{stderr}"
+    );
+}

@@ -323,3 +323,36 @@ fn debug_march_steps_writes_the_iterations_of_each_pixel() {
         "the stand-in's towers are in view: some rays march"
     );
 }
+
+#[test]
+fn an_adapter_name_that_matches_none_lists_the_adapters_without_the_driver_advice() {
+    let Some(ctx) = common::context("--adapter name test") else {
+        return;
+    };
+    // The adapter there is, by its name as `--adapter` matches it.
+    let name = ctx.adapter_name();
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("never.png");
+    let run = cli::run_command(
+        cli::command()
+            .args([
+                "render",
+                "--stand-in",
+                "--adapter",
+                "no-such-gpu-x9",
+                "--out",
+            ])
+            .arg(&out),
+    );
+    // It said "no GPU adapter: …" and advised installing Mesa's driver,
+    // exit 2, with an adapter right there.
+    let stderr = run.expect_failure_containing(&[
+        "\"no-such-gpu-x9\"",
+        "no adapter's name contains it",
+        &name,
+    ]);
+    assert!(!stderr.contains("mesa-vulkan-drivers"), "{stderr}");
+    assert!(!stderr.contains("no GPU adapter"), "{stderr}");
+    assert_eq!(run.output.status.code(), Some(1), "{stderr}");
+    assert!(!out.exists());
+}
