@@ -66,9 +66,9 @@ pub struct SceneProfile {
 }
 
 /// Simulated time a scene opens at when nothing else says. The shipped
-/// scenes' first cloud forms after 270–540 s and by 1800 s each shows a
-/// developed field (fair_weather 118 condensed parcels, towering_cumulus
-/// 250, high_based 169; `cumulus simulate`, seed 1, 2-s frames). units: s
+/// scenes' first cloud forms after 220–530 s and by 1800 s each shows a
+/// developed field (fair_weather 131 condensed parcels, towering_cumulus
+/// 829, high_based 184; `cumulus simulate`, seed 1, 2-s frames). units: s
 pub const DEFAULT_START_S: f64 = 1800.0;
 
 /// The `[simulation]` table.
