@@ -183,7 +183,11 @@ fn bad_export_arguments_fail_clearly_and_leave_no_file() {
             "--max-memory-mib",
         ),
         // A directory that cannot exist: its parent is a file.
-        (&["--voxel", "200"], blocker.join("e.vol"), "cannot write"),
+        (
+            &["--voxel", "200"],
+            blocker.join("e.vol"),
+            "is a file, not a folder",
+        ),
     ];
     for (extra, out, needle) in cases {
         cli::run_command(
